@@ -1,0 +1,34 @@
+# Quick start:  make demo   (set up, then build the default design into out/)
+#               make test   (set up, then run the whole test suite, slow tests included)
+PYTHON ?= python3
+VENV   ?= .venv
+PY     ?= $(VENV)/bin/python
+PYTEST_ARGS ?=
+
+.PHONY: demo test pytest bench clean
+
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/pip install --quiet --upgrade pip
+	$(VENV)/bin/pip install --quiet -e '.[test]'
+	touch $@
+
+demo: $(VENV)/.installed
+	mkdir -p out
+	$(VENV)/bin/rjcad spring --stiffness 5.2 --rotation 90 --preload 90 --json > out/.spring.json.tmp
+	mv out/.spring.json.tmp out/spring.json
+	$(VENV)/bin/rjcad spring --stiffness 5.2 --rotation 90 --preload 90
+
+test: $(VENV)/.installed
+	$(MAKE) --no-print-directory pytest
+
+# pytest's exit code 5 (nothing collected) is not a failure; every other non-zero is.
+pytest:
+	$(PY) -m pytest $(PYTEST_ARGS) || { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
+
+bench: $(VENV)/.installed
+	@for b in benchmarks/*.py; do echo "== $$b"; $(PY) $$b || exit 1; done
+
+clean:
+	rm -rf $(VENV) out/* .pytest_cache .hypothesis

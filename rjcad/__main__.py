@@ -1,0 +1,3 @@
+from rjcad.cli import main
+
+main()

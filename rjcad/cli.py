@@ -1,0 +1,148 @@
+"""Command line: parse, call, print. Degrees here, radians inside.
+
+Every user-facing error is one line on stderr and exit code 2; ``--debug``
+adds the traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import traceback
+
+import click
+
+from rjcad import spring as sp
+from rjcad.config import load_toml
+from rjcad.errors import RjcadError
+from rjcad.materials import MATERIALS, PRINTERS
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.option("--debug", is_flag=True, help="Show tracebacks on errors.")
+@click.version_option(package_name="rjcad")
+def cli(debug: bool) -> None:
+    """Design, build and check 3D-printable elastic joints for robotic fingers."""
+
+
+# Spring requirement: CLI option → (SpringRequirement field, TOML key, type, to-internal).
+_SPRING_FIELDS = {
+    "stiffness": ("joint_stiffness", "stiffness_nmm_per_rad", float, float),
+    "rotation": ("rotation", "rotation_deg", float, math.radians),
+    "preload": ("preload", "preload_deg", float, math.radians),
+    "material": ("material", "material", str, str),
+    "printer": ("printer", "printer", str, str),
+    "safety_factor": ("safety_factor", "safety_factor", float, float),
+    "end": ("end", "end", str, str),
+    "width_min": ("width_min", "width_min_mm", float, float),
+    "width_max": ("width_max", "width_max_mm", float, float),
+    "inner_radius_min": ("inner_radius_min", "inner_radius_min_mm", float, float),
+    "inner_radius_max": ("inner_radius_max", "inner_radius_max_mm", float, float),
+    "max_outer_radius": ("outer_radius_max", "max_outer_radius_mm", float, float),
+    "min_turns": ("min_turns", "min_turns", float, float),
+}
+
+
+def _requirement(options: dict, config: str | None) -> sp.SpringRequirement:
+    """Merge defaults < config file < explicit options into a SpringRequirement."""
+    given = {k: v for k, v in options.items() if v is not None}
+    if config:
+        toml_types = {key: ((int, float) if typ is float else typ) for _, key, typ, _ in _SPRING_FIELDS.values()}
+        data = load_toml(config, toml_types)
+        by_key = {key: opt for opt, (_, key, _, _) in _SPRING_FIELDS.items()}
+        for key, value in data.items():
+            given.setdefault(by_key[key], value)
+    kwargs = {}
+    for opt, value in given.items():
+        field, _, typ, convert = _SPRING_FIELDS[opt]
+        kwargs[field] = convert(typ(value))
+    if "joint_stiffness" not in kwargs:
+        raise click.UsageError("missing --stiffness (or stiffness_nmm_per_rad in --config)")
+    kwargs.setdefault("rotation", math.radians(90.0))
+    return sp.SpringRequirement(**kwargs)
+
+
+def _print_table(rows: list[tuple[str, str, str]]) -> None:
+    w0 = max(len(r[0]) for r in rows)
+    w1 = max(len(r[1]) for r in rows)
+    for name, value, unit in rows:
+        click.echo(f"  {name:<{w0}}  {value:>{w1}}  {unit}")
+
+
+@cli.command()
+@click.option("--stiffness", type=float, help="Joint stiffness, both springs [N·mm/rad].")
+@click.option("--rotation", type=float, help="Joint rotation range [deg] (default 90).")
+@click.option("--preload", type=float, help="Spring preload at rest [deg] (default 90).")
+@click.option("--material", type=str, help=f"One of: {', '.join(MATERIALS)} (default absplus-p430).")
+@click.option("--printer", type=str, help=f"One of: {', '.join(PRINTERS)} (default generic-0.4).")
+@click.option("--safety-factor", type=float, help="Safety factor on yield (default 1.5).")
+@click.option("--end", type=str, help="Outer end condition: pinned (default, a hook on a pin) or clamped.")
+@click.option("--width-min", type=float, help="Lower bound on spring width b [mm] (default 1).")
+@click.option("--width-max", type=float, help="Upper bound on spring width b [mm] (default 10).")
+@click.option("--inner-radius-min", type=float, help="Lower bound on the inner (pin) radius [mm] (default 3).")
+@click.option("--inner-radius-max", type=float, help="Upper bound on the inner (pin) radius [mm] (default 10).")
+@click.option("--max-outer-radius", type=float, help="Largest allowed outer radius [mm] (default 20).")
+@click.option("--min-turns", type=float, help="Fewest turns of the spiral (default 1).")
+@click.option("--config", type=click.Path(dir_okay=False), help="TOML file with the same keys (see templates/).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def spring(config, as_json, **options):
+    """Design the twin spiral springs of one joint (smallest outer radius)."""
+    design = sp.design_spring(_requirement(options, config))
+    d = design.to_dict()
+    if as_json:
+        click.echo(json.dumps(d, indent=2))
+        return
+    req = design.requirement
+    click.echo(f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
+               f"(two springs of {req.spring_stiffness:g}), {d['rotation_deg']:g}° rotation, "
+               f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end")
+    _print_table([
+        ("width b", f"{d['width_mm']:.3f}", "mm"),
+        ("thickness t", f"{d['thickness_mm']:.3f}", "mm"),
+        ("length L", f"{d['length_mm']:.2f}", "mm"),
+        ("inner radius r_in", f"{d['inner_radius_mm']:.3f}", "mm (centreline)"),
+        ("pitch p", f"{d['pitch_mm']:.4f}", "mm"),
+        ("turns n", f"{d['turns']:.3f}", ""),
+        ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
+        ("spring stiffness", f"{d['spring_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (one spring)"),
+        ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (both)"),
+        ("peak stress", f"{d['max_stress_mpa']:.2f}", f"MPa at {d['rotation_deg'] + d['preload_deg']:g}° wind-up"),
+        ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
+        ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}", "mm at maximum wind-up"),
+        ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
+        ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
+        ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
+    ])
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Console entry point: run the CLI, turn user errors into one line and exit 2."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in args
+    args = [a for a in args if a != "--debug"]  # accepted anywhere on the line
+    try:
+        rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
+    except RjcadError as e:
+        if debug:
+            traceback.print_exc()
+        click.echo(f"rjcad: error: {e}", err=True)
+        sys.exit(2)
+    except click.exceptions.Abort:
+        click.echo("rjcad: aborted", err=True)
+        sys.exit(130)
+    except getattr(click.exceptions, "NoArgsIsHelpError", ()) as e:
+        click.echo(e.format_message())
+        sys.exit(0)
+    except click.ClickException as e:
+        if debug:
+            traceback.print_exc()
+        ctx = getattr(e, "ctx", None)
+        where = f" (see 'rjcad {ctx.info_name} --help')" if ctx is not None and ctx.info_name != "rjcad" else ""
+        click.echo(f"rjcad: error: {e.format_message()}{where}", err=True)
+        sys.exit(2)
+    sys.exit(rv if isinstance(rv, int) else 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

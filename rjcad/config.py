@@ -1,0 +1,52 @@
+"""TOML design files: load, check keys, and write outputs atomically."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from rjcad.errors import ParameterError, RjcadError
+
+
+def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...]]) -> dict[str, Any]:
+    """Read a flat TOML table and check every key against ``allowed`` (key → type)."""
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise RjcadError(f"{p}: file not found") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise RjcadError(f"{p}: not valid TOML ({e})") from None
+    for key, value in data.items():
+        if key not in allowed:
+            raise ParameterError(f"{p.name}: {key}", value, f"unknown key; known keys: {', '.join(allowed)}")
+        want = allowed[key]
+        if isinstance(value, bool) or not isinstance(value, want):
+            names = " or ".join(t.__name__ for t in (want if isinstance(want, tuple) else (want,)))
+            raise ParameterError(f"{p.name}: {key}", value, f"must be a {names}")
+    return data
+
+
+def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
+    """Write ``data`` to a temporary file beside ``path``, then rename it into place."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_json(path: str | os.PathLike, obj: Any) -> Path:
+    """Atomically write ``obj`` as indented JSON."""
+    return write_atomic(path, json.dumps(obj, indent=2, sort_keys=False) + "\n")

@@ -1,0 +1,54 @@
+"""The project's own plumbing: CI script, Makefile exit codes, README quick start."""
+
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_ci_runs_the_readme_test_command():
+    ci = (ROOT / ".ci" / "run").read_text()
+    quick = readme_quick_start()
+    assert len(quick) == 2, quick
+    assert quick[1] in ci
+
+
+def readme_quick_start():
+    text = (ROOT / "README.md").read_text()
+    section = re.search(r"^## Quick start\n(.*?)(?=^## )", text, re.S | re.M).group(1)
+    blocks = re.findall(r"```(?:sh|bash|console)?\n(.*?)```", section, re.S)
+    return [line.strip() for b in blocks for line in b.splitlines()
+            if line.strip() and not line.strip().startswith("#")]
+
+
+def test_readme_quick_start_has_exactly_two_commands():
+    cmds = readme_quick_start()
+    assert cmds == ["make demo", "make test"]
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make not installed")
+def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path):
+    failing = tmp_path / "failing"
+    failing.mkdir()
+    (failing / "test_x.py").write_text("def test_fails():\n    assert 1 == 2\n")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "README").write_text("no tests here\n")
+
+    def make(target_dir):
+        return subprocess.run(
+            ["make", "-s", "-C", str(ROOT), "pytest", f"PY={sys.executable}",
+             f"PYTEST_ARGS=-p no:cacheprovider --rootdir={target_dir} {target_dir}"],
+            capture_output=True, text=True, timeout=300)
+
+    bad = make(failing)
+    assert bad.returncode != 0, bad.stdout
+    assert "1 failed" in bad.stdout
+    nothing = make(empty)
+    assert nothing.returncode == 0, nothing.stdout + nothing.stderr
+    assert "collected no tests" in nothing.stdout

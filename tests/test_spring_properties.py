@@ -1,0 +1,104 @@
+"""Property tests: every answer of the optimiser is right, or it says clearly why there is none."""
+
+import math
+
+from hypothesis import assume, event, given, settings
+from hypothesis import strategies as st
+from spring_reference import brute_force
+
+from rjcad import spring as sp
+from rjcad.errors import InfeasibleDesign, ParameterError
+from rjcad.materials import MATERIALS, PRINTERS
+
+DEG = math.pi / 180
+
+requirements = st.builds(
+    sp.SpringRequirement,
+    joint_stiffness=st.floats(0.2, 120.0),
+    rotation=st.floats(5.0, 360.0).map(lambda d: d * DEG),
+    preload=st.floats(0.0, 360.0).map(lambda d: d * DEG),
+    material=st.sampled_from(sorted(MATERIALS)),
+    printer=st.sampled_from(sorted(PRINTERS)),
+    safety_factor=st.floats(1.0, 3.0),
+    end=st.sampled_from(["pinned", "clamped"]),
+    width_min=st.floats(0.5, 3.0),
+    width_max=st.floats(3.0, 15.0),
+    inner_radius_min=st.floats(1.5, 5.0),
+    inner_radius_max=st.floats(5.0, 12.0),
+    outer_radius_max=st.floats(5.0, 40.0),
+    min_turns=st.floats(0.5, 3.0),
+)
+
+
+def assert_meets_every_constraint(d: sp.SpringDesign):
+    req = d.requirement
+    mat, pr = req.material_spec, req.printer_spec
+    k_end, m_end = sp.END_CONDITIONS[req.end]
+    K = k_end * mat.youngs_modulus_mpa * d.width * d.thickness**3 / (12 * d.length)
+    assert abs(K / (req.joint_stiffness / 2) - 1) <= 0.005
+    theta = req.rotation + req.preload
+    assert m_end * 6 * K * theta / (d.width * d.thickness**2) <= mat.yield_strength_mpa / req.safety_factor * (1 + 1e-9)
+    assert d.thickness >= pr.min_wall_mm - 1e-9
+    steps = d.thickness / pr.thickness_step_mm
+    assert abs(steps - round(steps)) < 1e-6
+    assert d.pitch * d.turns / (d.turns + theta / (2 * math.pi)) - d.thickness >= pr.min_gap_mm - 1e-9
+    assert d.turns >= req.min_turns - 1e-9
+    assert req.width_min - 1e-9 <= d.width <= req.width_max + 1e-9
+    assert req.inner_radius_min - 1e-9 <= d.inner_radius <= req.inner_radius_max + 1e-9
+    assert d.inner_radius + d.pitch * d.turns + d.thickness / 2 <= req.outer_radius_max + 1e-9
+    assert abs(sp.archimedean_length(d.inner_radius, d.pitch, d.turns) / d.length - 1) < 1e-9
+
+
+@settings(max_examples=300)
+@given(requirements)
+def test_optimiser_is_right_or_says_why(req):
+    try:
+        d = sp.design_spring(req)
+    except InfeasibleDesign as e:
+        event(f"infeasible: {e.constraint}")
+        assert e.constraint in sp.CONSTRAINTS
+        assert str(e)  # one clear sentence naming the binding constraint
+        assert "\n" not in str(e)
+        # never a false "infeasible": no design with a 1 % margin exists on a fine grid
+        assert brute_force(req, margin=0.01) == math.inf
+        return
+    event("feasible")
+    assert_meets_every_constraint(d)
+    # and the smallest one: the grid search finds nothing more than 1 % smaller
+    assert d.outer_radius <= brute_force(req) * 1.01 + 1e-9
+
+
+@settings(max_examples=60)
+@given(st.floats(0.2, 60.0), st.floats(5.0, 180.0), st.floats(0.0, 180.0))
+def test_feasible_requirements_of_the_paper_family(K, rot, pre):
+    req = sp.SpringRequirement(K, rot * DEG, pre * DEG, outer_radius_max=200.0, width_max=30.0)
+    try:
+        d = sp.design_spring(req)
+    except InfeasibleDesign:
+        assume(False)
+    assert_meets_every_constraint(d)
+
+
+@settings(max_examples=60)
+@given(st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).filter(lambda x: not (0 < x <= 1e4)),
+    st.just(float("nan")),
+))
+def test_bad_stiffness_always_rejected(K):
+    try:
+        sp.SpringRequirement(K, math.pi / 2)
+    except ParameterError as e:
+        assert e.parameter == "stiffness"
+    else:
+        raise AssertionError(f"stiffness {K} accepted")
+
+
+@settings(max_examples=40)
+@given(st.floats(360.0001, 1e6))
+def test_rotation_over_a_turn_rejected(rot):
+    try:
+        sp.SpringRequirement(5.2, rot * DEG)
+    except ParameterError as e:
+        assert e.parameter == "rotation"
+    else:
+        raise AssertionError(f"rotation {rot} accepted")
