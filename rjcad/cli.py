@@ -116,6 +116,9 @@ def spring(config, as_json, **options):
     ])
 
 
+# ---- new commands go above this line (one block per command) ----
+
+
 def main(argv: list[str] | None = None) -> None:
     """Console entry point: run the CLI, turn user errors into one line and exit 2."""
     args = list(sys.argv[1:] if argv is None else argv)
