@@ -5,7 +5,7 @@ VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: demo test pytest bench clean
+.PHONY: demo test pytest bench clean docs-images
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
@@ -15,10 +15,12 @@ $(VENV)/.installed: pyproject.toml
 	touch $@
 
 demo: $(VENV)/.installed
-	mkdir -p out
-	$(VENV)/bin/rjcad spring --stiffness 5.2 --rotation 90 --preload 90 --json > out/.spring.json.tmp
-	mv out/.spring.json.tmp out/spring.json
-	$(VENV)/bin/rjcad spring --stiffness 5.2 --rotation 90 --preload 90
+	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
+
+# regenerate the images the README shows
+docs-images: $(VENV)/.installed
+	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
+	mkdir -p docs && cp out/joint/joint.png docs/joint.png
 
 test: $(VENV)/.installed
 	$(MAKE) --no-print-directory pytest

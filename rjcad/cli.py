@@ -116,6 +116,72 @@ def spring(config, as_json, **options):
     ])
 
 
+def _merge_config(options: dict, config: str | None, fields: dict) -> dict:
+    """defaults < config file < explicit options; ``fields``: option → (kwarg, TOML key, type, convert)."""
+    given = {k: v for k, v in options.items() if v is not None and k in fields}
+    if config:
+        toml_types = {key: ((int, float) if typ is float else typ) for _, key, typ, _ in fields.values()}
+        by_key = {key: opt for opt, (_, key, _, _) in fields.items()}
+        for key, value in load_toml(config, toml_types).items():
+            given.setdefault(by_key[key], value)
+    return {fields[opt][0]: fields[opt][3](fields[opt][2](v)) for opt, v in given.items()}
+
+
+_JOINT_FIELDS = {
+    "stiffness": ("stiffness", "stiffness_nmm_per_rad", float, float),
+    "rotation": ("rotation", "rotation_deg", float, math.radians),
+    "preload": ("preload", "preload_deg", float, math.radians),
+    "material": ("material", "material", str, str),
+    "printer": ("printer", "printer", str, str),
+    "clearance": ("clearance", "clearance_mm", float, float),
+    "link_length": ("link_length", "link_length_mm", float, float),
+    "tendon_diameter": ("tendon_diameter", "tendon_diameter_mm", float, float),
+    "tendon_moment_arm": ("tendon_moment_arm", "tendon_moment_arm_mm", float, float),
+    "pin_radius": ("pin_radius", "pin_radius_mm", float, float),
+    "safety_factor": ("safety_factor", "safety_factor", float, float),
+    "end": ("end", "end", str, str),
+}
+
+
+@cli.command()
+@click.option("--stiffness", type=float, help="Joint stiffness, both springs [N·mm/rad] (default 5.2).")
+@click.option("--rotation", type=float, help="Joint rotation range [deg] (default 90).")
+@click.option("--preload", type=float, help="Spring preload at rest [deg] (default 90).")
+@click.option("--material", type=str, help=f"One of: {', '.join(MATERIALS)} (default absplus-p430).")
+@click.option("--printer", type=str, help=f"One of: {', '.join(PRINTERS)} (default generic-0.4).")
+@click.option("--clearance", type=float, help="Clearance between the bodies [mm] (default 0.25).")
+@click.option("--link-length", type=float, help="Axis to link end, each link [mm] (default 40).")
+@click.option("--tendon-diameter", type=float, help="Tendon channel diameter [mm] (default 1.0).")
+@click.option("--tendon-moment-arm", type=float, help="Tendon moment arm about the axis [mm] (default 6).")
+@click.option("--pin-radius", type=float, help="Knuckle pin radius [mm] (default 2).")
+@click.option("--safety-factor", type=float, help="Safety factor on yield (default 1.5).")
+@click.option("--end", type=str, help="Spring outer end: pinned (default) or clamped.")
+@click.option("--config", type=click.Path(dir_okay=False), help="TOML design (see templates/joint.toml).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/joint", show_default=True,
+              help="Output directory.")
+@click.option("--no-png", is_flag=True, help="Skip the preview image.")
+def joint(config, out_dir, no_png, **options):
+    """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
+    from rjcad.cad.build import write_joint
+    from rjcad.cad.params import JointParams
+
+    params = JointParams(**_merge_config(options, config, _JOINT_FIELDS))
+    b = write_joint(params, out_dir, png=not no_png)
+    m = b.manifest
+    click.echo(f"joint written to {out_dir}/joint.{{stl,3mf,step{'' if no_png else ',png'},json}}")
+    _print_table([
+        ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", "N·mm/rad (both springs)"),
+        ("spring b × t × L", f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × "
+                             f"{m['spring']['length_mm']:.1f}", "mm"),
+        ("spring outer radius", f"{m['spring']['outer_radius_mm']:.2f}", "mm"),
+        ("tendon moment arm", f"{m['tendon_moment_arm_mm']:.3f}", "mm (measured)"),
+        ("tendon wrap angle", f"{m['tendon_wrap_angle_rad']:.3f}", "rad in the ground channel (measured)"),
+        ("min gap between bodies", f"{m['measured_min_gap_mm']:.3f}", "mm (on the mesh)"),
+        ("bodies", ", ".join(f"{b_['name']} {b_['mass_g']:.1f} g" for b_ in m["bodies"]), ""),
+        ("triangles", f"{m['mesh']['triangles']}", ""),
+    ])
+
+
 # ---- new commands go above this line (one block per command) ----
 
 

@@ -1,0 +1,1 @@
+"""CadQuery builders: spiral springs, the joint module, the finger, and exports."""

@@ -1,0 +1,145 @@
+"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,png,json}."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import manifold3d as m3
+import numpy as np
+import trimesh
+
+from rjcad.cad import export as ex
+from rjcad.cad.joint import (
+    JointSolids,
+    build_joint,
+    ground_channel_points,
+    moving_channel_points,
+    strip_volume,
+)
+from rjcad.cad.params import JointParams
+
+
+def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
+    """manifold3d solid from a merged-vertex trimesh."""
+    return m3.Manifold(m3.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
+                               tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+
+
+@dataclass
+class JointBuild:
+    """A built joint: solids, meshes, manifest and timings."""
+
+    solids: JointSolids
+    meshes: dict[str, trimesh.Trimesh]
+    manifest: dict
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def tendon_polyline(p: JointParams) -> np.ndarray:
+    """Tendon centreline at rest for the preview: ground channel, over the eye, moving channel [mm]."""
+    pts = ground_channel_points(p, p.link_length)[:-1] + moving_channel_points(p, p.link_length)
+    return np.array(pts)
+
+
+def build(p: JointParams) -> JointBuild:
+    """Build, tessellate and measure the joint; nothing is written."""
+    t0 = time.perf_counter()
+    solids = build_joint(p)
+    t1 = time.perf_counter()
+    meshes = {"ground": ex.to_mesh(solids.ground), "moving": ex.to_mesh(solids.moving)}
+    t2 = time.perf_counter()
+    arm = ex.measure_moment_arm(solids.moving, p.z_mid, p.tendon_line_diameter)
+    wrap = ex.measure_wrap_angle(solids.ground, p.tendon_diameter / 2)
+    man = [to_manifold(m) for m in meshes.values()]
+    gap = float(man[0].min_gap(man[1], 2.0))
+    t3 = time.perf_counter()
+    dens = p.material_spec.density_g_cm3
+    spring = p.spring.to_dict()
+    manifest = {
+        **p.summary(),
+        "spring": spring,
+        "joint_stiffness_nmm_per_rad": spring["joint_stiffness_nmm_per_rad"],
+        "bodies": [
+            {"name": name, "volume_mm3": float(s.Volume()), "mass_g": float(s.Volume()) * dens / 1000.0}
+            for name, s in (("ground", solids.ground), ("moving", solids.moving))
+        ],
+        "moving_body": "moving",
+        "axis_point_mm": list(solids.axis_point),
+        "axis_dir": list(solids.axis_dir),
+        "tendon_moment_arm_mm": arm,
+        "tendon_wrap_angle_rad": wrap,
+        "gaps_mm": {
+            "radial_pin_eye": p.gap_xy,
+            "axial_stack": p.gap_z,
+            "spring_internal_min": p.gap_internal,
+            "extension_stop_in_print": p.clearance,
+            "note": "radial gaps print side by side in XY; axial gaps are Z steps and use "
+                    "max(clearance, the printer's vertical minimum)",
+        },
+        "measured_min_gap_mm": gap,
+        "spring_strip_volume_mm3": strip_volume(p),
+        "frame": {
+            "ground_interface_x_mm": -p.link_length,
+            "moving_interface_x_mm": p.link_length,
+            "height_mm": p.height,
+            "width_mm": p.link_width,
+            "z_eye_mm": list(p.z_eye),
+            "post_radius_mm": p.post_ring_radius,
+            "note": "axis +Z through axis_point_mm; ground link to -X, moving link to +X; "
+                    "flexion is positive about +Z; bottom on z = 0",
+        },
+        "mesh": {
+            "tolerance_mm": ex.MESH_TOLERANCE,
+            "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
+            "triangles": int(sum(len(m.faces) for m in meshes.values())),
+        },
+        "print": {
+            "orientation": "as exported: joint axis vertical (Z), bottom spring on the bed",
+            "post_print": f"wind each spring's hook {math.degrees(p.preload):g} deg counter-clockwise "
+                          "(in the flexion direction) and drop it over its post on the moving link",
+        },
+    }
+    return JointBuild(solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
+                                                 "measure_s": t3 - t2})
+
+
+def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[str, bytes | str]:
+    """Every output file's bytes, in memory (so that an error leaves no partial output)."""
+    p = b.solids.params
+    t0 = time.perf_counter()
+    files: dict[str, bytes | str] = {
+        f"{name}.stl": ex.stl_bytes(list(b.meshes.values())),
+        f"{name}.3mf": ex.threemf_bytes(b.meshes),
+    }
+    t1 = time.perf_counter()
+    files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
+    t2 = time.perf_counter()
+    if png:
+        files[f"{name}.png"] = ex.preview_png(
+            b.meshes,
+            f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
+            f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
+            lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
+            sections=[
+                ("section z = b/2: bottom spring, hook (printed, preload clockwise of its post), posts",
+                 (0, 0, p.spring.width / 2), (0, 0, 1)),
+                ("section through the eye band: eye, tendon groove, support pin, channels",
+                 (0, 0, p.z_mid), (0, 0, 1)),
+                ("section y = 0: the stack spring | cheek | eye | cheek | spring", (0, 0, 0), (0, 1, 0)),
+            ])
+    t3 = time.perf_counter()
+    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "png_s": t3 - t2})
+    files[f"{name}.json"] = json.dumps(b.manifest, indent=2) + "\n"
+    return files
+
+
+def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointBuild:
+    """Build the joint and write joint.stl, .3mf, .step, .png and .json into ``out_dir``."""
+    b = build(p)
+    files = render_files(b, "joint", png=png)
+    ex.write_outputs(out_dir, files)
+    return b

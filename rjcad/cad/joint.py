@@ -1,0 +1,189 @@
+"""The one-piece joint module: ground (fork, pin, springs) and moving (eye, posts, tendon support).
+
+Frame: joint axis +Z through the origin; ground link towards −X, moving link
+towards +X; flexion is positive about +Z. Everything sits on z ≥ 0 (the bed).
+
+Ground body: the knuckle pin (z = 0..H) fused with two cheeks, the fork's
+full-height block at x ≤ −X_b, the two stop lugs on each cheek, and the two
+springs, whose inner ends are fused to the pin through radial tabs.
+Moving body: the eye around the pin (bore = pin + clearance) with the tendon
+groove, a beam in the eye band, the full-height block at x ≥ X_b with the
+tendon slot and support pin, and two hook posts at radius R_h on the +X ray.
+
+In print each spring's outer end (a C-hook) sits ``preload`` clockwise of its
+post; the user winds it counter-clockwise by the preload and drops it over
+the post. The posts then rest on the extension-stop lugs at θ = 0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cadquery as cq
+
+from rjcad.cad.params import JointParams
+from rjcad.cad.spiral import radial_box, ring_hook, strip_solid
+
+Z = cq.Vector(0, 0, 1)
+ORIGIN = cq.Vector(0, 0, 0)
+
+
+def _one_solid(shape: cq.Shape, what: str) -> cq.Shape:
+    """Check a boolean result is exactly one valid solid (OCC can return wrong unions silently)."""
+    solids = shape.Solids()
+    if len(solids) != 1 or not shape.isValid():
+        raise RuntimeError(f"{what}: boolean gave {len(solids)} solids, valid={shape.isValid()}")
+    return solids[0]
+
+
+def _fuse(parts: list[cq.Shape], what: str) -> cq.Shape:
+    """One batched fuse (never a loop), then clean and check."""
+    fused = parts[0].fuse(*parts[1:]).clean()
+    return _one_solid(fused, what)
+
+
+def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
+    """Cylinders along a polyline plus spheres at its interior knees (a channel to cut)."""
+    solids = []
+    for a, b in zip(points[:-1], points[1:]):
+        va, vb = cq.Vector(*a), cq.Vector(*b)
+        d = vb - va
+        solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
+    # knee balls, poles along the mean direction so they lie buried inside the cylinders
+    # (poles on the channel's surface tessellate into an open seam)
+    for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
+        d = (cq.Vector(*k) - cq.Vector(*a)).normalized() + (cq.Vector(*b) - cq.Vector(*k)).normalized()
+        solids.append(cq.Solid.makeSphere(radius, cq.Vector(*k), d.normalized(), angleDegrees1=-90, angleDegrees2=90))
+    return solids
+
+
+# --------------------------------------------------------------------------
+# springs
+# --------------------------------------------------------------------------
+
+
+def spring_phi0(p: JointParams) -> float:
+    """Start angle of the spiral so that its outer end lies at −preload (clockwise of the post)."""
+    return -p.preload - 2 * math.pi * p.spring.turns
+
+
+def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
+    """The strip alone, and its fused attachments (inner tab, end stub, C-hook), for z ∈ [z0, z0+b]."""
+    d = p.spring
+    b, t = d.width, d.thickness
+    phi0 = spring_phi0(p)
+    phi1 = -p.preload
+    strip = strip_solid(d, phi0, z0)
+    # inner tab: radial, overlapping the pin by 0.4 mm and the strip's start transversally
+    w_tab = 1.5 * max(t, p.printer_spec.min_wall_mm)
+    tab = radial_box(p.pin_radius - 0.4, d.inner_radius, w_tab, phi0, z0, b, side=w_tab / 2 - t / 2)
+    # outer end: radial stub from the strip's centreline into the C-hook ring
+    r_end = d.centreline_outer_radius
+    R_h = p.post_ring_radius
+    r_hook_in = p.post_radius + p.clearance
+    r_hook_out = r_hook_in + p.hook_wall
+    stub = radial_box(r_end, R_h - r_hook_in - 0.5 * p.hook_wall, 1.2 * max(t, p.printer_spec.min_wall_mm),
+                      phi1, z0, b, side=-0.6 * max(t, p.printer_spec.min_wall_mm))
+    hook = ring_hook(R_h, phi1, r_hook_in, r_hook_out, z0, b, keep_past_centre=0.2 * p.post_radius)
+    return strip, [tab, stub, hook]
+
+
+# --------------------------------------------------------------------------
+# ground and moving bodies
+# --------------------------------------------------------------------------
+
+
+def ground_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
+    """Tendon channel centreline in the ground link: from the link end (centre) to the fork face at y = r."""
+    r, zm, xb = p.moment_arm, p.z_mid, p.block_start
+    return [(-reach - 0.5, 0.0, zm), (-xb - 3.0, r, zm), (-xb + 0.5, r, zm)]
+
+
+def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
+    """Tendon channel centreline in the moving link: from the support slot to the link end at y = r."""
+    r, zm = p.moment_arm, p.z_mid
+    return [(p.block_start + p.slot_length - 0.5, r, zm), (reach + 0.5, r, zm)]
+
+
+def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
+    """Ground body: pin, cheeks, stop lugs, fork block to x = −reach, and both springs."""
+    reach = p.link_length if reach is None else reach
+    H, W, xb = p.height, p.link_width, p.block_start
+    parts: list[cq.Shape] = [cq.Solid.makeCylinder(p.pin_radius, H, ORIGIN, Z)]
+    for z0, z1 in (p.z_cheek1, p.z_cheek2):
+        h = z1 - z0
+        parts.append(cq.Solid.makeCylinder(p.cheek_radius, h, cq.Vector(0, 0, z0), Z))
+        w = p.cheek_plate_half_width
+        parts.append(cq.Solid.makeBox(xb + 1.0, 2 * w, h, cq.Vector(-xb - 1.0, -w, z0)))
+        # stop lugs: extension (clockwise of the post at rest) and flexion (counter-clockwise at max)
+        r0, r1, w = p.cheek_radius - 1.0, p.post_ring_radius + p.post_radius + 0.5, 2.0
+        parts.append(radial_box(r0, r1, w, -p.stop_angle, z0, h, side=-w / 2))
+        parts.append(radial_box(r0, r1, w, p.rotation + p.stop_angle, z0, h, side=+w / 2))
+    parts.append(cq.Solid.makeBox(reach - xb, W, H, cq.Vector(-reach, -W / 2, 0)))
+    for z0 in (p.z_spring1[0], p.z_spring2[0]):
+        strip, extras = spring_solids(p, z0)
+        parts += [strip, *extras]
+    body = _fuse(parts, "ground fuse")
+    if channel:
+        body = _one_solid(body.cut(*tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)),
+                          "ground channel cut")
+    return body
+
+
+def build_moving(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
+    """Moving body: eye with tendon groove, beam, full-height block with slot and support pin, posts."""
+    reach = p.link_length if reach is None else reach
+    H, W, xb = p.height, p.link_width, p.block_start
+    ze0, ze1 = p.z_eye
+    he = ze1 - ze0
+    R_e = p.eye_radius
+    flange = 1.0
+    parts: list[cq.Shape] = [
+        cq.Solid.makeCylinder(R_e, he, cq.Vector(0, 0, ze0), Z),
+        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze0), Z),
+        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze1 - flange), Z),
+        cq.Solid.makeBox(reach, 2 * R_e, he, cq.Vector(0, -R_e, ze0)),
+        cq.Solid.makeBox(reach - xb, W, H, cq.Vector(xb, -W / 2, 0)),
+        cq.Solid.makeCylinder(p.post_radius, H, cq.Vector(p.post_ring_radius, 0, 0), Z),
+    ]
+    body = _fuse(parts, "moving fuse")
+    cuts: list[cq.Shape] = [
+        cq.Solid.makeCylinder(p.pin_radius + p.clearance, H + 2, cq.Vector(0, 0, -1), Z),
+        cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, he, cq.Vector(xb, R_e, ze0)),
+    ]
+    if channel:
+        cuts += tube_path(moving_channel_points(p, reach), p.tendon_diameter / 2)
+    body = _one_solid(body.cut(*cuts), "moving cut")
+    # tendon support pin across the slot, above the tendon (embedded 0.5 mm above and below the slot)
+    xs = xb + p.slot_length / 2
+    ys = p.moment_arm + p.tendon_diameter / 2 + p.support_pin_radius
+    pin = cq.Solid.makeCylinder(p.support_pin_radius, he + 1.0, cq.Vector(xs, ys, ze0 - 0.5), Z)
+    return _fuse([body, pin], "support pin")
+
+
+@dataclass(frozen=True)
+class JointSolids:
+    """The two printed bodies of one module, in the module frame."""
+
+    params: JointParams
+    ground: cq.Shape
+    moving: cq.Shape
+
+    @property
+    def axis_point(self) -> tuple[float, float, float]:
+        return (0.0, 0.0, 0.0)
+
+    @property
+    def axis_dir(self) -> tuple[float, float, float]:
+        return (0.0, 0.0, 1.0)
+
+
+def build_joint(p: JointParams) -> JointSolids:
+    """Build both bodies of the joint module described by ``p``."""
+    return JointSolids(p, build_ground(p), build_moving(p))
+
+
+def strip_volume(p: JointParams) -> float:
+    """B-rep volume of the two spring strips (tabs and hooks excluded) [mm³]."""
+    return sum(strip_solid(p.spring, spring_phi0(p), z0).Volume() for z0 in (p.z_spring1[0], p.z_spring2[0]))

@@ -1,0 +1,261 @@
+"""Validated, frozen parameters of one joint module, and the layout derived from them.
+
+Coordinates: the joint axis is +Z through the origin; the ground link runs to
+−X, the moving link to +X; positive rotation about +Z is flexion (towards +Y).
+The module prints with Z up, springs flat, in this stack (bottom to top):
+
+    spring 1 | gap | cheek 1 | gap | eye | gap | cheek 2 | gap | spring 2
+
+All lengths in mm, angles in rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+from rjcad.errors import ParameterError
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
+from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement, design_spring
+
+DEG = math.pi / 180.0
+
+#: Validated ranges: name → (low, high, unit shown in errors). Angles in rad.
+RANGES = {
+    "stiffness": (0.2, 60.0, "N·mm/rad"),
+    "rotation": (15 * DEG, 110 * DEG, "deg"),
+    "preload": (30 * DEG, 120 * DEG, "deg"),
+    "clearance": (0.15, 0.6, "mm"),
+    "link_length": (None, 150.0, "mm"),  # lower bound depends on the spring
+    "tendon_diameter": (0.5, 2.0, "mm"),
+    "tendon_moment_arm": (None, 15.0, "mm"),  # lower bound depends on the pin
+    "pin_radius": (1.25, 5.0, "mm"),
+    "safety_factor": (1.0, 5.0, ""),
+}
+
+
+def _check(name: str, value, lo, hi, unit: str) -> None:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "must be a number") from None
+    shown = math.degrees(v) if unit == "deg" else v
+    show = (lambda x: f"{math.degrees(x):g}") if unit == "deg" else (lambda x: f"{x:g}")
+    if not math.isfinite(v) or (lo is not None and v < lo - 1e-12) or (hi is not None and v > hi + 1e-12):
+        limit = f"must be in [{show(lo)}, {show(hi)}] {unit}".strip() if lo is not None else \
+            f"must be <= {show(hi)} {unit}".strip()
+        raise ParameterError(name, shown, limit, unit=unit)
+
+
+@dataclass(frozen=True)
+class JointParams:
+    """Inputs of one joint module (validated on construction; angles in rad).
+
+    ``stiffness`` is the joint stiffness, both springs together (N·mm/rad).
+    ``tendon_moment_arm`` is the tendon's distance from the joint axis where it
+    wraps the eye; ``None`` means 6 mm.
+    """
+
+    stiffness: float = 5.2
+    rotation: float = 90 * DEG
+    preload: float = 90 * DEG
+    material: str = DEFAULT_MATERIAL
+    printer: str = DEFAULT_PRINTER
+    clearance: float = 0.25
+    link_length: float = 40.0
+    tendon_diameter: float = 1.0
+    tendon_moment_arm: float | None = None
+    pin_radius: float = 2.0
+    safety_factor: float = 1.5
+    end: str = DEFAULT_END
+    # fixed proportions (not user inputs, but kept here so that everything derives from one object)
+    cheek_thickness: float = field(default=2.0, repr=False)
+    post_radius: float = field(default=1.2, repr=False)
+    tendon_line_diameter: float = field(default=0.6, repr=False)
+    support_pin_radius: float = field(default=0.9, repr=False)
+
+    def __post_init__(self):
+        for name, (lo, hi, unit) in RANGES.items():
+            value = getattr(self, name)
+            if name == "tendon_moment_arm" and value is None:
+                continue
+            _check(name, value, lo, hi, unit)
+        object.__setattr__(self, "material", get_material(self.material).key)
+        object.__setattr__(self, "printer", get_printer(self.printer).key)
+        if self.tendon_line_diameter >= self.tendon_diameter:
+            raise ParameterError("tendon_diameter", self.tendon_diameter,
+                                 f"must be larger than the tendon line ({self.tendon_line_diameter} mm)")
+        # geometry-dependent limits (these build the spring design: one optimiser call)
+        lo_arm = self.pin_radius + self.clearance + 2 * self.printer_spec.min_wall_mm + self.tendon_line_diameter / 2
+        _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
+        lo_len = self.block_start + self.slot_length + 4.0
+        _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
+
+    # --- printer, spring -------------------------------------------------------
+    @property
+    def printer_spec(self):
+        return get_printer(self.printer)
+
+    @property
+    def material_spec(self):
+        return get_material(self.material)
+
+    @property
+    def gap_xy(self) -> float:
+        """Radial (XY) gap between the bodies: the clearance [mm]."""
+        return self.clearance
+
+    @property
+    def gap_z(self) -> float:
+        """Axial (Z) gap between stacked parts: max(clearance, printer's vertical minimum) [mm]."""
+        return max(self.clearance, self.printer_spec.min_gap_vertical_mm)
+
+    @property
+    def gap_internal(self) -> float:
+        """Gap kept inside the ground body (spring to its own parts): printer minimum gap [mm]."""
+        return max(self.printer_spec.min_gap_mm, self.clearance)
+
+    @cached_property
+    def spring(self) -> SpringDesign:
+        """The spring design for each of the twin springs (K_joint/2 each)."""
+        # innermost strip edge must clear the pin: r_in − t/2 − r_pin ≥ internal gap
+        t_max = 1.2
+        r_min = max(3.0, self.pin_radius + self.gap_internal + t_max / 2)
+        req = SpringRequirement(
+            joint_stiffness=self.stiffness, rotation=self.rotation, preload=self.preload,
+            material=self.material, printer=self.printer, safety_factor=self.safety_factor,
+            end=self.end, inner_radius_min=r_min, inner_radius_max=max(10.0, r_min),
+        )
+        d = design_spring(req)
+        if d.inner_radius - d.thickness / 2 - self.pin_radius < self.gap_internal - 1e-9:
+            req = SpringRequirement(**{**req.__dict__, "inner_radius_min":
+                                       self.pin_radius + self.gap_internal + d.thickness / 2})
+            d = design_spring(req)
+        return d
+
+    # --- Z layout --------------------------------------------------------------
+    @property
+    def spring_width(self) -> float:
+        return self.spring.width
+
+    @property
+    def eye_thickness(self) -> float:
+        """Eye band height: the tendon groove plus a 1 mm flange each side [mm]."""
+        return max(4.0, self.tendon_diameter + 3.0)
+
+    @property
+    def z_cheek1(self) -> tuple[float, float]:
+        z0 = self.spring_width + self.gap_z
+        return (z0, z0 + self.cheek_thickness)
+
+    @property
+    def z_eye(self) -> tuple[float, float]:
+        z0 = self.z_cheek1[1] + self.gap_z
+        return (z0, z0 + self.eye_thickness)
+
+    @property
+    def z_cheek2(self) -> tuple[float, float]:
+        z0 = self.z_eye[1] + self.gap_z
+        return (z0, z0 + self.cheek_thickness)
+
+    @property
+    def z_spring1(self) -> tuple[float, float]:
+        return (0.0, self.spring_width)
+
+    @property
+    def z_spring2(self) -> tuple[float, float]:
+        z0 = self.z_cheek2[1] + self.gap_z
+        return (z0, z0 + self.spring_width)
+
+    @property
+    def height(self) -> float:
+        """Total height of the module along the joint axis [mm]."""
+        return self.z_spring2[1]
+
+    @property
+    def z_mid(self) -> float:
+        return 0.5 * sum(self.z_eye)
+
+    # --- radial layout ---------------------------------------------------------
+    @property
+    def moment_arm(self) -> float:
+        """Design tendon moment arm r (the tendon centreline's distance from the axis) [mm]."""
+        return 6.0 if self.tendon_moment_arm is None else float(self.tendon_moment_arm)
+
+    @property
+    def eye_radius(self) -> float:
+        """Groove bottom of the tendon path on the eye, r − line diameter/2 [mm]."""
+        return self.moment_arm - self.tendon_line_diameter / 2
+
+    @property
+    def hook_wall(self) -> float:
+        return max(self.spring.thickness, self.printer_spec.min_wall_mm)
+
+    @property
+    def post_ring_radius(self) -> float:
+        """Radius of the hook posts (and hook centres), R_h [mm]."""
+        return (self.spring.outer_radius + self.gap_internal + self.hook_wall
+                + self.clearance + self.post_radius)
+
+    @property
+    def hook_outer_radius(self) -> float:
+        return self.post_ring_radius + self.post_radius + self.clearance + self.hook_wall
+
+    @property
+    def cheek_radius(self) -> float:
+        """Cheek disc radius: clears the posts' path by the clearance plus 0.1 mm [mm]."""
+        return self.post_ring_radius - self.post_radius - self.clearance - 0.1
+
+    @property
+    def cheek_plate_half_width(self) -> float:
+        """Half-width of the plates joining each cheek to the fork block [mm].
+
+        Past 90° of flexion the posts sweep over x < 0; the plate stays inside the
+        posts' path there: w ≤ (R_h − ρ − c − 0.2)·sin(π − rotation − 2·stop angle − 2°).
+        """
+        free = math.pi - self.rotation - 2 * self.stop_angle - 2 * DEG
+        inner = self.post_ring_radius - self.post_radius - self.clearance - 0.2
+        return min(self.cheek_radius, inner * math.sin(free)) if free < math.pi / 2 else self.cheek_radius
+
+    @property
+    def block_start(self) -> float:
+        """|x| where the full-height link blocks begin (both links) [mm].
+
+        Outside the hooks, and far enough out that the moving block's inner corner
+        (X_b, W/2) never reaches the ground block's: flexed by θ, the corners meet
+        when θ = π − 2·atan(W/2 / X_b), so X_b ≥ (W/2 + c)/tan((π − rotation)/2 − 2°).
+        """
+        corner = (self.link_width / 2 + self.clearance) / math.tan((math.pi - self.rotation) / 2 - 2 * DEG)
+        return max(self.hook_outer_radius + self.clearance + 0.3, corner)
+
+    @property
+    def link_width(self) -> float:
+        """Link width along Y [mm]."""
+        return 2.0 * (self.moment_arm + self.tendon_diameter / 2 + 2 * self.support_pin_radius + 1.0)
+
+    @property
+    def slot_length(self) -> float:
+        return 2 * self.support_pin_radius + 3.0
+
+    @property
+    def stop_angle(self) -> float:
+        """Angle between the post's centre line and a stop face at clearance, asin((ρ+c)/R_h) [rad]."""
+        return math.asin((self.post_radius + self.clearance) / self.post_ring_radius)
+
+    def summary(self) -> dict:
+        """Input parameters as manifest keys (degrees where the key says so)."""
+        return {
+            "stiffness_nmm_per_rad": self.stiffness,
+            "rotation_deg": math.degrees(self.rotation),
+            "preload_deg": math.degrees(self.preload),
+            "material": self.material,
+            "printer": self.printer,
+            "clearance_mm": self.clearance,
+            "link_length_mm": self.link_length,
+            "tendon_diameter_mm": self.tendon_diameter,
+            "tendon_moment_arm_mm_requested": self.tendon_moment_arm,
+            "pin_radius_mm": self.pin_radius,
+            "safety_factor": self.safety_factor,
+            "end": self.end,
+        }

@@ -1,0 +1,228 @@
+"""The default joint (the paper's): built once, checked the way a printer needs it."""
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from mesh_tools import load_bodies, manifold, rotate_about, sweep_collisions
+
+from rjcad.cli import main
+
+DEG = math.pi / 180
+
+
+@pytest.fixture(scope="module")
+def default_joint(tmp_path_factory):
+    out = tmp_path_factory.mktemp("joint")
+    with pytest.raises(SystemExit) as e:
+        main(["joint", "--config", "templates/joint.toml", "--out", str(out)])
+    assert e.value.code == 0
+    manifest = json.loads((out / "joint.json").read_text())
+    bodies = load_bodies(out / "joint.stl")
+    return out, manifest, bodies
+
+
+def by_name(manifest, bodies):
+    """Match STL bodies to manifest names by volume."""
+    named = {}
+    for entry in manifest["bodies"]:
+        named[entry["name"]] = min(bodies, key=lambda b: abs(abs(b.volume) - entry["volume_mm3"]))
+    return named
+
+
+def test_all_outputs_written(default_joint):
+    out, _, _ = default_joint
+    for ext in ("stl", "3mf", "step", "png", "json"):
+        assert (out / f"joint.{ext}").stat().st_size > 1000, ext
+    assert not list(out.glob("*.tmp")) and not list(out.glob(".*"))
+
+
+def test_two_watertight_manifold_bodies(default_joint):
+    _, manifest, bodies = default_joint
+    assert len(bodies) == 2
+    for b in bodies:
+        assert b.is_watertight and b.is_winding_consistent and b.volume > 0
+        man = manifold(b)
+        assert man.status().name == "NoError"
+        assert man.volume() > 0
+    vols = sorted(b.volume for b in bodies)
+    want = sorted(e["volume_mm3"] for e in manifest["bodies"])
+    assert vols == pytest.approx(want, rel=0.005)
+
+
+def test_gap_between_bodies_is_the_clearance(default_joint):
+    _, manifest, bodies = default_joint
+    c = manifest["clearance_mm"]
+    g, m = (manifold(b) for b in (by_name(manifest, bodies)["ground"], by_name(manifest, bodies)["moving"]))
+    gap = g.min_gap(m, 1.0)
+    assert c - 0.02 <= gap <= c + 0.05
+    assert (g ^ m).volume() == pytest.approx(0.0, abs=1e-9)
+    assert manifest["measured_min_gap_mm"] == pytest.approx(gap, abs=1e-4)
+
+
+def test_spring_strips_volume(default_joint):
+    _, manifest, _ = default_joint
+    s = manifest["spring"]
+    nominal = 2 * s["width_mm"] * s["thickness_mm"] * s["length_mm"]
+    assert manifest["spring_strip_volume_mm3"] == pytest.approx(nominal, rel=0.02)
+
+
+def test_range_of_motion_is_free(default_joint):
+    _, manifest, bodies = default_joint
+    named = by_name(manifest, bodies)
+    g, m = manifold(named["ground"]), manifold(named["moving"])
+    poses = sweep_collisions(g, m, manifest["axis_point_mm"], manifest["axis_dir"], 0.0,
+                             manifest["rotation_deg"] * DEG, step=1.0 * DEG)
+    assert len(poses) >= 91
+    worst = min(poses, key=lambda p: p[2])
+    assert all(vol < 1e-9 for _, vol, _ in poses), [p for p in poses if p[1] > 0][:3]
+    assert worst[2] > 0.1
+
+
+def test_stops_bound_the_range(default_joint):
+    """Past 0 (extension) and past the rotation (flexion), the posts meet the stop lugs."""
+    _, manifest, bodies = default_joint
+    named = by_name(manifest, bodies)
+    g, m = manifold(named["ground"]), manifold(named["moving"])
+    pt, ax = manifest["axis_point_mm"], manifest["axis_dir"]
+    rot = manifest["rotation_deg"] * DEG
+    # in print the extension stop still has a gap (the clearance) ...
+    assert (g ^ rotate_about(m, pt, ax, -0.3 * DEG)).volume() < 1e-9
+    # ... and a few degrees further the post is inside the lug
+    assert (g ^ rotate_about(m, pt, ax, -4 * DEG)).volume() > 0.01
+    assert (g ^ rotate_about(m, pt, ax, rot + 0.3 * DEG)).volume() < 1e-9
+    assert (g ^ rotate_about(m, pt, ax, rot + 4 * DEG)).volume() > 0.01
+
+
+def test_hook_sits_preload_clockwise_of_its_post():
+    from rjcad.cad.joint import build_joint
+    from rjcad.cad.params import JointParams
+    import cadquery as cq
+
+    p = JointParams()
+    j = build_joint(p)
+    R, rho, c, w = p.post_ring_radius, p.post_radius, p.clearance, p.hook_wall
+    for z in (p.spring.width / 2, p.height - p.spring.width / 2):
+        # the post: on the moving body at (R, 0)
+        assert j.moving.isInside(cq.Vector(R, 0, z))
+        # the hook: a ring around the point preload clockwise of the post, open counter-clockwise
+        phi = -p.preload
+        centre = cq.Vector(R * math.cos(phi), R * math.sin(phi), z)
+        assert not j.ground.isInside(centre)
+        radial = cq.Vector(math.cos(phi), math.sin(phi), 0)
+        tangent = cq.Vector(-math.sin(phi), math.cos(phi), 0)
+        ring = rho + c + w / 2
+        for direction in (radial, radial * -1, tangent * -1):  # outer, inner and clockwise side: closed
+            assert j.ground.isInside(centre + direction * ring)
+        assert not j.ground.isInside(centre + tangent * ring)  # counter-clockwise side: open
+        # the post fits inside the hook with the clearance all round
+        assert rho + c <= ring - w / 2 + 1e-9
+
+
+def test_manifest_keys_and_measured_tendon_geometry(default_joint):
+    _, m, _ = default_joint
+    for key in ("spring", "bodies", "axis_point_mm", "axis_dir", "moving_body", "rotation_deg", "preload_deg",
+                "joint_stiffness_nmm_per_rad", "tendon_moment_arm_mm", "tendon_wrap_angle_rad", "clearance_mm",
+                "stiffness_nmm_per_rad", "material", "printer", "link_length_mm", "tendon_diameter_mm"):
+        assert key in m, key
+    assert m["moving_body"] == "moving"
+    assert {b["name"] for b in m["bodies"]} == {"ground", "moving"}
+    assert m["axis_dir"] == [0.0, 0.0, 1.0]
+    assert m["rotation_deg"] == 90 and m["preload_deg"] == 90 and m["clearance_mm"] == 0.25
+    assert m["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
+    for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
+                "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
+                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end"):
+        assert key in m["spring"], key
+    # moment arm: groove bottom 5.7 mm (measured) + half the 0.6 mm line = 6.0 mm (the default)
+    assert m["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
+    # wrap angle: the base channel climbs r = 6 mm over 40.5 − (X_b + 3) mm (X_b: where the fork block starts)
+    from rjcad.cad.params import JointParams
+    xb = JointParams().block_start
+    hand = math.atan2(6.0, 40.5 - (xb + 3.0))
+    assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
+    assert m["bodies"][0]["mass_g"] == pytest.approx(m["bodies"][0]["volume_mm3"] * 1.04e-3)
+
+
+def test_moment_arm_follows_the_parameter(tmp_path):
+    from rjcad.cad.build import build
+    from rjcad.cad.params import JointParams
+
+    b = build(JointParams(tendon_moment_arm=7.5))
+    assert b.manifest["tendon_moment_arm_mm"] == pytest.approx(7.5, abs=1e-6)
+
+
+def test_step_reimports_as_two_named_valid_solids(default_joint):
+    out, manifest, bodies = default_joint
+    code = f"""
+import json, cadquery as cq
+a = cq.Assembly.importStep({str(out / 'joint.step')!r})
+res = {{}}
+for name, obj in a.traverse():
+    if obj.obj is not None and name in ("ground", "moving"):
+        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
+        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
+print(json.dumps(res))
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout.strip().splitlines()[-1])
+    assert set(res) == {"ground", "moving"}
+    named = by_name(manifest, bodies)
+    for name, (n_solids, valid, vol) in res.items():
+        assert n_solids == 1 and valid
+        assert vol == pytest.approx(named[name].volume, rel=0.01)
+
+
+def test_3mf_has_two_named_objects(default_joint):
+    import trimesh
+
+    out, _, _ = default_joint
+    scene = trimesh.load(str(out / "joint.3mf"))
+    assert sorted(scene.geometry) == ["ground", "moving"]
+
+
+@pytest.mark.parametrize(
+    "args, param",
+    [
+        (["--stiffness", "-2"], "stiffness"),
+        (["--rotation", "400"], "rotation"),
+        (["--clearance", "0.01"], "clearance"),
+        (["--link-length", "5"], "link_length"),
+        (["--material", "cheese"], "material"),
+        (["--stiffness", "500"], "stiffness"),
+    ],
+)
+def test_bad_joint_input_exit_2_and_no_files(args, param, tmp_path, capsys):
+    out = tmp_path / "j"
+    with pytest.raises(SystemExit) as e:
+        main(["joint", *args, "--out", str(out)])
+    err = capsys.readouterr().err
+    assert e.value.code == 2
+    assert len(err.strip().splitlines()) == 1 and param in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_infeasible_spring_is_a_clear_error(tmp_path, capsys):
+    out = tmp_path / "j"
+    with pytest.raises(SystemExit) as e:
+        main(["joint", "--stiffness", "55", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and err.count("\n") == 1 and not out.exists()
+    assert "MPa" in err or "radius" in err or "turns" in err
+
+
+def test_joint_benchmark_prints_its_json():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    r = subprocess.run([sys.executable, str(root / "benchmarks" / "joint.py"), "--repeats", "1"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    for key in ("median_total_s", "median_cad_build_s", "median_step_export_s", "median_stl_3mf_export_s",
+                "triangles", "stl_bytes"):
+        assert d[key] > 0, key
