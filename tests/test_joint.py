@@ -226,3 +226,21 @@ def test_joint_benchmark_prints_its_json():
     for key in ("median_total_s", "median_cad_build_s", "median_step_export_s", "median_stl_3mf_export_s",
                 "triangles", "stl_bytes"):
         assert d[key] > 0, key
+
+
+def test_spring_strips_volume_measured_on_the_stl(default_joint):
+    """Cut the ground mesh to the springs' annulus in both spring bands: strips (+ tab/stub slivers)."""
+    import manifold3d as m3
+
+    _, m, bodies = default_joint
+    s = m["spring"]
+    ground = manifold(by_name(m, bodies)["ground"])
+    r_lo = s["inner_radius_mm"] - s["thickness_mm"] / 2 - 0.02
+    r_hi = s["outer_radius_mm"] + 0.02
+    b, H = s["width_mm"], m["frame"]["height_mm"]
+    total = 0.0
+    for z0 in (0.0, H - b):
+        ring = (m3.Manifold.cylinder(b, r_hi, r_hi, 512) - m3.Manifold.cylinder(b, r_lo, r_lo, 512)).translate((0, 0, z0))
+        total += (ground ^ ring).volume()
+    nominal = 2 * s["width_mm"] * s["thickness_mm"] * s["length_mm"]
+    assert total == pytest.approx(nominal, rel=0.02)
