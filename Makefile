@@ -15,12 +15,13 @@ $(VENV)/.installed: pyproject.toml
 	touch $@
 
 demo: $(VENV)/.installed
-	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
+	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger
 
 # regenerate the images the README shows
 docs-images: $(VENV)/.installed
 	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
-	mkdir -p docs && cp out/joint/joint.png docs/joint.png
+	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger
+	mkdir -p docs && cp out/joint/joint.png docs/joint.png && cp out/finger/finger.png docs/finger.png
 
 test: $(VENV)/.installed
 	$(MAKE) --no-print-directory pytest

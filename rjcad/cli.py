@@ -182,6 +182,30 @@ def joint(config, out_dir, no_png, **options):
     ])
 
 
+@cli.command()
+@click.argument("template", required=False, type=click.Path(dir_okay=False))
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
+              help="Output directory.")
+@click.option("--no-png", is_flag=True, help="Skip the preview image.")
+def finger(template, out_dir, no_png):
+    """Build a finger of chained joint modules (default: the paper's finger, templates/finger.toml)."""
+    from rjcad.cad.build import write_finger
+    from rjcad.cad.finger import PAPER_FINGER, FingerParams
+
+    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(PAPER_FINGER, "built-in paper finger")
+    b = write_finger(fp, out_dir, png=not no_png)
+    m = b.manifest
+    click.echo(f"finger written to {out_dir}/finger.{{stl,3mf,step{'' if no_png else ',png'},json}} "
+               f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
+    rows = [(f"joint {i + 1} ({j['parent']} → {j['child']})",
+             f"K {j['joint_stiffness_nmm_per_rad']:.2f}  r {j['tendon_moment_arm_mm']:.2f}  "
+             f"wrap {j['tendon_wrap_angle_rad']:.3f}",
+             "N·mm/rad, mm, rad") for i, j in enumerate(m["joints"])]
+    rows.append(("tendon length at rest", f"{m['tendon_length_mm']:.1f}", "mm"))
+    rows.append(("bodies", ", ".join(f"{b_['name']} {b_['mass_g']:.1f} g" for b_ in m["bodies"]), ""))
+    _print_table(rows)
+
+
 # ---- new commands go above this line (one block per command) ----
 
 

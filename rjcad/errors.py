@@ -15,6 +15,7 @@ class ParameterError(RjcadError, ValueError):
         self.parameter = parameter
         self.value = value
         self.limit = limit
+        self.unit = unit
         shown = f"{value:g}" if isinstance(value, float) else repr(value)
         super().__init__(f"{parameter} = {shown}{' ' + unit if unit else ''} is invalid: {limit}")
 

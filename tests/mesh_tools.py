@@ -35,3 +35,33 @@ def sweep_collisions(ground: m3.Manifold, moving: m3.Manifold, point, direction,
         vol = (ground ^ mv).volume()
         out.append((float(a), vol, ground.min_gap(mv, 1.0)))
     return out
+
+
+def chain_transforms(axes, thetas):
+    """4x4 transforms of the child bodies of a serial chain at joint angles ``thetas``.
+
+    axes: [(point, direction)] at rest, proximal first. Body k (k = 1..N, the child of
+    joint k) moves by R_1(θ1)·R_2(θ2)·…·R_k(θk), each R_j about joint j's rest axis.
+    """
+    T = np.eye(4)
+    out = []
+    for (pt, d), th in zip(axes, thetas):
+        T = T @ trimesh.transformations.rotation_matrix(float(th), d, pt)
+        out.append(T.copy())
+    return out
+
+
+def posed(manifolds, axes, thetas):
+    """Bodies [base, child1, …] moved to the joint angles ``thetas``."""
+    Ts = chain_transforms(axes, thetas)
+    return [manifolds[0]] + [m.transform(T[:3, :4]) for m, T in zip(manifolds[1:], Ts)]
+
+
+def worst_overlap(bodies, pairs):
+    """Largest intersection volume over the given body index pairs, and that pair."""
+    worst = (0.0, None)
+    for a, b in pairs:
+        v = (bodies[a] ^ bodies[b]).volume()
+        if v > worst[0]:
+            worst = (v, (a, b))
+    return worst

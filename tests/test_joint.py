@@ -139,9 +139,9 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
         assert key in m["spring"], key
     # moment arm: groove bottom 5.7 mm (measured) + half the 0.6 mm line = 6.0 mm (the default)
     assert m["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
-    # wrap angle: the base channel climbs r = 6 mm over 40.5 − (X_b + 3) mm (X_b: where the fork block starts)
+    # wrap angle: the base channel climbs r = 6 mm over 40.5 − (X_g + 3) mm (X_g: where the fork block starts)
     from rjcad.cad.params import JointParams
-    xb = JointParams().block_start
+    xb = JointParams().ground_block_start
     hand = math.atan2(6.0, 40.5 - (xb + 3.0))
     assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
     assert m["bodies"][0]["mass_g"] == pytest.approx(m["bodies"][0]["volume_mm3"] * 1.04e-3)

@@ -143,3 +143,108 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointB
     files = render_files(b, "joint", png=png)
     ex.write_outputs(out_dir, files)
     return b
+
+
+# --------------------------------------------------------------------------
+# finger
+# --------------------------------------------------------------------------
+
+
+@dataclass
+class FingerBuild:
+    """A built finger: named solids, meshes, manifest and timings."""
+
+    params: "FingerParams"
+    solids: dict
+    meshes: dict[str, trimesh.Trimesh]
+    manifest: dict
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def build_finger_model(fp) -> FingerBuild:
+    """Build, tessellate and measure the finger; nothing is written."""
+    from rjcad.cad.finger import build_finger, joint_summary, tendon_path
+
+    t0 = time.perf_counter()
+    solids = build_finger(fp)
+    t1 = time.perf_counter()
+    meshes = {name: ex.to_mesh(s) for name, s in solids.items()}
+    t2 = time.perf_counter()
+    names = fp.body_names
+    joints = []
+    for i, p in enumerate(fp.joints):
+        entry = joint_summary(fp, i)
+        child = solids[names[i + 1]]
+        entry["tendon_moment_arm_mm"] = ex.measure_moment_arm(child, p.z_mid, p.tendon_line_diameter,
+                                                              axis_point=entry["axis_point_mm"])
+        entry["tendon_wrap_angle_rad"] = ex.measure_wrap_angle(solids[names[i]], p.tendon_diameter / 2)
+        joints.append(entry)
+    path = np.array(tendon_path(fp))
+    dens = fp.joints[0].material_spec.density_g_cm3
+    p0 = fp.joints[0]
+    manifest = {
+        "template": fp.source,
+        "n_joints": fp.n,
+        "material": p0.material,
+        "printer": p0.printer,
+        "clearance_mm": p0.clearance,
+        "tendon_diameter_mm": p0.tendon_diameter,
+        "safety_factor": p0.safety_factor,
+        "end": p0.end,
+        "base_length_mm": fp.base_length,
+        "joints": joints,
+        "bodies": [{"name": n, "volume_mm3": float(s.Volume()), "mass_g": float(s.Volume()) * dens / 1000.0}
+                   for n, s in solids.items()],
+        "tendon_length_mm": float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()),
+        "tendon_path_mm": path.tolist(),
+        "gaps_mm": {
+            "radial_pin_eye": p0.gap_xy,
+            "axial_stack": p0.gap_z,
+            "note": "radial gaps print side by side in XY; axial gaps are Z steps and use "
+                    "max(clearance, the printer's vertical minimum)",
+        },
+        "mesh": {
+            "tolerance_mm": ex.MESH_TOLERANCE,
+            "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
+            "triangles": int(sum(len(m.faces) for m in meshes.values())),
+        },
+        "frame": "joint 1's axis is +Z through the origin; the finger extends along +X; flexion is positive "
+                 "about +Z (towards +Y, the tendon side); every body stands on z = 0",
+    }
+    t3 = time.perf_counter()
+    return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
+                                                      "measure_s": t3 - t2})
+
+
+def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | str]:
+    """finger.stl/.3mf/.step/.png/.json as bytes."""
+    t0 = time.perf_counter()
+    files: dict[str, bytes | str] = {
+        "finger.stl": ex.stl_bytes(list(b.meshes.values())),
+        "finger.3mf": ex.threemf_bytes(b.meshes),
+        "finger.step": ex.step_bytes(b.solids, "finger"),
+    }
+    t1 = time.perf_counter()
+    if png:
+        fp = b.params
+        ks = ", ".join(f"{j['joint_stiffness_nmm_per_rad']:.2f}" for j in b.manifest["joints"])
+        p0 = fp.joints[0]
+        files["finger.png"] = ex.preview_png(
+            b.meshes, f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
+            lines=[np.array(b.manifest["tendon_path_mm"])],
+            sections=[
+                ("section z = b/2 of joint 1: bottom springs, hooks, posts", (0, 0, p0.spring.width / 2), (0, 0, 1)),
+                ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
+                ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0)),
+            ])
+    t2 = time.perf_counter()
+    b.timings.update({"exports_s": t1 - t0, "png_s": t2 - t1})
+    files["finger.json"] = json.dumps(b.manifest, indent=2) + "\n"
+    return files
+
+
+def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:
+    """Build the finger and write finger.{stl,3mf,step,png,json} into ``out_dir``."""
+    b = build_finger_model(fp)
+    ex.write_outputs(out_dir, render_finger_files(b, png=png))
+    return b

@@ -90,41 +90,88 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
 
 
 # --------------------------------------------------------------------------
-# ground and moving bodies
+# ground and moving bodies, as parts (so that the finger can reuse them)
 # --------------------------------------------------------------------------
 
 
-def ground_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
-    """Tendon channel centreline in the ground link: from the link end (centre) to the fork face at y = r."""
-    r, zm, xb = p.moment_arm, p.z_mid, p.block_start
-    return [(-reach - 0.5, 0.0, zm), (-xb - 3.0, r, zm), (-xb + 0.5, r, zm)]
-
-
-def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
-    """Tendon channel centreline in the moving link: from the support slot to the link end at y = r."""
-    r, zm = p.moment_arm, p.z_mid
-    return [(p.block_start + p.slot_length - 0.5, r, zm), (reach + 0.5, r, zm)]
-
-
-def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
-    """Ground body: pin, cheeks, stop lugs, fork block to x = −reach, and both springs."""
-    reach = p.link_length if reach is None else reach
-    H, W, xb = p.height, p.link_width, p.block_start
+def fork_parts(p: JointParams) -> list[cq.Shape]:
+    """Ground-side parts around the axis: pin, cheeks, plates to the block at −X_g, stop lugs, springs."""
+    H, xg = p.height, p.ground_block_start
     parts: list[cq.Shape] = [cq.Solid.makeCylinder(p.pin_radius, H, ORIGIN, Z)]
     for z0, z1 in (p.z_cheek1, p.z_cheek2):
         h = z1 - z0
         parts.append(cq.Solid.makeCylinder(p.cheek_radius, h, cq.Vector(0, 0, z0), Z))
         w = p.cheek_plate_half_width
-        parts.append(cq.Solid.makeBox(xb + 1.0, 2 * w, h, cq.Vector(-xb - 1.0, -w, z0)))
+        parts.append(cq.Solid.makeBox(xg + 1.0, 2 * w, h, cq.Vector(-xg - 1.0, -w, z0)))
         # stop lugs: extension (clockwise of the post at rest) and flexion (counter-clockwise at max)
-        r0, r1, w = p.cheek_radius - 1.0, p.post_ring_radius + p.post_radius + 0.5, 2.0
-        parts.append(radial_box(r0, r1, w, -p.stop_angle, z0, h, side=-w / 2))
-        parts.append(radial_box(r0, r1, w, p.rotation + p.stop_angle, z0, h, side=+w / 2))
-    parts.append(cq.Solid.makeBox(reach - xb, W, H, cq.Vector(-reach, -W / 2, 0)))
+        r0, r1, lw = p.cheek_radius - 1.0, p.post_ring_radius + p.post_radius + 0.5, 2.0
+        parts.append(radial_box(r0, r1, lw, -p.stop_angle, z0, h, side=-lw / 2))
+        parts.append(radial_box(r0, r1, lw, p.rotation + p.stop_angle, z0, h, side=+lw / 2))
     for z0 in (p.z_spring1[0], p.z_spring2[0]):
         strip, extras = spring_solids(p, z0)
         parts += [strip, *extras]
-    body = _fuse(parts, "ground fuse")
+    return parts
+
+
+def eye_parts(p: JointParams) -> list[cq.Shape]:
+    """Moving-side parts around the axis: eye with groove flanges, eye-band beam to the block, posts."""
+    H, xm = p.height, p.block_start
+    ze0, ze1 = p.z_eye
+    he = ze1 - ze0
+    R_e, flange = p.eye_radius, 1.0
+    return [
+        cq.Solid.makeCylinder(R_e, he, cq.Vector(0, 0, ze0), Z),
+        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze0), Z),
+        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze1 - flange), Z),
+        cq.Solid.makeBox(xm + 1.0, 2 * R_e, he, cq.Vector(0, -R_e, ze0)),
+        cq.Solid.makeCylinder(p.post_radius, H, cq.Vector(p.post_ring_radius, 0, 0), Z),
+    ]
+
+
+def eye_cuts(p: JointParams, height: float) -> list[cq.Shape]:
+    """The eye's bore (pin + clearance) and the tendon slot in the moving block."""
+    ze0, ze1 = p.z_eye
+    W, R_e, xm = p.link_width, p.eye_radius, p.block_start
+    return [
+        cq.Solid.makeCylinder(p.pin_radius + p.clearance, height + 2, cq.Vector(0, 0, -1), Z),
+        cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, ze1 - ze0, cq.Vector(xm, R_e, ze0)),
+    ]
+
+
+def support_pin(p: JointParams) -> cq.Solid:
+    """Tendon support pin across the slot, above the tendon, embedded 0.5 mm above and below the slot."""
+    ze0, ze1 = p.z_eye
+    xs = p.block_start + p.slot_length / 2
+    ys = p.moment_arm + p.tendon_diameter / 2 + p.support_pin_radius
+    return cq.Solid.makeCylinder(p.support_pin_radius, ze1 - ze0 + 1.0, cq.Vector(xs, ys, ze0 - 0.5), Z)
+
+
+def link_block(x0: float, x1: float, width: float, height: float) -> cq.Solid:
+    """Full-height link block from x0 to x1, centred on y = 0, from the bed up."""
+    return cq.Solid.makeBox(x1 - x0, width, height, cq.Vector(x0, -width / 2, 0))
+
+
+def ground_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
+    """Tendon channel centreline in the ground link: from the link end (centre) to the fork face at y = r."""
+    r, zm, xg = p.moment_arm, p.z_mid, p.ground_block_start
+    return [(-reach - 0.5, 0.0, zm), (-xg - 3.0, r, zm), (-xg + 0.5, r, zm)]
+
+
+def moving_channel_start(p: JointParams) -> tuple[float, float, float]:
+    """Where the moving link's channel starts: the slot's far end, at y = r, z = z_mid."""
+    return (p.block_start + p.slot_length - 0.5, p.moment_arm, p.z_mid)
+
+
+def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
+    """Tendon channel centreline in the moving link: from the support slot to the link end at y = r."""
+    return [moving_channel_start(p), (reach + 0.5, p.moment_arm, p.z_mid)]
+
+
+def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
+    """Ground body of a module: fork parts plus the block from x = −reach to −X_g, with its channel."""
+    reach = p.link_length if reach is None else reach
+    body = _fuse(fork_parts(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)],
+                 "ground fuse")
     if channel:
         body = _one_solid(body.cut(*tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)),
                           "ground channel cut")
@@ -132,34 +179,14 @@ def build_ground(p: JointParams, reach: float | None = None, channel: bool = Tru
 
 
 def build_moving(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
-    """Moving body: eye with tendon groove, beam, full-height block with slot and support pin, posts."""
+    """Moving body of a module: eye parts plus the block from X_m to x = reach, slot, support pin, channel."""
     reach = p.link_length if reach is None else reach
-    H, W, xb = p.height, p.link_width, p.block_start
-    ze0, ze1 = p.z_eye
-    he = ze1 - ze0
-    R_e = p.eye_radius
-    flange = 1.0
-    parts: list[cq.Shape] = [
-        cq.Solid.makeCylinder(R_e, he, cq.Vector(0, 0, ze0), Z),
-        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze0), Z),
-        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze1 - flange), Z),
-        cq.Solid.makeBox(reach, 2 * R_e, he, cq.Vector(0, -R_e, ze0)),
-        cq.Solid.makeBox(reach - xb, W, H, cq.Vector(xb, -W / 2, 0)),
-        cq.Solid.makeCylinder(p.post_radius, H, cq.Vector(p.post_ring_radius, 0, 0), Z),
-    ]
-    body = _fuse(parts, "moving fuse")
-    cuts: list[cq.Shape] = [
-        cq.Solid.makeCylinder(p.pin_radius + p.clearance, H + 2, cq.Vector(0, 0, -1), Z),
-        cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, he, cq.Vector(xb, R_e, ze0)),
-    ]
+    body = _fuse(eye_parts(p) + [link_block(p.block_start, reach, p.link_width, p.height)], "moving fuse")
+    cuts = eye_cuts(p, p.height)
     if channel:
         cuts += tube_path(moving_channel_points(p, reach), p.tendon_diameter / 2)
     body = _one_solid(body.cut(*cuts), "moving cut")
-    # tendon support pin across the slot, above the tendon (embedded 0.5 mm above and below the slot)
-    xs = xb + p.slot_length / 2
-    ys = p.moment_arm + p.tendon_diameter / 2 + p.support_pin_radius
-    pin = cq.Solid.makeCylinder(p.support_pin_radius, he + 1.0, cq.Vector(xs, ys, ze0 - 0.5), Z)
-    return _fuse([body, pin], "support pin")
+    return _fuse([body, support_pin(p)], "support pin")
 
 
 @dataclass(frozen=True)

@@ -89,7 +89,7 @@ class JointParams:
         # geometry-dependent limits (these build the spring design: one optimiser call)
         lo_arm = self.pin_radius + self.clearance + 2 * self.printer_spec.min_wall_mm + self.tendon_line_diameter / 2
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
-        lo_len = self.block_start + self.slot_length + 4.0
+        lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
 
     # --- printer, spring -------------------------------------------------------
@@ -219,14 +219,36 @@ class JointParams:
         return min(self.cheek_radius, inner * math.sin(free)) if free < math.pi / 2 else self.cheek_radius
 
     @property
-    def block_start(self) -> float:
-        """|x| where the full-height link blocks begin (both links) [mm].
+    def ground_block_start(self) -> float:
+        """|x| where the ground link's full-height block begins, X_g [mm].
 
-        Outside the hooks, and far enough out that the moving block's inner corner
-        (X_b, W/2) never reaches the ground block's: flexed by θ, the corners meet
-        when θ = π − 2·atan(W/2 / X_b), so X_b ≥ (W/2 + c)/tan((π − rotation)/2 − 2°).
+        It must clear: the springs (r_env + g); the hooks in print, at −preload;
+        the posts swept to rotation + stop angle; the eye-band beam of the moving
+        link, whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
+        X_g·sin θ + (W/2)·cos θ ≥ R_e + c for θ up to the rotation.
         """
-        corner = (self.link_width / 2 + self.clearance) / math.tan((math.pi - self.rotation) / 2 - 2 * DEG)
+        g, c = self.gap_internal, self.clearance
+        R_h, rho, w = self.post_ring_radius, self.post_radius, self.hook_wall
+        bounds = [
+            self.spring.outer_radius + g,
+            -R_h * math.cos(self.preload) + rho + c + w + g,
+            -R_h * math.cos(self.rotation + self.stop_angle) + rho + c + 0.3,
+            self.eye_radius + 0.6 + c + 0.3,
+        ]
+        if self.rotation > math.pi / 2:
+            bounds.append((self.eye_radius + c + 0.3 - self.link_width / 2 * math.cos(self.rotation))
+                          / math.sin(self.rotation))
+        return max(bounds)
+
+    @property
+    def block_start(self) -> float:
+        """|x| where the moving link's full-height block begins, X_m [mm].
+
+        Outside the hooked hooks, and far enough out that the ground block's corner
+        (−X_g, W/2) never enters it: −X_g·cos θ + (W/2)·sin θ ≤ X_m − c − 0.5 up to the rotation.
+        """
+        corner = (-self.ground_block_start * math.cos(self.rotation)
+                  + self.link_width / 2 * math.sin(self.rotation) + self.clearance + 0.5)
         return max(self.hook_outer_radius + self.clearance + 0.3, corner)
 
     @property

@@ -1,0 +1,209 @@
+"""The default finger (the paper's): built once through the CLI, checked as a printer and a user need it."""
+
+import itertools
+import json
+import math
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mesh_tools import load_bodies, manifold, posed, worst_overlap
+
+from rjcad.cad.finger import PAPER_FINGER
+from rjcad.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+DEG = math.pi / 180
+
+
+@pytest.fixture(scope="module")
+def default_finger(tmp_path_factory):
+    out = tmp_path_factory.mktemp("finger")
+    with pytest.raises(SystemExit) as e:
+        main(["finger", str(ROOT / "templates" / "finger.toml"), "--out", str(out)])
+    assert e.value.code == 0
+    manifest = json.loads((out / "finger.json").read_text())
+    bodies = load_bodies(out / "finger.stl")
+    named = {}
+    for entry in manifest["bodies"]:
+        named[entry["name"]] = min(bodies, key=lambda b: abs(b.volume - entry["volume_mm3"]))
+    order = [b["name"] for b in manifest["bodies"]]
+    mans = [manifold(named[n]) for n in order]
+    axes = [(j["axis_point_mm"], j["axis_dir"]) for j in manifest["joints"]]
+    return out, manifest, bodies, order, mans, axes
+
+
+def test_template_is_the_built_in_paper_finger():
+    assert tomllib.loads((ROOT / "templates" / "finger.toml").read_text()) == PAPER_FINGER
+
+
+def test_outputs(default_finger):
+    out = default_finger[0]
+    for ext in ("stl", "3mf", "step", "png", "json"):
+        assert (out / f"finger.{ext}").stat().st_size > 1000, ext
+
+
+def test_four_watertight_manifold_bodies(default_finger):
+    _, m, bodies, order, mans, _ = default_finger
+    assert len(bodies) == 4
+    assert order == ["base", "link1", "link2", "distal"]
+    for b, man in zip(bodies, mans):
+        assert b.is_watertight and b.is_winding_consistent
+        assert man.status().name == "NoError" and man.volume() > 0
+    assert sorted(b.volume for b in bodies) == pytest.approx(sorted(e["volume_mm3"] for e in m["bodies"]), rel=0.005)
+
+
+def test_neighbour_gaps_and_no_overlap(default_finger):
+    _, m, _, order, mans, _ = default_finger
+    c = m["clearance_mm"]
+    for j in m["joints"]:
+        a, b = mans[order.index(j["parent"])], mans[order.index(j["child"])]
+        gap = a.min_gap(b, 1.0)
+        assert c - 0.02 <= gap <= c + 0.05, (j["parent"], j["child"], gap)
+    for a, b in itertools.combinations(range(len(mans)), 2):
+        assert (mans[a] ^ mans[b]).volume() < 1e-9, (order[a], order[b])
+
+
+def test_stiffnesses_and_manifest(default_finger):
+    _, m, _, _, _, _ = default_finger
+    ks = [j["joint_stiffness_nmm_per_rad"] for j in m["joints"]]
+    assert ks == pytest.approx([5.2, 7.8, 10.4], rel=0.005)
+    for j in m["joints"]:
+        for key in ("parent", "child", "axis_point_mm", "axis_dir", "joint_stiffness_nmm_per_rad", "spring",
+                    "preload_deg", "rotation_deg", "tendon_moment_arm_mm", "tendon_wrap_angle_rad"):
+            assert key in j
+        assert j["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
+        assert j["preload_deg"] == 90 and j["rotation_deg"] == 90
+    assert [j["axis_point_mm"][0] for j in m["joints"]] == [0.0, 40.0, 80.0]
+    for key in ("material", "printer", "clearance_mm", "bodies", "tendon_length_mm"):
+        assert key in m
+    # base channel: climbs r = 6 mm from the base end's centre to the fork face: wrap = atan(6/run)
+    run = m["base_length_mm"] - (-m["tendon_path_mm"][1][0])
+    assert m["joints"][0]["tendon_wrap_angle_rad"] == pytest.approx(math.atan2(6.0, run + 0.5), rel=1e-6)
+    # the links' channels are straight: all joints share one eye plane
+    assert m["joints"][1]["tendon_wrap_angle_rad"] == pytest.approx(0.0, abs=1e-9)
+    path = np.array(m["tendon_path_mm"])
+    assert m["tendon_length_mm"] == pytest.approx(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+    # at rest the tendon runs from the base end to the distal anchor: at least that straight distance
+    assert m["tendon_length_mm"] >= path[-1][0] - path[0][0]
+
+
+def _sweep(mans, axes, start, stop, steps, pairs):
+    worst = (0.0, None, None)
+    for s in np.linspace(0.0, 1.0, steps + 1):
+        th = np.asarray(start) + s * (np.asarray(stop) - np.asarray(start))
+        v, pair = worst_overlap(posed(mans, axes, th), pairs)
+        if v > worst[0]:
+            worst = (v, pair, th / DEG)
+    return worst
+
+
+def test_each_joint_swept_with_the_others_at_zero_then_at_max(default_finger):
+    _, m, _, _, mans, axes = default_finger
+    n = len(axes)
+    rot = [j["rotation_deg"] * DEG for j in m["joints"]]
+    for i in range(n):
+        # the child subtree of joint i is bodies i+1..n; it moves against bodies 0..i
+        pairs = [(a, b) for a in range(i + 1) for b in range(i + 1, n + 1)]
+        step = 0.5 * DEG
+        for others in (np.zeros(n), np.array(rot)):
+            start, stop = others.copy(), others.copy()
+            start[i], stop[i] = 0.0, rot[i]
+            worst = _sweep(mans, axes, start, stop, math.ceil(rot[i] / step), pairs)
+            assert worst[0] < 1e-9, (i, worst)
+
+
+def test_all_joints_closing_together(default_finger):
+    _, m, _, _, mans, axes = default_finger
+    rot = [j["rotation_deg"] * DEG for j in m["joints"]]
+    pairs = list(itertools.combinations(range(len(mans)), 2))
+    worst = _sweep(mans, axes, np.zeros(len(rot)), np.array(rot), 180, pairs)
+    assert worst[0] < 1e-9, worst
+
+
+def test_step_reimports_as_named_valid_solids(default_finger):
+    out, m, bodies, order, _, _ = default_finger
+    code = f"""
+import json, cadquery as cq
+a = cq.Assembly.importStep({str(out / 'finger.step')!r})
+res = {{}}
+for name, obj in a.traverse():
+    if obj.obj is not None and name in {order!r}:
+        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
+        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
+print(json.dumps(res))
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout.strip().splitlines()[-1])
+    assert sorted(res) == sorted(order)
+    for name, entry in zip(order, m["bodies"]):
+        n_solids, valid, vol = res[name]
+        assert n_solids == 1 and valid and vol == pytest.approx(entry["volume_mm3"], rel=0.01)
+
+
+BAD = [
+    ("stiffness_nmm_per_rad = 5.2\n", None, "stiffness_nmm_per_rad", "unknown key"),
+    ("[[joint]]\nstiffness_nmm_per_rad = 5.2\nlink_length_mm = -40\n", None, "joint[1].link_length_mm", ""),
+    ("material = 'pla'\n", None, "joint", "1 to 6"),
+    ("[[joint]]\nstiffness_nmm_per_rad = 5000\n", None, "joint[1].stiffness_nmm_per_rad", ""),
+    ("[[joint]]\nstiffness_nmm_per_rad = 45\n", None, "joint[1].stiffness_nmm_per_rad", "spring"),
+    ("[defaults]\nrotation_deg = 300\n[[joint]]\nstiffness_nmm_per_rad = 5\n", None, "rotation_deg", "[15, 110]"),
+    ("[[joint]]\nstiffness_nmm_per_rad = 5.2\nstifness = 3\n", None, "joint[1].stifness", "known keys"),
+    ("bogus = 1\n[[joint]]\nstiffness_nmm_per_rad = 5.2\n", None, "bogus", "known keys"),
+    ("[[joint]]\nstiffness_nmm_per_rad = 5.2\nlink_length_mm = 30\n", None, "joint[1].link_length_mm", ">="),
+]
+
+
+@pytest.mark.parametrize("text, _, key, words", BAD)
+def test_bad_templates(text, _, key, words, tmp_path, capsys):
+    tpl = tmp_path / "bad.toml"
+    tpl.write_text(text)
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as e:
+        main(["finger", str(tpl), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert e.value.code == 2
+    assert len(err.strip().splitlines()) == 1, err
+    assert key in err and words in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_seven_joints_rejected(tmp_path, capsys):
+    tpl = tmp_path / "seven.toml"
+    tpl.write_text("[[joint]]\nstiffness_nmm_per_rad = 5.2\n" * 7)
+    with pytest.raises(SystemExit) as e:
+        main(["finger", str(tpl), "--out", str(tmp_path / "o")])
+    assert e.value.code == 2 and "1 to 6" in capsys.readouterr().err
+
+
+def test_per_joint_overrides_and_one_joint_finger(tmp_path):
+    from rjcad.cad.build import build_finger_model
+    from rjcad.cad.finger import FingerParams
+
+    fp = FingerParams.from_dict({"clearance_mm": 0.3, "material": "petg",
+                                 "joint": [{"stiffness_nmm_per_rad": 4.0, "rotation_deg": 70, "preload_deg": 60,
+                                            "link_length_mm": 45, "tendon_moment_arm_mm": 7.0}]})
+    b = build_finger_model(fp)
+    m = b.manifest
+    assert [x["name"] for x in m["bodies"]] == ["base", "distal"]
+    j = m["joints"][0]
+    assert j["rotation_deg"] == pytest.approx(70) and j["preload_deg"] == pytest.approx(60)
+    assert j["tendon_moment_arm_mm"] == pytest.approx(7.0, abs=1e-6)
+    assert j["joint_stiffness_nmm_per_rad"] == pytest.approx(4.0, rel=0.005)
+    assert m["clearance_mm"] == 0.3 and m["material"] == "petg"
+    for mesh in b.meshes.values():
+        assert mesh.is_watertight
+    g, d = manifold(b.meshes["base"]), manifold(b.meshes["distal"])
+    assert 0.28 <= g.min_gap(d, 1.0) <= 0.35
+
+
+def test_finger_benchmark_prints_its_json():
+    r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "finger.py"), "--max-n", "2", "--repeats", "1"],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d["median_build_s"]) == {"1", "2"} and d["ratio_time_n_over_n_time_1"]["2"] > 0
