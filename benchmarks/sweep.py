@@ -1,0 +1,78 @@
+"""Sweep benchmark: analytic designs per second, and build-mode parallel efficiency.
+
+Prints one JSON object. Analytic: an LHS sweep of --analytic-n designs through the
+vectorised optimiser (target >= 1e4 designs/s). Build: the same small set of joint
+designs with 1 and 2 local workers, wall time each (median of --repeats) and the
+parallel efficiency t1 / (2·t2) (target >= 0.8 at 2 workers).
+Run: .venv/bin/python benchmarks/sweep.py [--analytic-n 100000] [--build-n 8] [--repeats 1]
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import statistics
+import tempfile
+import time
+
+from rjcad import sweep as sw
+
+
+def timed(fn, repeats):
+    ts = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        ts.append(time.perf_counter() - t0)
+    return statistics.median(ts)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--analytic-n", type=int, default=100_000)
+    ap.add_argument("--build-n", type=int, default=8)
+    ap.add_argument("--repeats", type=int, default=1)
+    args = ap.parse_args()
+    spec = sw.SweepSpec.from_dict({
+        "sweep": {"mode": "lhs", "samples": args.analytic_n, "seed": 7},
+        "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}, "rotation_deg": {"range": [60, 120]},
+                   "material": {"values": ["absplus-p430", "pla", "petg"]}},
+    })
+    points = spec.points()
+    sw.analytic_rows(points[:1000])  # warm-up
+    t_rows = timed(lambda: sw.analytic_rows(points), 3)
+    with tempfile.TemporaryDirectory() as d:
+        t_full = timed(lambda: sw.run_sweep(spec, d, stream=io.StringIO()), 1)
+    build_spec = sw.SweepSpec.from_dict({
+        "sweep": {"mode": "lhs", "samples": args.build_n, "seed": 11},
+        "params": {"stiffness_nmm_per_rad": {"range": [3, 8]}, "rotation_deg": {"range": [70, 100]}},
+    })
+    # warm-up: start the fork server (it imports CadQuery once, ~2 s) so that both timings are warm
+    with tempfile.TemporaryDirectory() as d:
+        sw.run_sweep(sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2]}}}), d,
+                     build=True, workers=2, stream=io.StringIO())
+    walls = {}
+    for workers in (1, 2):
+        def run():
+            with tempfile.TemporaryDirectory() as d:
+                sw.run_sweep(build_spec, d, build=True, workers=workers, stream=io.StringIO())
+        walls[workers] = timed(run, args.repeats)
+    out = {
+        "analytic_designs": args.analytic_n,
+        "analytic_designs_per_s": args.analytic_n / t_rows,
+        "analytic_designs_per_s_with_csv_and_plots": args.analytic_n / t_full,
+        "analytic_target_per_s": 1e4,
+        "build_designs": args.build_n,
+        "build_wall_s_1_worker": walls[1],
+        "build_wall_s_2_workers": walls[2],
+        "parallel_efficiency_2_workers": walls[1] / (2 * walls[2]),
+        "parallel_efficiency_target": 0.8,
+        "note": "N worker processes forked from a server that imported CadQuery once in a warm-up run "
+                "(about 2 s, excluded from both timings); designs are built and checked in the workers",
+    }
+    print(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()
