@@ -4,7 +4,7 @@ Prints one JSON object. Analytic: an LHS sweep of --analytic-n designs through t
 vectorised optimiser (target >= 1e4 designs/s). Build: the same small set of joint
 designs with 1 and 2 local workers, wall time each (median of --repeats) and the
 parallel efficiency t1 / (2·t2) (target >= 0.8 at 2 workers).
-Run: .venv/bin/python benchmarks/sweep.py [--analytic-n 100000] [--build-n 8] [--repeats 1]
+Run: .venv/bin/python benchmarks/sweep.py [--analytic-n 100000] [--build-n 12] [--repeats 1]
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def timed(fn, repeats):
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--analytic-n", type=int, default=100_000)
-    ap.add_argument("--build-n", type=int, default=8)
+    ap.add_argument("--build-n", type=int, default=12)
     ap.add_argument("--repeats", type=int, default=1)
     args = ap.parse_args()
     spec = sw.SweepSpec.from_dict({
