@@ -83,9 +83,11 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
     R_h = p.post_ring_radius
     r_hook_in = p.post_radius + p.clearance
     r_hook_out = r_hook_in + p.hook_wall
-    stub = radial_box(r_end, R_h - r_hook_in - 0.5 * p.hook_wall, 1.2 * max(t, p.printer_spec.min_wall_mm),
-                      phi1, z0, b, side=-0.6 * max(t, p.printer_spec.min_wall_mm))
-    hook = ring_hook(R_h, phi1, r_hook_in, r_hook_out, z0, b, keep_past_centre=0.2 * p.post_radius)
+    # the hook is the clockwise half of a ring, cut on its radial centre line (square ends, no knife
+    # edges); the stub straddles that line by 0.3 mm so that no face of the union is coplanar
+    w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
+    stub = radial_box(r_end, R_h - r_hook_in - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2 + 0.3)
+    hook = ring_hook(R_h, phi1, r_hook_in, r_hook_out, z0, b, keep_past_centre=0.0)
     return strip, [tab, stub, hook]
 
 

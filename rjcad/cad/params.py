@@ -216,7 +216,9 @@ class JointParams:
         """
         free = math.pi - self.rotation - 2 * self.stop_angle - 2 * DEG
         inner = self.post_ring_radius - self.post_radius - self.clearance - 0.2
-        return min(self.cheek_radius, inner * math.sin(free)) if free < math.pi / 2 else self.cheek_radius
+        # ≤ 0.7·r_cheek: the plate's side crosses the cheek's circle at ≥ 45°, leaving no thin crescent
+        w = 0.7 * self.cheek_radius
+        return min(w, inner * math.sin(free)) if free < math.pi / 2 else w
 
     @property
     def ground_block_start(self) -> float:
