@@ -207,3 +207,13 @@ def test_finger_benchmark_prints_its_json():
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d["median_build_s"]) == {"1", "2"} and d["ratio_time_n_over_n_time_1"]["2"] > 0
+
+
+def test_default_finger_passes_every_check(default_finger):
+    from rjcad.check import run_checks
+
+    out = default_finger[0]
+    rep = run_checks(out / "finger.stl", manifest=out / "finger.json")
+    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    assert {c.name for c in rep.checks if c.passed is True} >= {
+        "watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed"}

@@ -244,3 +244,18 @@ def test_spring_strips_volume_measured_on_the_stl(default_joint):
         total += (ground ^ ring).volume()
     nominal = 2 * s["width_mm"] * s["thickness_mm"] * s["length_mm"]
     assert total == pytest.approx(nominal, rel=0.02)
+
+
+def test_default_joint_passes_every_check(default_joint):
+    import shutil
+
+    from rjcad.check import run_checks
+
+    out, _, _ = default_joint
+    slicer = "prusa" if shutil.which("prusa-slicer") else None
+    rep = run_checks(out / "joint.stl", manifest=out / "joint.json", slicer=slicer)
+    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    ran = {c.name for c in rep.checks if c.passed is True}
+    assert ran >= {"watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed"}
+    if slicer:
+        assert "slicer" in ran
