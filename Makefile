@@ -5,7 +5,7 @@ VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: demo test pytest bench clean docs-images
+.PHONY: demo test pytest bench clean docs-images paper-finger
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
@@ -35,3 +35,7 @@ bench: $(VENV)/.installed
 
 clean:
 	rm -rf $(VENV) out/* .pytest_cache .hypothesis
+
+# docs/paper-finger.md and its plot, every number computed
+paper-finger: $(VENV)/.installed
+	$(VENV)/bin/rjcad paper-finger --out docs

@@ -281,6 +281,7 @@ def check_motion(bodies, names, mans, manifest: dict | None, clearance: float, p
         return CheckResult("motion", None, None, None, None, "skipped: the manifest has no joints")
     worst = (0.0, None, None, None)  # (overlap volume, joint, angle, posed subtree)
     min_gap = (math.inf, None, None)
+    first = None  # (joint, angle) of the first pose that intersects
     details = []
     for k, j in enumerate(joints):
         moving = subtree(joints, k)
@@ -306,6 +307,8 @@ def check_motion(bodies, names, mans, manifest: dict | None, clearance: float, p
             vol = (sta ^ posed).volume()
             if vol > worst[0]:
                 worst = (vol, k, float(a), posed)
+            if vol > 0 and first is None:
+                first = (k, float(a))
             if a_i % every == 0 or a_i == len(angles) - 1:
                 g = sta.min_gap(posed, clearance + 1.0)
                 if g < min_gap[0]:
@@ -317,7 +320,8 @@ def check_motion(bodies, names, mans, manifest: dict | None, clearance: float, p
             [mans[i] for i, nm in enumerate(names) if nm not in subtree(joints, k)], m3.OpType.Add) ^ posed
         where = np.asarray(inter.to_mesh().vert_properties)[:, :3].mean(axis=0)
         return CheckResult("motion", False, round(math.degrees(a), 2), 0.0, _pt(where),
-                           f"joint {k + 1} collides at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap); "
+                           f"joint {k + 1} collides, worst at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap), "
+                           f"first contact at joint {first[0] + 1}, {math.degrees(first[1]):.1f}°; "
                            + "; ".join(details))
     g, k, a = min_gap
     return CheckResult("motion", True, round(float(g), 4), 0.0, None,
@@ -477,6 +481,10 @@ def run_checks(source, manifest: dict | str | Path | None = None, clearance: flo
             names, meshes = list(source.keys()), list(source.values())
         if not meshes or any(len(m.faces) == 0 for m in meshes):
             raise BadInput("empty mesh")
+    how = (("body names from the 3MF's objects" if isinstance(source, (str, Path)) else "body names given")
+           if names is not None else
+           "STL bodies matched to the manifest's bodies by volume (within 2 %)" if manifest and "bodies" in manifest
+           else "bodies numbered")
     names = name_bodies(meshes, names, manifest)
     if clearance is None:
         clearance = float(manifest.get("clearance_mm", 0.25)) if manifest else 0.25
@@ -487,6 +495,8 @@ def run_checks(source, manifest: dict | str | Path | None = None, clearance: flo
     man_check, mans = check_manifold(meshes, names)
     rep.checks.append(man_check)
     rep.checks.append(check_bodies(meshes, expected))
+    rep.checks[-1].detail += f"; {how}: " + ", ".join(
+        f"{n} {abs(m.volume):.0f} mm³" for n, m in zip(names, meshes))
     solid_ok = rep.checks[0].passed and man_check.passed
     if solid_ok:
         rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance))

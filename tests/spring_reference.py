@@ -48,7 +48,7 @@ def brute_force(req, margin=0.0, n_points=240, r_points=4):
             p = (Lg - 2 * math.pi * n * Rg) / (math.pi * n**2)
             gap = p * n / (n + theta / (2 * math.pi)) - t
             r_out = Rg + p * n + t / 2.0
-        ok = (n > 0) & (p > 0) & (gap >= pr.min_gap_mm * (1 + margin)) & (
+        ok = (n >= req.min_turns * (1 + margin) - 1e-12) & (p > 0) & (gap >= pr.min_gap_mm * (1 + margin)) & (
             r_out <= req.outer_radius_max * (1 - margin))
         if ok.any():
             best = min(best, float(r_out[ok].min()))

@@ -78,7 +78,7 @@ def test_good_print_in_place_mesh_passes_everything(tmp_path):
     assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
     assert rep.get("clearance").value == pytest.approx(0.25, abs=0.005)
     assert rep.get("motion").passed is True and "poses" in rep.get("motion").detail
-    assert rep.get("bodies").value == 2
+    assert rep.get("bodies").value == 2 and "matched to the manifest's bodies by volume" in rep.get("bodies").detail
     assert rep.get("slicer").passed is None and "skipped" in rep.get("slicer").detail
 
 
@@ -136,6 +136,7 @@ def test_collision_at_60_degrees_fails_motion(tmp_path):
     c = rep.get("motion")
     assert c.passed is False
     assert 40 <= c.value <= 62  # the arm (2 mm half-width, 16 mm long) meets the post at 60°
+    assert "first contact at joint 1, 4" in c.detail  # the arm's edge reaches the post ≈ 18° before its centre line
     ang = math.degrees(math.atan2(c.where[1], c.where[0]))
     assert 45 <= ang <= 70
     assert rep.get("clearance").passed  # at rest all is well: only the sweep finds it
@@ -230,6 +231,7 @@ def test_3mf_names_are_used(tmp_path):
     p.write_bytes(scene.export(file_type="3mf"))
     rep = run_checks(p, manifest=manifest_for(b))
     assert sorted(rep.body_names) == ["ground", "moving"] and rep.passed
+    assert "3MF" in rep.get("bodies").detail
 
 
 def test_api_rejects_empty_input():

@@ -64,8 +64,9 @@ def test_optimiser_is_right_or_says_why(req):
         return
     event("feasible")
     assert_meets_every_constraint(d)
-    # and the smallest one: the grid search finds nothing more than 1 % smaller
-    assert d.outer_radius <= brute_force(req) * 1.01 + 1e-9
+    # and the smallest one: the grid search finds nothing more than 1 % smaller that meets every
+    # constraint with a 1 % margin (the margin absorbs the grid's mean-radius length approximation)
+    assert d.outer_radius <= brute_force(req, margin=0.01) * 1.01 + 1e-9
 
 
 @settings(max_examples=60)

@@ -1,0 +1,1 @@
+"""Physics: pure functions over numbers (no CAD imports)."""

@@ -1,0 +1,276 @@
+"""Quasi-static closure of a single-tendon finger with N joints, with stick–slip friction.
+
+Per joint i (proximal first): stiffness K_i, preload θ0_i, range [0, θmax_i],
+tendon moment arm r_i, Coulomb band f_i = f0_i + γ_i·(θ_i + θ0_i) (pin friction
+from an external load, and from the tendon's own load as in paper Eq. 4),
+capstan wrap α_i of the tendon before joint i (in the channel that feeds it)
+with coefficient μ_t, and optionally gravity on the links.
+
+Tension reaching joint i: T_i = T·c_i with c_i = exp(−μ_t·Σ_{k≤i} α_k) while
+pulling and exp(+μ_t·Σ α_k) while releasing (T at the actuator).
+
+Joint i is in equilibrium when |r_i·T_i − K_i(θ_i + θ0_i) − τg_i| ≤ f_i (stick);
+beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
+non-decreasing, piecewise-linear function, so the tendon constraint
+Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
+the finger more closed than t_d allows, the tendon is slack: T = 0.
+Gravity torques are taken from the previous step (small steps).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rjcad.errors import ParameterError
+
+DEG = math.pi / 180
+G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
+
+
+@dataclass(frozen=True)
+class FingerModel:
+    """Per-joint arrays (length N, proximal first), lengths in mm, angles in rad."""
+
+    stiffness: tuple[float, ...]
+    preload: tuple[float, ...]
+    rotation: tuple[float, ...]
+    moment_arm: tuple[float, ...]
+    wrap: tuple[float, ...] = ()
+    mu_t: float = 0.0
+    friction: tuple[float, ...] = ()  # f0_i [N·mm]
+    gamma: tuple[float, ...] = ()  # γ_i [N·mm/rad]
+    link_length: tuple[float, ...] = ()  # axis i to axis i+1 (or the tip) [mm]
+    link_mass: tuple[float, ...] = ()  # mass of the child link of joint i [g]
+    gravity: tuple[float, float] | None = None  # unit direction of gravity in the finger plane (x, y)
+    tendon_stiffness: float = math.inf  # k_t: the tendon stretches T/k_t [N/mm]
+
+    def __post_init__(self):
+        n = len(self.stiffness)
+        if not 1 <= n <= 12:
+            raise ParameterError("joints", n, "a finger has 1 to 12 joints")
+        for name in ("preload", "rotation", "moment_arm"):
+            if len(getattr(self, name)) != n:
+                raise ParameterError(name, len(getattr(self, name)), f"needs {n} values, one per joint")
+        for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("link_length", 40.0),
+                              ("link_mass", 0.0)):
+            v = getattr(self, name)
+            if not v:
+                object.__setattr__(self, name, tuple([default] * n))
+            elif len(v) != n:
+                raise ParameterError(name, len(v), f"needs {n} values, one per joint")
+        if any(k <= 0 for k in self.stiffness):
+            raise ParameterError("stiffness", min(self.stiffness), "must be > 0 N·mm/rad")
+        if any(r <= 0 for r in self.moment_arm):
+            raise ParameterError("moment_arm", min(self.moment_arm), "must be > 0 mm")
+        if any(g >= k for g, k in zip(self.gamma, self.stiffness)):
+            raise ParameterError("gamma", max(self.gamma), "must stay below each joint's stiffness")
+
+    @property
+    def n(self) -> int:
+        return len(self.stiffness)
+
+    def arrays(self):
+        f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
+        return (f(self.stiffness), f(self.preload), f(self.rotation), f(self.moment_arm), f(self.wrap),
+                f(self.friction), f(self.gamma))
+
+
+@dataclass
+class Closure:
+    """A simulated stroke: per step the tendon displacement, phase, angles, tensions and joint states."""
+
+    tendon_mm: np.ndarray
+    phase: list[str]
+    theta: np.ndarray  # (steps, N) [rad]
+    tension: np.ndarray  # (steps,) at the actuator [N]
+    joint_tension: np.ndarray  # (steps, N) reaching each joint [N]
+    state: np.ndarray  # (steps, N): 0 stick, +1 slip closing, −1 slip opening, 2 at a limit
+    slack: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+
+    def to_dict(self) -> dict:
+        return {
+            "tendon_mm": self.tendon_mm.tolist(),
+            "phase": self.phase,
+            "theta_deg": np.degrees(self.theta).T.tolist(),
+            "tension_n": self.tension.tolist(),
+            "joint_tension_n": self.joint_tension.T.tolist(),
+            "state": self.state.T.astype(int).tolist(),
+        }
+
+
+def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm].
+
+    Links are point masses at their middles; flexion is positive about +Z.
+    """
+    n = m.n
+    if m.gravity is None or not any(m.link_mass):
+        return np.zeros(n)
+    gx, gy = m.gravity
+    ang = np.cumsum(theta)
+    x = np.zeros(n + 1)
+    y = np.zeros(n + 1)
+    for i in range(n):
+        x[i + 1] = x[i] + m.link_length[i] * math.cos(ang[i])
+        y[i + 1] = y[i] + m.link_length[i] * math.sin(ang[i])
+    cx = (x[:-1] + x[1:]) / 2
+    cy = (y[:-1] + y[1:]) / 2
+    w = np.asarray(m.link_mass) * G
+    tau = np.zeros(n)
+    for i in range(n):
+        # moment about +Z of the weights hanging from joint i: Σ (r × F)_z, F = w·(gx, gy)
+        rx, ry = cx[i:] - x[i], cy[i:] - y[i]
+        tau[i] = -np.sum(w[i:] * (rx * gy - ry * gx))
+    return tau
+
+
+def _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg):
+    """θ_i(T) for every joint given the previous angles (vectorised over joints)."""
+    rc = r * c
+    up_T = (K * (prev + th0) + tg + f0 + gam * (prev + th0)) / rc
+    dn_T = (K * (prev + th0) + tg - f0 - gam * (prev + th0)) / rc
+    up = (rc * T - tg - f0) / (K + gam) - th0
+    dn = (rc * T - tg + f0) / (K - gam) - th0
+    th = np.where(T >= up_T, np.maximum(up, prev), np.where(T <= dn_T, np.minimum(dn, prev), prev))
+    return np.clip(th, 0.0, thmax)
+
+
+def _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg):
+    rc = r * c
+    return np.concatenate([
+        (K * (prev + th0) + tg + f0 + gam * (prev + th0)) / rc,
+        (K * (prev + th0) + tg - f0 - gam * (prev + th0)) / rc,
+        ((K + gam) * (thmax + th0) + tg + f0) / rc,
+        ((K - gam) * th0 + tg - f0) / rc,
+    ])
+
+
+def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg: np.ndarray | None = None):
+    """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles."""
+    K, th0, thmax, r, wrap, f0, gam = m.arrays()
+    tg = np.zeros(m.n) if tg is None else tg
+    cum = np.cumsum(wrap)
+    c = np.exp(-m.mu_t * cum) if pulling else np.exp(m.mu_t * cum)
+    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
+    theta0 = _theta_of_T(0.0, prev, K, th0, thmax, r, c, f0, gam, tg)
+    if float(r @ theta0) >= t_d:
+        return theta0, 0.0, np.zeros(m.n), True
+    bps = _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg)
+    bps = np.unique(np.clip(bps[np.isfinite(bps)], 0.0, None))
+    grid = np.concatenate([[0.0], bps])
+    S = np.array([float(r @ _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)) + comp * T for T in grid])
+    if S[-1] < t_d:
+        if comp == 0.0:  # every joint at its limit: the tendon cannot be pulled further
+            T = float(grid[-1])
+            th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
+            return th, T, T * c, False
+        T = float(grid[-1]) + (t_d - S[-1]) / comp  # only the tendon stretches beyond that
+        return _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg), T, T * c, False
+    k = int(np.searchsorted(S, t_d))  # S[k-1] < t_d <= S[k]; S is non-decreasing
+    T0, T1, S0, S1 = grid[k - 1], grid[k], S[k - 1], S[k]
+    T = T1 if S1 == S0 else T0 + (t_d - S0) * (T1 - T0) / (S1 - S0)
+    th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
+    return th, float(T), T * c, False
+
+
+def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
+    """Pull the tendon from 0 to ``stroke`` mm, then release back to 0, in ``steps`` steps each way."""
+    up = np.linspace(0.0, stroke, steps + 1)
+    td = np.concatenate([up, np.full(hold, stroke), up[-2::-1]])
+    phase = ["pull"] * (steps + 1) + ["hold"] * hold + ["release"] * steps
+    return simulate_path(m, td, phase)
+
+
+def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None) -> Closure:
+    """Quasi-static response along a tendon-displacement path [mm]."""
+    td = np.asarray(tendon_mm, dtype=float)
+    n = m.n
+    K, th0, thmax, r, wrap, f0, gam = m.arrays()
+    theta = np.zeros((len(td), n))
+    T = np.zeros(len(td))
+    Ti = np.zeros((len(td), n))
+    state = np.zeros((len(td), n))
+    slack = np.zeros(len(td), dtype=bool)
+    prev = np.zeros(n)
+    pulling = True
+    if phase is None:
+        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
+    for k, t_d in enumerate(td):
+        if k and td[k] != td[k - 1]:
+            pulling = td[k] > td[k - 1]
+        tg = gravity_torques(m, prev)
+        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, tg)
+        moved = th - prev
+        st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))
+        st = np.where((th <= 1e-12) & (st <= 0) | (th >= thmax - 1e-12) & (st >= 0), np.where(st == 0, 2.0, st), st)
+        theta[k], T[k], Ti[k], state[k], slack[k] = th, Tk, tik, st, sl
+        prev = th
+    return Closure(td, list(phase), theta, T, Ti, state, slack)
+
+
+def frictionless_optimum(m: FingerModel, t_d: float) -> np.ndarray:
+    """Closed-form check value: θ minimising Σ½K_i(θ_i+θ0_i)² s.t. Σ r_i θ_i = t_d, 0 ≤ θ ≤ θmax.
+
+    KKT: θ_i = clip(λ·r_i/K_i − θ0_i, 0, θmax_i) with λ (the tension) found by bisection.
+    """
+    K, th0, thmax, r, *_ = m.arrays()
+    lo, hi = 0.0, float(np.max(K * (thmax + th0) / r)) * 2 + 1
+    for _ in range(200):
+        lam = (lo + hi) / 2
+        s = r @ np.clip(lam * r / K - th0, 0, thmax)
+        lo, hi = (lam, hi) if s < t_d else (lo, lam)
+    return np.clip(hi * r / K - th0, 0, thmax)
+
+
+def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
+    """Tendon displacement at which each joint first exceeds ``threshold`` during the pull [mm]."""
+    pull = np.array([p == "pull" for p in closure.phase])
+    out = np.full(closure.theta.shape[1], np.nan)
+    for i in range(closure.theta.shape[1]):
+        idx = np.flatnonzero(pull & (closure.theta[:, i] > threshold))
+        if len(idx):
+            out[i] = closure.tendon_mm[idx[0]]
+    return out
+
+
+def model_from_manifest(manifest: dict, mu_t: float = 0.0, friction=None, gamma=None,
+                        gravity: tuple[float, float] | None = None) -> FingerModel:
+    """A finger model from a finger (or joint) manifest: stiffness, preload, range, measured arms and wraps."""
+    joints = manifest.get("joints")
+    if joints is None:  # a single joint module
+        joints = [{"joint_stiffness_nmm_per_rad": manifest["joint_stiffness_nmm_per_rad"],
+                   "preload_deg": manifest["preload_deg"], "rotation_deg": manifest["rotation_deg"],
+                   "tendon_moment_arm_mm": manifest["tendon_moment_arm_mm"],
+                   "tendon_wrap_angle_rad": manifest["tendon_wrap_angle_rad"],
+                   "link_length_mm": manifest.get("link_length_mm", 40.0)}]
+    masses = {b["name"]: b.get("mass_g", 0.0) for b in manifest.get("bodies", [])}
+    return FingerModel(
+        stiffness=tuple(j["joint_stiffness_nmm_per_rad"] for j in joints),
+        preload=tuple(j["preload_deg"] * DEG for j in joints),
+        rotation=tuple(j["rotation_deg"] * DEG for j in joints),
+        moment_arm=tuple(j["tendon_moment_arm_mm"] for j in joints),
+        wrap=tuple(j.get("tendon_wrap_angle_rad", 0.0) for j in joints),
+        mu_t=mu_t,
+        friction=tuple(friction) if friction is not None else (),
+        gamma=tuple(gamma) if gamma is not None else (),
+        link_length=tuple(j.get("link_length_mm", 40.0) for j in joints),
+        link_mass=tuple(masses.get(j.get("child", ""), 0.0) for j in joints),
+        gravity=gravity,
+    )
+
+
+def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
+    """A finger model from a finger template's physics keys (moment arm 6 mm unless given)."""
+    defaults = data.get("defaults", {})
+    ks, pre, rot, arm, lengths = [], [], [], [], []
+    for j in data.get("joint", []):
+        merged = {**defaults, **j}
+        ks.append(float(merged["stiffness_nmm_per_rad"]))
+        pre.append(float(merged.get("preload_deg", 90)) * DEG)
+        rot.append(float(merged.get("rotation_deg", 90)) * DEG)
+        arm.append(float(merged.get("tendon_moment_arm_mm", default_arm)))
+        lengths.append(float(merged.get("link_length_mm", 40)))
+    return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))

@@ -1,0 +1,159 @@
+"""Joint hysteresis model: spring, preload, pin friction, tendon-induced friction, capstan (paper Eq. 3–7).
+
+Units: N, mm, N·mm, rad, s. θ_j is the joint angle from rest, θ = θ_j + θ_0 the
+spring deformation, s the sign of the joint velocity (kept through holds).
+
+* bar drive:     τ = K·θ + k3·θ³ + s·μ_j·F_n + c·θ̇ + τ_M
+* tendon drive:  τ_req = K·θ + k3·θ³ + s·μ_j·F_n + (γ⁺·θ if s > 0 else −γ⁻·θ) + c·θ̇ + τ_M
+                 F_t = β_s·τ_req / r, β_s = β⁺ (pulling) or β⁻ (releasing) when routed, else 1
+* Maxwell relaxation arm: dτ_M/dt = K_M·θ̇ − τ_M/T_r.
+
+rjcad's β convention (see shared/paper-notes.md): F_t is the force at the
+actuator, β⁺ ≥ 1 while pulling, β⁻ ≤ 1 while releasing.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+from scipy.signal import lfilter
+
+from rjcad.errors import ParameterError
+
+DEG = math.pi / 180
+
+
+@dataclass(frozen=True)
+class JointModel:
+    """Parameters of one joint (N·mm/rad, rad, mm, s)."""
+
+    stiffness: float = 5.2
+    preload: float = 90 * DEG
+    mu_j: float = 0.0
+    gamma_pos: float = 0.0
+    gamma_neg: float = 0.0
+    beta_pos: float = 1.0
+    beta_neg: float = 1.0
+    pulley_radius: float = 6.0
+    viscous: float = 0.0
+    cubic: float = 0.0
+    relaxation_stiffness: float = 0.0
+    relaxation_time: float = 1.0
+
+    def __post_init__(self):
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if not math.isfinite(v):
+                raise ParameterError(f.name, v, "must be finite")
+        if self.pulley_radius <= 0:
+            raise ParameterError("pulley_radius", self.pulley_radius, "must be > 0 mm")
+        if self.relaxation_time <= 0:
+            raise ParameterError("relaxation_time", self.relaxation_time, "must be > 0 s")
+        if self.beta_pos <= 0 or self.beta_neg <= 0:
+            raise ParameterError("beta_pos" if self.beta_pos <= 0 else "beta_neg",
+                                 min(self.beta_pos, self.beta_neg), "must be > 0")
+
+    def with_(self, **kw) -> "JointModel":
+        return replace(self, **kw)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """An experiment: ``drive`` 'bar' or 'tendon', transverse load F_n [N], tendon routed in the base."""
+
+    drive: str = "bar"
+    normal_load: float = 0.0
+    routed: bool = False
+
+    def __post_init__(self):
+        if self.drive not in ("bar", "tendon"):
+            raise ParameterError("drive", self.drive, "must be 'bar' or 'tendon'")
+
+    @property
+    def quantity(self) -> str:
+        return "torque_nmm" if self.drive == "bar" else "tendon_force_n"
+
+
+def motion_direction(theta, deadband: float = 0.0, initial: float = 1.0) -> np.ndarray:
+    """Sign of the joint velocity per sample, holding the last sign while |Δθ| ≤ deadband [±1]."""
+    theta = np.asarray(theta, dtype=float)
+    d = np.diff(theta, prepend=theta[:1])
+    s = np.where(d > deadband, 1.0, np.where(d < -deadband, -1.0, 0.0))
+    idx = np.where(s != 0, np.arange(len(s)), 0)
+    np.maximum.accumulate(idx, out=idx)
+    out = s[idx]
+    first = np.flatnonzero(s)
+    out[: first[0] if len(first) else len(s)] = initial if not len(first) else s[first[0]]
+    return out
+
+
+def velocity(theta, t) -> np.ndarray:
+    """Joint velocity θ̇ by central differences [rad/s]."""
+    return np.gradient(np.asarray(theta, dtype=float), np.asarray(t, dtype=float))
+
+
+def relaxation_torque(theta, t, k_m: float, t_r: float) -> np.ndarray:
+    """Maxwell arm torque τ_M: dτ_M/dt = K_M·θ̇ − τ_M/T_r, exact for piecewise-linear θ(t) [N·mm].
+
+    τ_k = a_k·τ_{k−1} + K_M·T_r·(1 − a_k)·Δθ_k/Δt_k, a_k = exp(−Δt_k/T_r); τ_0 = 0.
+    """
+    theta = np.asarray(theta, dtype=float)
+    t = np.asarray(t, dtype=float)
+    if k_m == 0.0 or len(theta) < 2:
+        return np.zeros_like(theta)
+    dt = np.diff(t)
+    dth = np.diff(theta)
+    a = np.exp(-dt / t_r)
+    drive = k_m * t_r * (1 - a) * dth / np.where(dt > 0, dt, np.inf)
+    if np.ptp(dt) <= 1e-9 * max(dt.mean(), 1e-300):  # uniform steps: a linear filter
+        tau = lfilter([1.0], [1.0, -a[0]], drive)
+    else:
+        tau = np.empty_like(drive)
+        acc = 0.0
+        for k in range(len(drive)):
+            acc = a[k] * acc + drive[k]
+            tau[k] = acc
+    return np.concatenate([[0.0], tau])
+
+
+def spring_torque(m: JointModel, theta_j) -> np.ndarray:
+    """K·θ + k3·θ³ with θ = θ_j + θ_0 [N·mm]."""
+    th = np.asarray(theta_j, dtype=float) + m.preload
+    return m.stiffness * th + m.cubic * th**3
+
+
+def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None) -> np.ndarray:
+    """The measured quantity along a trajectory: torque [N·mm] (bar) or actuator tendon force [N] (tendon).
+
+    ``t`` (s) is needed for viscous damping and relaxation; ``direction`` (±1) may be given,
+    else it is the sign of Δθ held through holds.
+    """
+    theta_j = np.asarray(theta_j, dtype=float)
+    s = motion_direction(theta_j) if direction is None else np.asarray(direction, dtype=float)
+    tau = spring_torque(m, theta_j) + s * m.mu_j * setup.normal_load
+    if t is not None and (m.viscous or m.relaxation_stiffness):
+        if m.viscous:
+            tau = tau + m.viscous * velocity(theta_j, t)
+        if m.relaxation_stiffness:
+            tau = tau + relaxation_torque(theta_j, t, m.relaxation_stiffness, m.relaxation_time)
+    if setup.drive == "bar":
+        return tau
+    th = theta_j + m.preload
+    tau = tau + np.where(s > 0, m.gamma_pos * th, -m.gamma_neg * th)
+    if setup.routed:
+        tau = tau * np.where(s > 0, m.beta_pos, m.beta_neg)
+    return np.maximum(tau, 0.0) / m.pulley_radius
+
+
+def cycle(rotation: float, samples: int = 401) -> tuple[np.ndarray, np.ndarray]:
+    """One 0 → rotation → 0 cycle: joint angles [rad] and their motion direction."""
+    up = np.linspace(0.0, rotation, samples // 2 + 1)
+    th = np.concatenate([up, up[-2::-1]])
+    d = np.concatenate([np.ones(len(up)), -np.ones(len(up) - 1)])
+    return th, d
+
+
+PAPER_JOINT = JointModel(stiffness=5.19, preload=70 * DEG, mu_j=6.92, gamma_pos=1.89, gamma_neg=3.15,
+                         beta_pos=1.24, beta_neg=0.67, pulley_radius=6.0)
