@@ -41,6 +41,8 @@ _SPRING_FIELDS = {
     "inner_radius_max": ("inner_radius_max", "inner_radius_max_mm", float, float),
     "max_outer_radius": ("outer_radius_max", "max_outer_radius_mm", float, float),
     "min_turns": ("min_turns", "min_turns", float, float),
+    "min_cycles": ("min_cycles", "min_cycles", float, float),
+    "backlash": ("backlash", "backlash_mm", float, float),
 }
 
 
@@ -84,6 +86,8 @@ def _print_table(rows: list[tuple[str, str, str]]) -> None:
 @click.option("--inner-radius-max", type=float, help="Upper bound on the inner (pin) radius [mm] (default 10).")
 @click.option("--max-outer-radius", type=float, help="Largest allowed outer radius [mm] (default 20).")
 @click.option("--min-turns", type=float, help="Fewest turns of the spiral (default 1).")
+@click.option("--min-cycles", type=float, help="Required life: lower 90 % bound of the predicted cycles.")
+@click.option("--backlash", type=float, help="Pin backlash for the life model [mm] (default 0.25).")
 @click.option("--config", type=click.Path(dir_okay=False), help="TOML file with the same keys (see templates/).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def spring(config, as_json, **options):
@@ -113,6 +117,9 @@ def spring(config, as_json, **options):
         ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
         ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
         ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
+        ("predicted life", f"{d['predicted_cycles']:.3g}",
+         f"cycles (90 %: {d['predicted_cycles_interval'][0]:.2g}-{d['predicted_cycles_interval'][1]:.2g}; "
+         f"backlash {d['backlash_mm']:g} mm; see rjcad life)"),
     ])
 
 
@@ -409,6 +416,35 @@ def paper_finger(out_dir):
 
     exps = write_doc(out_dir)
     click.echo(f"wrote {out_dir}/paper-finger.md and paper-finger.png ({len(exps)} explanations fitted)")
+
+
+@cli.command()
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option("--plot", type=click.Path(dir_okay=False), help="Write the models against the data as a PNG.")
+@click.option("--doc", "doc_dir", type=click.Path(file_okay=False), help="Write DOC_DIR/life.md and life.png.")
+def life(as_json, plot, doc_dir):
+    """Spring life from the paper's Table I: the stress-only law, what it gets wrong, and the extension."""
+    from rjcad import life as lf
+
+    c = lf.critique()
+    d = c.to_dict()
+    if plot:
+        lf.write_plot(c, plot)
+    if doc_dir:
+        lf.write_doc(c, doc_dir)
+    if as_json:
+        click.echo(json.dumps(d, indent=2))
+        return
+    click.echo(f"stress-only Basquin: a = {d['baseline']['params']['a']:.3f}, m = {d['baseline']['params']['m']:.3f}, "
+               f"s = {d['baseline']['params']['s']:.3f}; leave-one-out RMSE {d['baseline']['loo_rmse_log10']:.3f} log10")
+    for e, v in d["candidates"].items():
+        click.echo(f"+ {e}: leave-one-out RMSE {v['loo_rmse_log10']:.3f}, ΔAICc {v['delta_aicc']:+.2f}")
+    chosen = ", ".join(d["extended"]["effects"]) or "none (the stress-only law stays)"
+    click.echo(f"chosen: {chosen}; gain {d['gain']:.2f}x; Akaike weights "
+               + ", ".join(f"{k} {v:.2f}" for k, v in d["akaike_weights"].items()))
+    _print_table([(f"row {i + 1}", f"σa {r['stress_amp_mpa']:.2f} MPa  observed {r['observed_cycles']:.2g}"
+                   f"{'+' if r['censored'] else ''}  stress-only {r['baseline_cycles']:.2g}  extended "
+                   f"{r['extended_cycles']:.2g}", "") for i, r in enumerate(d["rows"])])
 
 
 # ---- new commands go above this line (one block per command) ----

@@ -184,6 +184,8 @@ class SpringRequirement:
     inner_radius_max: float = 10.0
     outer_radius_max: float = 20.0
     min_turns: float = 1.0
+    min_cycles: float | None = None
+    backlash: float = 0.25
 
     def __post_init__(self):
         def need(name, value, ok, limit, deg=False):
@@ -208,6 +210,9 @@ class SpringRequirement:
         need("inner_radius_max", self.inner_radius_max, lambda v: v >= self.inner_radius_min,
              f"must be >= inner_radius_min = {self.inner_radius_min} mm")
         need("min_turns", self.min_turns, lambda v: 0.25 <= v <= 100, "must be >= 0.25 and <= 100")
+        if self.min_cycles is not None:
+            need("min_cycles", self.min_cycles, lambda v: 1 <= v <= 1e9, "must be >= 1 and <= 1e9 cycles")
+        need("backlash", self.backlash, lambda v: 0.05 <= v <= 1.5, "must be >= 0.05 and <= 1.5 mm")
         _end_factors(self.end)
         object.__setattr__(self, "material", get_material(self.material).key)
         object.__setattr__(self, "printer", get_printer(self.printer).key)
@@ -296,6 +301,20 @@ class SpringDesign:
         """Coil gap as printed (no wind-up), p − t [mm]."""
         return self.pitch - self.thickness
 
+    @property
+    def stress_amplitude(self) -> float:
+        """Stress amplitude of the working cycle, preload → preload + rotation [MPa]."""
+        E = self.requirement.material_spec.youngs_modulus_mpa
+        K = stiffness(E, self.width, self.thickness, self.length, self.end)
+        return float(peak_stress(K * self.requirement.rotation, self.width, self.thickness, self.end)) / 2
+
+    def predicted_life(self) -> tuple[float, float, float]:
+        """Median cycles and 90 % interval from the Table I life model (rjcad.life)."""
+        from rjcad import life
+
+        med, lo, hi = life.predict_cycles(self.stress_amplitude, self.thickness, self.requirement.backlash)
+        return float(med[0]), float(lo[0]), float(hi[0])
+
     def constraint_report(self) -> dict[str, tuple[float, float, bool]]:
         """Every constraint as name → (value, limit, met)."""
         req = self.requirement
@@ -303,7 +322,11 @@ class SpringDesign:
         steps = self.thickness / pr.thickness_step_mm
         k_err = abs(self.spring_stiffness / req.spring_stiffness - 1.0)
         tol = 1e-9
-        return {
+        extra = {}
+        if req.min_cycles is not None:
+            lo = self.predicted_life()[1]
+            extra["life_lower_cycles"] = (lo, req.min_cycles, lo >= req.min_cycles * (1 - 1e-6))
+        return {**extra,
             "stiffness_error": (k_err, STIFFNESS_TOLERANCE, k_err <= STIFFNESS_TOLERANCE),
             "stress_mpa": (self.max_stress, req.allowed_stress, self.max_stress <= req.allowed_stress * (1 + tol)),
             "min_wall_mm": (self.thickness, pr.min_wall_mm, self.thickness >= pr.min_wall_mm - tol),
@@ -352,7 +375,17 @@ class SpringDesign:
             "rotation_deg": math.degrees(req.rotation),
             "preload_deg": math.degrees(req.preload),
             "requested_joint_stiffness_nmm_per_rad": req.joint_stiffness,
+            "stress_amplitude_mpa": self.stress_amplitude,
+            "backlash_mm": req.backlash,
+            "min_cycles": req.min_cycles,
+            **self._life_keys(),
         }
+
+    def _life_keys(self) -> dict:
+        med, lo, hi = self.predicted_life()
+        return {"predicted_cycles": med, "predicted_cycles_interval": [lo, hi],
+                "life_model": "rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 90 % interval; "
+                              "an extrapolation for other materials and printers"}
 
 
 # --------------------------------------------------------------------------
@@ -360,7 +393,7 @@ class SpringDesign:
 # --------------------------------------------------------------------------
 
 #: Constraint names, in the order of the ``binding`` codes of :func:`optimise_arrays`.
-CONSTRAINTS = ("stress", "turns", "outer_radius", "inner_radius", "coil_gap", "width")
+CONSTRAINTS = ("stress", "turns", "outer_radius", "inner_radius", "coil_gap", "width", "life")
 
 #: Thickest strip the optimiser tries [mm].
 MAX_THICKNESS = 3.0
@@ -417,6 +450,9 @@ def optimise_arrays(
     inner_radius_max: float = 10.0,
     outer_radius_max: float = 20.0,
     min_turns: float = 1.0,
+    rotation=None,
+    min_cycles: float | None = None,
+    backlash: float = 0.25,
 ) -> dict[str, np.ndarray]:
     """Vectorised optimiser over D requirements; smallest outer radius per row.
 
@@ -452,7 +488,17 @@ def optimise_arrays(
     p_turns = c * (1.0 + a / min_turns)
     L_turns = archimedean_length(r_in, p_turns, min_turns)
     b_turns = L_turns * 12.0 * K / (k_end * E * t**3)
-    b_lo = np.maximum.reduce([np.full(shape, width_min), MIN_WIDTH_TO_THICKNESS * t, b_stress, b_turns])
+    b_life = np.zeros(shape)
+    life_lo = np.full(shape, np.inf)
+    if min_cycles is not None:
+        from rjcad import life
+
+        rot = np.broadcast_to(np.atleast_1d(np.asarray(rotation, dtype=float))[:, None], shape)
+        amp_max = np.broadcast_to(life.amplitude_limit(min_cycles, t[0], backlash)[None, :], shape)
+        with np.errstate(divide="ignore"):
+            b_life = np.where(amp_max > 0, m_end * 6.0 * K * rot / (2 * t**2 * amp_max), np.inf)
+    b_lo = np.maximum.reduce([np.full(shape, width_min), MIN_WIDTH_TO_THICKNESS * t, b_stress, b_turns,
+                              np.minimum(b_life, 1e9)])
     b_hi = max(_snap_down(width_max, layer), layer)
     b_need = _snap_up(np.maximum(width_min, MIN_WIDTH_TO_THICKNESS * t), layer)
     b = np.minimum(_snap_up(b_lo, layer), b_hi)
@@ -464,6 +510,10 @@ def optimise_arrays(
     # Constraint values evaluated with the model itself.
     sigma = windup_stress(E, b, t, L, theta, end)
     gap = coil_gap(r_in, p, n, t, theta)
+    if min_cycles is not None:
+        amp = m_end * 6.0 * K * rot / (2 * b * t**2)
+        _, lo_c, _ = life.predict_cycles(amp.ravel(), t.ravel(), backlash)
+        life_lo = lo_c.reshape(shape)
     viol = np.stack(
         [
             sigma / s_allow - 1.0,
@@ -472,12 +522,13 @@ def optimise_arrays(
             r_in / inner_radius_max - 1.0,
             1.0 - gap / g_min,
             b_need / width_max - 1.0,
+            (1.0 - life_lo / min_cycles) if min_cycles is not None else np.full(shape, -1.0),
         ]
     )
-    values = np.stack([sigma, n, r_out, r_in, gap, b_need])
+    values = np.stack([sigma, n, r_out, r_in, gap, b_need, life_lo])
     limits = np.stack([s_allow, np.full(shape, min_turns), np.full(shape, outer_radius_max),
                        np.full(shape, inner_radius_max), np.full(shape, g_min),
-                       np.full(shape, width_max)])
+                       np.full(shape, width_max), np.full(shape, min_cycles or 0.0)])
     ok = np.all(viol <= 1e-9, axis=0)
     worst = viol.max(axis=0)
 
@@ -528,6 +579,9 @@ def _infeasible_message(constraint: str, value: float, limit: float, t: float, b
         return (f"inner radius {value:.2f} mm > {limit:g} mm allowed at t = {t:g} mm "
                 f"(thin-strip theory needs r_in >= {MIN_RADIUS_TO_THICKNESS:g}·t): "
                 f"raise --inner-radius-max")
+    if constraint == "life":
+        return (f"predicted life {value:.3g} cycles (lower 90 % bound) < {limit:.3g} required at t = {t:g} mm: "
+                f"lower --backlash, the rotation or --min-cycles (life model: rjcad life)")
     if constraint == "width":
         return (f"width {value:g} mm needed (>= width_min and >= {MIN_WIDTH_TO_THICKNESS:g}·t at "
                 f"t = {t:g} mm, in whole layers) > --width-max {limit:g} mm: raise --width-max")
@@ -553,6 +607,9 @@ def design_spring(req: SpringRequirement) -> SpringDesign:
         inner_radius_max=req.inner_radius_max,
         outer_radius_max=req.outer_radius_max,
         min_turns=req.min_turns,
+        rotation=req.rotation,
+        min_cycles=req.min_cycles,
+        backlash=req.backlash,
     )
     if not res["feasible"][0]:
         name = CONSTRAINTS[int(res["binding"][0])]
