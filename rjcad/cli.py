@@ -46,19 +46,20 @@ _SPRING_FIELDS = {
 }
 
 
+def _merge_config(options: dict, config: str | None, fields: dict) -> dict:
+    """defaults < config file < explicit options; ``fields``: option → (kwarg, TOML key, type, convert)."""
+    given = {k: v for k, v in options.items() if v is not None and k in fields}
+    if config:
+        toml_types = {key: ((int, float) if typ is float else typ) for _, key, typ, _ in fields.values()}
+        by_key = {key: opt for opt, (_, key, _, _) in fields.items()}
+        for key, value in load_toml(config, toml_types).items():
+            given.setdefault(by_key[key], value)
+    return {fields[opt][0]: fields[opt][3](fields[opt][2](v)) for opt, v in given.items()}
+
+
 def _requirement(options: dict, config: str | None) -> sp.SpringRequirement:
     """Merge defaults < config file < explicit options into a SpringRequirement."""
-    given = {k: v for k, v in options.items() if v is not None}
-    if config:
-        toml_types = {key: ((int, float) if typ is float else typ) for _, key, typ, _ in _SPRING_FIELDS.values()}
-        data = load_toml(config, toml_types)
-        by_key = {key: opt for opt, (_, key, _, _) in _SPRING_FIELDS.items()}
-        for key, value in data.items():
-            given.setdefault(by_key[key], value)
-    kwargs = {}
-    for opt, value in given.items():
-        field, _, typ, convert = _SPRING_FIELDS[opt]
-        kwargs[field] = convert(typ(value))
+    kwargs = _merge_config(options, config, _SPRING_FIELDS)
     if "joint_stiffness" not in kwargs:
         raise click.UsageError("missing --stiffness (or stiffness_nmm_per_rad in --config)")
     kwargs.setdefault("rotation", math.radians(90.0))
@@ -121,17 +122,6 @@ def spring(config, as_json, **options):
          f"cycles (90 %: {d['predicted_cycles_interval'][0]:.2g}-{d['predicted_cycles_interval'][1]:.2g}; "
          f"backlash {d['backlash_mm']:g} mm; see rjcad life)"),
     ])
-
-
-def _merge_config(options: dict, config: str | None, fields: dict) -> dict:
-    """defaults < config file < explicit options; ``fields``: option → (kwarg, TOML key, type, convert)."""
-    given = {k: v for k, v in options.items() if v is not None and k in fields}
-    if config:
-        toml_types = {key: ((int, float) if typ is float else typ) for _, key, typ, _ in fields.values()}
-        by_key = {key: opt for opt, (_, key, _, _) in fields.items()}
-        for key, value in load_toml(config, toml_types).items():
-            given.setdefault(by_key[key], value)
-    return {fields[opt][0]: fields[opt][3](fields[opt][2](v)) for opt, v in given.items()}
 
 
 _JOINT_FIELDS = {
@@ -299,6 +289,8 @@ def _plot(path, draw):
 def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_pos, gamma_neg, beta_pos, beta_neg,
                    pulley_radius, rotation, as_json, plot):
     """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7)."""
+    import numpy as np
+
     from rjcad.physics.joint import JointModel, Setup, cycle, simulate as run
 
     if not 0 < rotation <= 360:
@@ -317,12 +309,10 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
             ax.set_xlabel("joint angle θ_j [deg]")
             ax.set_ylabel("torque [N·mm]" if drive == "bar" else "tendon force at the actuator [N]")
             ax.legend()
-        import numpy as np
         _plot(plot, draw)
     if as_json:
         click.echo(json.dumps(out))
     else:
-        import numpy as np
         click.echo(f"{setup.quantity}: {len(th)} samples, from {np.min(y):.3f} to {np.max(y):.3f}; "
                    f"mean loop width {np.mean(y[d > 0]) - np.mean(y[d < 0]):.3f}")
 

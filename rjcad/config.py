@@ -22,13 +22,19 @@ def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
         raise RjcadError(f"{p}: not valid TOML ({e})") from None
     for key, value in data.items():
-        if key not in allowed:
-            raise ParameterError(f"{p.name}: {key}", value, f"unknown key; known keys: {', '.join(allowed)}")
-        want = allowed[key]
-        if isinstance(value, bool) or not isinstance(value, want):
-            names = " or ".join(t.__name__ for t in (want if isinstance(want, tuple) else (want,)))
-            raise ParameterError(f"{p.name}: {key}", value, f"must be a {names}")
+        check_key(f"{p.name}: ", key, value, allowed)
     return data
+
+
+def check_key(where: str, key: str, value, allowed: dict[str, type | tuple[type, ...]]):
+    """``value`` if ``key`` is known and of its type; else ParameterError naming ``where + key``."""
+    if key not in allowed:
+        raise ParameterError(f"{where}{key}", value, f"unknown key; known keys: {', '.join(allowed)}")
+    want = allowed[key]
+    if isinstance(value, bool) or not isinstance(value, want):
+        names = " or ".join(t.__name__ for t in (want if isinstance(want, tuple) else (want,)))
+        raise ParameterError(f"{where}{key}", value, f"must be a {names}")
+    return value
 
 
 def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:

@@ -65,3 +65,24 @@ def worst_overlap(bodies, pairs):
         if v > worst[0]:
             worst = (v, (a, b))
     return worst
+
+
+def reimport_step(path, names) -> dict:
+    """Re-import a STEP file in a fresh process: {name: [solid count, valid, volume]} for the named solids."""
+    import json
+    import subprocess
+    import sys
+
+    code = f"""
+import json, cadquery as cq
+a = cq.Assembly.importStep({str(path)!r})
+res = {{}}
+for name, obj in a.traverse():
+    if obj.obj is not None and name in {list(names)!r}:
+        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
+        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
+print(json.dumps(res))
+"""
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from mesh_tools import load_bodies, manifold, posed, worst_overlap
+from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
 from rjcad.cad.finger import PAPER_FINGER
 from rjcad.cli import main
@@ -126,19 +126,7 @@ def test_all_joints_closing_together(default_finger):
 
 def test_step_reimports_as_named_valid_solids(default_finger):
     out, m, bodies, order, _, _ = default_finger
-    code = f"""
-import json, cadquery as cq
-a = cq.Assembly.importStep({str(out / 'finger.step')!r})
-res = {{}}
-for name, obj in a.traverse():
-    if obj.obj is not None and name in {order!r}:
-        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
-        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
-print(json.dumps(res))
-"""
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    res = json.loads(r.stdout.strip().splitlines()[-1])
+    res = reimport_step(out / "finger.step", order)
     assert sorted(res) == sorted(order)
     for name, entry in zip(order, m["bodies"]):
         n_solids, valid, vol = res[name]

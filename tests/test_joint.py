@@ -5,9 +5,8 @@ import math
 import subprocess
 import sys
 
-import numpy as np
 import pytest
-from mesh_tools import load_bodies, manifold, rotate_about, sweep_collisions
+from mesh_tools import load_bodies, manifold, reimport_step, rotate_about, sweep_collisions
 
 from rjcad.cli import main
 
@@ -157,19 +156,7 @@ def test_moment_arm_follows_the_parameter(tmp_path):
 
 def test_step_reimports_as_two_named_valid_solids(default_joint):
     out, manifest, bodies = default_joint
-    code = f"""
-import json, cadquery as cq
-a = cq.Assembly.importStep({str(out / 'joint.step')!r})
-res = {{}}
-for name, obj in a.traverse():
-    if obj.obj is not None and name in ("ground", "moving"):
-        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
-        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
-print(json.dumps(res))
-"""
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    res = json.loads(r.stdout.strip().splitlines()[-1])
+    res = reimport_step(out / "joint.step", ["ground", "moving"])
     assert set(res) == {"ground", "moving"}
     named = by_name(manifest, bodies)
     for name, (n_solids, valid, vol) in res.items():

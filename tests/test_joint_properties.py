@@ -3,7 +3,6 @@ free over the whole range of motion."""
 
 import math
 
-import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st

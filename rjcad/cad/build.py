@@ -154,7 +154,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointB
 class FingerBuild:
     """A built finger: named solids, meshes, manifest and timings."""
 
-    params: "FingerParams"
+    params: object  # rjcad.cad.finger.FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
     manifest: dict

@@ -32,6 +32,7 @@ from rjcad.cad.joint import (
     tube_path,
 )
 from rjcad.cad.params import DEG, JointParams
+from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
 from rjcad.errors import ParameterError, RjcadError
 
@@ -55,16 +56,6 @@ JOINT_KEYS = {
 }
 MAX_JOINTS = 6
 M3_CLEARANCE_DIAMETER = 3.4
-
-
-def _typed(where: str, key: str, value, allowed: dict):
-    if key not in allowed:
-        raise ParameterError(f"{where}{key}", value, f"unknown key; known keys: {', '.join(allowed)}")
-    want = allowed[key]
-    if isinstance(value, bool) or not isinstance(value, want):
-        names = " or ".join(t.__name__ for t in (want if isinstance(want, tuple) else (want,)))
-        raise ParameterError(f"{where}{key}", value, f"must be a {names}")
-    return value
 
 
 @dataclass(frozen=True)
