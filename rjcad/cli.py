@@ -334,7 +334,7 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
     from rjcad.physics.finger import model_from_manifest, model_from_template, simulate_stroke
 
     if source is None:
-        from rjcad.cad.finger import PAPER_FINGER as data  # the template's content, no CAD is built
+        from rjcad.templates import PAPER_FINGER as data
         model = model_from_template(data)
     elif source.endswith(".json"):
         try:

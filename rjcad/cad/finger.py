@@ -35,15 +35,10 @@ from rjcad.cad.params import DEG, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
 from rjcad.errors import ParameterError, RjcadError
+from rjcad import templates
 
-#: The paper's finger (Sec. V); templates/finger.toml says the same.
-PAPER_FINGER = {
-    "material": "absplus-p430",
-    "printer": "generic-0.4",
-    "clearance_mm": 0.25,
-    "defaults": {"preload_deg": 90, "rotation_deg": 90, "link_length_mm": 40},
-    "joint": [{"stiffness_nmm_per_rad": 5.2}, {"stiffness_nmm_per_rad": 7.8}, {"stiffness_nmm_per_rad": 10.4}],
-}
+#: The paper's finger, as plain data in rjcad.templates (the builder's default).
+PAPER_FINGER = templates.PAPER_FINGER
 
 GLOBAL_KEYS = {
     "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
