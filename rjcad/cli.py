@@ -411,8 +411,11 @@ def paper_finger(out_dir):
 @cli.command()
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write the models against the data as a PNG.")
-@click.option("--doc", "doc_dir", type=click.Path(file_okay=False), help="Write DOC_DIR/life.md and life.png.")
-def life(as_json, plot, doc_dir):
+@click.option("--doc", "doc_dir", type=click.Path(file_okay=False),
+              help="Regenerate DOC_DIR/life.md and life.png (every number computed).")
+@click.option("--sims", type=click.IntRange(10, 100000), default=200, show_default=True,
+              help="Bootstrap tables per model for --doc.")
+def life(as_json, plot, doc_dir, sims):
     """Spring life from the paper's Table I: the stress-only law, what it gets wrong, and the extension."""
     from rjcad import life as lf
 
@@ -421,20 +424,28 @@ def life(as_json, plot, doc_dir):
     if plot:
         lf.write_plot(c, plot)
     if doc_dir:
-        lf.write_doc(c, doc_dir)
+        lf.write_doc(c, doc_dir, n_sim=sims)
     if as_json:
         click.echo(json.dumps(d, indent=2))
         return
-    click.echo(f"stress-only Basquin: a = {d['baseline']['params']['a']:.3f}, m = {d['baseline']['params']['m']:.3f}, "
-               f"s = {d['baseline']['params']['s']:.3f}; leave-one-out RMSE {d['baseline']['loo_rmse_log10']:.3f} log10")
-    for e, v in d["candidates"].items():
-        click.echo(f"+ {e}: leave-one-out RMSE {v['loo_rmse_log10']:.3f}, ΔAICc {v['delta_aicc']:+.2f}")
-    chosen = ", ".join(d["extended"]["effects"]) or "none (the stress-only law stays)"
-    click.echo(f"chosen: {chosen}; gain {d['gain']:.2f}x; Akaike weights "
+    b, e = d["baseline"], d["extended"]
+
+    def law(v):
+        return ", ".join(f"{k} = {x:.3g}" for k, x in v["params"].items()) + \
+            ("" if v["stress_term"] else " (no stress term)")
+
+    click.echo(f"stress-only law:  {law(b)}; LOO RMSE {b['loo_rmse_log10']:.3f} log10, AICc {b['aicc']:.2f}")
+    for name, v in d["candidates"].items():
+        click.echo(f"+ {name:<13} {law(v)}; LOO RMSE {v['loo_rmse_log10']:.3f}, ΔAICc {v['delta_aicc']:+.2f}")
+    chosen = ", ".join(e["effects"]) or "none (the stress-only law stays)"
+    click.echo(f"chosen: {chosen}; gain {d['gain']:.2f}x (LOO {b['loo_rmse_log10']:.3f} -> "
+               f"{e['loo_rmse_log10']:.3f}); Akaike weights "
                + ", ".join(f"{k} {v:.2f}" for k, v in d["akaike_weights"].items()))
-    _print_table([(f"row {i + 1}", f"σa {r['stress_amp_mpa']:.2f} MPa  observed {r['observed_cycles']:.2g}"
-                   f"{'+' if r['censored'] else ''}  stress-only {r['baseline_cycles']:.2g}  extended "
-                   f"{r['extended_cycles']:.2g}", "") for i, r in enumerate(d["rows"])])
+    _print_table([(f"row {r['row']}", f"σa {r['stress_amp_mpa']:5.2f} MPa  observed {r['observed_cycles']:7.2g}"
+                   f"{'+' if r['censored'] else ' '}  stress-only {r['baseline_cycles']:7.2g} "
+                   f"(res {r['baseline_residual_log10']:+.2f}, LOO {r['baseline_loo_error_log10']:+.2f})  extended "
+                   f"{r['extended_cycles']:7.2g} (res {r['extended_residual_log10']:+.2f}, "
+                   f"LOO {r['extended_loo_error_log10']:+.2f})", "") for r in d["rows"]])
 
 
 # ---- new commands go above this line (one block per command) ----

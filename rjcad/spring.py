@@ -580,8 +580,10 @@ def _infeasible_message(constraint: str, value: float, limit: float, t: float, b
                 f"(thin-strip theory needs r_in >= {MIN_RADIUS_TO_THICKNESS:g}·t): "
                 f"raise --inner-radius-max")
     if constraint == "life":
-        return (f"predicted life {value:.3g} cycles (lower 90 % bound) < {limit:.3g} required at t = {t:g} mm: "
-                f"lower --backlash, the rotation or --min-cycles (life model: rjcad life)")
+        from rjcad import life
+
+        return (f"predicted life {value:.3g} cycles (lower 90 % bound at backlash {getattr(req, 'backlash', 0.25):g} mm, "
+                f"t = {t:g} mm) < --min-cycles {limit:.3g}: {life.remedy()}")
     if constraint == "width":
         return (f"width {value:g} mm needed (>= width_min and >= {MIN_WIDTH_TO_THICKNESS:g}·t at "
                 f"t = {t:g} mm, in whole layers) > --width-max {limit:g} mm: raise --width-max")
