@@ -326,28 +326,13 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write θ_i(t_d) as a PNG.")
 def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
-    import tomllib
-    from pathlib import Path
-
     import numpy as np
 
-    from rjcad.physics.finger import model_from_manifest, model_from_template, simulate_stroke
+    from rjcad.physics.finger import load_finger_model, simulate_stroke
 
-    if source is None:
-        from rjcad.templates import PAPER_FINGER as data
-        model = model_from_template(data)
-    elif source.endswith(".json"):
-        try:
-            model = model_from_manifest(json.loads(Path(source).read_text()), mu_t=mu_t)
-        except FileNotFoundError:
-            raise RjcadError(f"{source}: file not found") from None
-    else:
-        try:
-            model = model_from_template(tomllib.loads(Path(source).read_text()))
-        except FileNotFoundError:
-            raise RjcadError(f"{source}: file not found") from None
     if stroke <= 0:
         raise click.BadParameter("must be > 0 mm", param_hint="--stroke")
+    model = load_finger_model(source, mu_t=mu_t)
     c = simulate_stroke(model, stroke, steps=steps)
     if plot:
         def draw(ax):
@@ -371,7 +356,8 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
 @click.option("--stroke", type=float, required=True, help="Tendon displacement at the end [mm].")
 @click.option("--sequence", type=click.Choice(["simultaneous", "proximal-first"]), default="simultaneous",
               show_default=True)
-@click.option("--base-stiffness", type=float, default=5.2, show_default=True, help="Softest joint [N·mm/rad].")
+@click.option("--base-stiffness", type=float, default=None,
+              help="Softest joint [N·mm/rad]; default 5.2, rescaled if a spring would not be printable.")
 @click.option("--material", default="absplus-p430", show_default=True)
 @click.option("--printer", default="generic-0.4", show_default=True)
 @click.option("--out", "out_path", type=click.Path(dir_okay=False), required=True, help="Finger template to write.")
@@ -392,6 +378,8 @@ def finger_design(target, stroke, sequence, base_stiffness, material, printer, o
         click.echo(json.dumps(rep))
         return
     click.echo(f"wrote {out_path}")
+    for note in rep["notes"]:
+        click.echo(f"  note: {note}")
     for i in range(len(angles)):
         click.echo(f"  joint {i + 1}: K {rep['stiffness_nmm_per_rad'][i]:.3f} N·mm/rad, preload "
                    f"{rep['preload_deg'][i]:.1f} deg, arm {rep['tendon_moment_arm_mm'][i]:.2f} mm, "
@@ -400,11 +388,14 @@ def finger_design(target, stroke, sequence, base_stiffness, material, printer, o
 
 @cli.command("paper-finger")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="docs", show_default=True)
-def paper_finger(out_dir):
+@click.option("--manifest", type=click.Path(dir_okay=False),
+              help="Built finger manifest (out/finger/finger.json) for the design model's moment arms; "
+                   "default: the joint builder's design arm.")
+def paper_finger(out_dir, manifest):
     """Regenerate docs/paper-finger.md: the paper's finger, the design model's error and its explanations."""
     from rjcad.physics.paper_finger import write_doc
 
-    exps = write_doc(out_dir)
+    exps = write_doc(out_dir, manifest)
     click.echo(f"wrote {out_dir}/paper-finger.md and paper-finger.png ({len(exps)} explanations fitted)")
 
 

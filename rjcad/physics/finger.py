@@ -61,6 +61,19 @@ class FingerModel:
                 object.__setattr__(self, name, tuple([default] * n))
             elif len(v) != n:
                 raise ParameterError(name, len(v), f"needs {n} values, one per joint")
+        for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "link_length",
+                     "link_mass"):
+            v = getattr(self, name)
+            if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
+                raise ParameterError(name, v, "must be finite numbers")
+            if min(v) < 0:
+                raise ParameterError(name, min(v), "must be >= 0")
+        if min(self.rotation) <= 0:
+            raise ParameterError("rotation", min(self.rotation), "must be > 0 rad")
+        if not (math.isfinite(self.mu_t) and self.mu_t >= 0):
+            raise ParameterError("mu_t", self.mu_t, "must be >= 0")
+        if not self.tendon_stiffness > 0:
+            raise ParameterError("tendon_stiffness", self.tendon_stiffness, "must be > 0 N/mm")
         if any(k <= 0 for k in self.stiffness):
             raise ParameterError("stiffness", min(self.stiffness), "must be > 0 N·mm/rad")
         if any(r <= 0 for r in self.moment_arm):
@@ -128,7 +141,7 @@ def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
 
 
 def _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg):
-    """θ_i(T) for every joint given the previous angles (vectorised over joints)."""
+    """θ_i(T) for every joint given the previous angles (vectorised over joints; T may be a column of tensions)."""
     rc = r * c
     up_T = (K * (prev + th0) + tg + f0 + gam * (prev + th0)) / rc
     dn_T = (K * (prev + th0) + tg - f0 - gam * (prev + th0)) / rc
@@ -161,7 +174,7 @@ def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg:
     bps = _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg)
     bps = np.unique(np.clip(bps[np.isfinite(bps)], 0.0, None))
     grid = np.concatenate([[0.0], bps])
-    S = np.array([float(r @ _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)) + comp * T for T in grid])
+    S = _theta_of_T(grid[:, None], prev, K, th0, thmax, r, c, f0, gam, tg) @ r + comp * grid  # all at once
     if S[-1] < t_d:
         if comp == 0.0:  # every joint at its limit: the tendon cannot be pulled further
             T = float(grid[-1])
@@ -239,38 +252,104 @@ def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
 def model_from_manifest(manifest: dict, mu_t: float = 0.0, friction=None, gamma=None,
                         gravity: tuple[float, float] | None = None) -> FingerModel:
     """A finger model from a finger (or joint) manifest: stiffness, preload, range, measured arms and wraps."""
+    if not isinstance(manifest, dict):
+        raise ParameterError("manifest", type(manifest).__name__, "must be a JSON object")
     joints = manifest.get("joints")
     if joints is None:  # a single joint module
-        joints = [{"joint_stiffness_nmm_per_rad": manifest["joint_stiffness_nmm_per_rad"],
-                   "preload_deg": manifest["preload_deg"], "rotation_deg": manifest["rotation_deg"],
-                   "tendon_moment_arm_mm": manifest["tendon_moment_arm_mm"],
-                   "tendon_wrap_angle_rad": manifest["tendon_wrap_angle_rad"],
-                   "link_length_mm": manifest.get("link_length_mm", 40.0)}]
-    masses = {b["name"]: b.get("mass_g", 0.0) for b in manifest.get("bodies", [])}
+        joints = [manifest]
+        prefix = lambda i: ""  # noqa: E731
+    else:
+        prefix = lambda i: f"joints[{i}]."  # noqa: E731
+    if not isinstance(joints, list) or not joints:
+        raise ParameterError("joints", joints, "must be a non-empty list of joints, proximal first")
+
+    def num(i, j, key, default=None):
+        v = j.get(key, default) if isinstance(j, dict) else None
+        if v is None:
+            raise ParameterError(f"{prefix(i)}{key}", None, "is required in a finger manifest")
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise ParameterError(f"{prefix(i)}{key}", v, "must be a number")
+        return float(v)
+
+    masses = {b.get("name"): b.get("mass_g", 0.0) for b in manifest.get("bodies", []) if isinstance(b, dict)}
     return FingerModel(
-        stiffness=tuple(j["joint_stiffness_nmm_per_rad"] for j in joints),
-        preload=tuple(j["preload_deg"] * DEG for j in joints),
-        rotation=tuple(j["rotation_deg"] * DEG for j in joints),
-        moment_arm=tuple(j["tendon_moment_arm_mm"] for j in joints),
-        wrap=tuple(j.get("tendon_wrap_angle_rad", 0.0) for j in joints),
+        stiffness=tuple(num(i, j, "joint_stiffness_nmm_per_rad") for i, j in enumerate(joints, 1)),
+        preload=tuple(num(i, j, "preload_deg") * DEG for i, j in enumerate(joints, 1)),
+        rotation=tuple(num(i, j, "rotation_deg") * DEG for i, j in enumerate(joints, 1)),
+        moment_arm=tuple(num(i, j, "tendon_moment_arm_mm") for i, j in enumerate(joints, 1)),
+        wrap=tuple(num(i, j, "tendon_wrap_angle_rad", 0.0) for i, j in enumerate(joints, 1)),
         mu_t=mu_t,
         friction=tuple(friction) if friction is not None else (),
         gamma=tuple(gamma) if gamma is not None else (),
-        link_length=tuple(j.get("link_length_mm", 40.0) for j in joints),
-        link_mass=tuple(masses.get(j.get("child", ""), 0.0) for j in joints),
+        link_length=tuple(num(i, j, "link_length_mm", 40.0) for i, j in enumerate(joints, 1)),
+        link_mass=tuple(float(masses.get(j.get("child", ""), 0.0)) for j in joints),
         gravity=gravity,
     )
 
 
 def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
-    """A finger model from a finger template's physics keys (moment arm 6 mm unless given)."""
+    """A finger model from a finger template's physics keys; the purely geometric keys are ignored.
+
+    Per joint (``[[joint]]`` over ``[defaults]``): stiffness_nmm_per_rad (required), preload_deg (90),
+    rotation_deg (90), tendon_moment_arm_mm (``default_arm`` = 6 mm, the joint builder's default),
+    link_length_mm (40). No wrap angle in a template: 0 (frictionless path).
+    """
     defaults = data.get("defaults", {})
+    joints = data.get("joint", [])
+    if not isinstance(defaults, dict):
+        raise ParameterError("defaults", defaults, "must be a table")
+    if not isinstance(joints, list) or not joints:
+        raise ParameterError("joint", joints, "a finger template needs at least one [[joint]] table")
     ks, pre, rot, arm, lengths = [], [], [], [], []
-    for j in data.get("joint", []):
+    for i, j in enumerate(joints, start=1):
+        if not isinstance(j, dict):
+            raise ParameterError(f"joint[{i}]", j, "must be a table")
         merged = {**defaults, **j}
-        ks.append(float(merged["stiffness_nmm_per_rad"]))
-        pre.append(float(merged.get("preload_deg", 90)) * DEG)
-        rot.append(float(merged.get("rotation_deg", 90)) * DEG)
-        arm.append(float(merged.get("tendon_moment_arm_mm", default_arm)))
-        lengths.append(float(merged.get("link_length_mm", 40)))
+
+        def num(key, default=None):
+            v = merged.get(key, default)
+            if v is None:
+                raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
+            return float(v)
+
+        ks.append(num("stiffness_nmm_per_rad"))
+        pre.append(num("preload_deg", 90) * DEG)
+        rot.append(num("rotation_deg", 90) * DEG)
+        arm.append(num("tendon_moment_arm_mm", default_arm))
+        lengths.append(num("link_length_mm", 40))
     return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
+
+
+def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
+    """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
+    import json
+    import tomllib
+    from pathlib import Path
+
+    from rjcad.errors import RjcadError
+
+    if source is None:
+        from rjcad.templates import PAPER_FINGER
+
+        return model_from_template(PAPER_FINGER)
+    p = Path(source)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise RjcadError(f"{source}: file not found") from None
+    except (IsADirectoryError, UnicodeDecodeError) as e:
+        raise RjcadError(f"{source}: cannot read ({e})") from None
+    if p.suffix.lower() == ".json":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as e:
+            raise RjcadError(f"{source}: not valid JSON ({e})") from None
+        return model_from_manifest(data, mu_t=mu_t)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise RjcadError(f"{source}: not valid TOML ({e})") from None
+    m = model_from_template(data)
+    return m if mu_t == 0 else FingerModel(**{**m.__dict__, "mu_t": mu_t})

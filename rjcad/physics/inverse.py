@@ -1,32 +1,41 @@
 """Inverse finger design: stiffnesses, preloads and moment arms for a desired free closure.
 
-Frictionless design model (see finger.py): joint i starts when r_i·T = K_i·θ0_i and
-sits at θ_i = r_i·T/K_i − θ0_i. For target end angles θ*_i at stroke s:
+Frictionless design model (see finger.py): one tendon tension T; joint i starts when
+r_i·T = K_i·θ0_i and sits at θ_i = r_i·T/K_i − θ0_i. For target end angles θ*_i at stroke s:
 
 * equal moment arms r = s / Σθ*_i (the tendon constraint Σ r·θ*_i = s);
-* onset tensions T_si and the end tension T_e give K_i = r·(T_e − T_si)/θ*_i and
-  θ0_i = θ*_i·x_i with x_i = T_si/(T_e − T_si): equal x_i close all joints together,
-  a smaller x_1 makes the proximal joint start first;
-* the scale T_e makes the softest joint as stiff as ``base_stiffness``.
+* with the preload ratio x_i = θ0_i/θ*_i, joint i starts at T_si = T_e·x_i/(1 + x_i)
+  (T_e: the end tension) and K_i = r·T_e / ((1 + x_i)·θ*_i);
+* ``simultaneous``: all x_i equal (all joints start at the same tension);
+  ``proximal-first``: x_1 < x_2 = … = x_N; joints 2…N start together once the
+  proximal joint has taken t_d = r·θ*_1·(x_2 − x_1)/(1 + x_2);
+* the free scale r·T_e sets the softest joint to the preferred stiffness, or the
+  nearest one at which every joint is a printable spring.
 
-Every stiffness must be a printable spring (rjcad.spring), every preload and arm
-inside the builder's limits, and the simulated closure must reach the targets.
+Every joint is checked as the joint builder checks it (rjcad.cad.params.JointParams:
+spring from the optimiser, preload, rotation, moment arm and link length), and the
+simulated closure must end within 1° of the targets in the requested order.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
-from rjcad.errors import InfeasibleDesign, ParameterError
-from rjcad.physics.finger import FingerModel, Closure, onset_tendon, simulate_stroke
+from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
+from rjcad.physics.finger import Closure, FingerModel, onset_tendon, simulate_stroke
 
 DEG = math.pi / 180
-PRELOAD_RANGE = (30 * DEG, 120 * DEG)
+PRELOAD_RANGE = (30 * DEG, 120 * DEG)  # the joint builder's limits (rjcad.cad.params.RANGES)
 ROTATION_MAX = 110 * DEG
-ARM_RANGE = (4.2, 15.0)  # mm: the joint builder's limits for the default pin and printer
+STIFFNESS_RANGE = (0.2, 60.0)  # N·mm/rad, the joint builder's limits
+LEAD = 0.6  # proximal-first: x_1 = LEAD·x_2 when the preload limits allow it
+DEFAULT_BASE_STIFFNESS = 5.2  # the paper's proximal joint [N·mm/rad]
+END_TOLERANCE_DEG = 1.0
+STEPS = 400
 
 
 @dataclass
@@ -38,6 +47,7 @@ class FingerDesign:
     closure: Closure
     end_error_deg: list[float]
     onset_mm: list[float]
+    notes: list[str] = field(default_factory=list)
 
     def template(self, material: str = "absplus-p430", printer: str = "generic-0.4") -> str:
         """A finger template (TOML) that `rjcad finger` builds."""
@@ -57,59 +67,177 @@ class FingerDesign:
             "tendon_moment_arm_mm": self.moment_arm,
             "end_error_deg": self.end_error_deg,
             "onset_tendon_mm": self.onset_mm,
+            "notes": self.notes,
             "closure": self.closure.to_dict(),
         }
 
 
+# ------------------------------------------------------------------ builder limits
+
+def _buildable(k: float, preload: float, rotation: float, arm: float, material: str, printer: str):
+    """None if the joint builder accepts this joint, else its error."""
+    from rjcad.cad.params import JointParams  # no CAD kernel: parameters and the spring optimiser only
+
+    try:
+        JointParams(stiffness=float(k), preload=float(preload), rotation=float(rotation),
+                    tendon_moment_arm=float(arm), material=material, printer=printer)
+    except RjcadError as e:
+        return e
+    return None
+
+
+@lru_cache(maxsize=256)
+def printable_stiffness(preload: float, rotation: float, arm: float, material: str, printer: str,
+                        samples: int = 90) -> tuple[np.ndarray, np.ndarray]:
+    """Joint stiffnesses on a log grid over the builder's range, and which of them it can build."""
+    ks = np.geomspace(*STIFFNESS_RANGE, samples)
+    ok = np.array([_buildable(k, preload, rotation, arm, material, printer) is None for k in ks])
+    return ks, ok
+
+
+@lru_cache(maxsize=16)
+def arm_range(material: str, printer: str) -> tuple[float, float]:
+    """The moment arms the joint builder accepts [mm] (its pin, clearance and wall limits)."""
+    lo, hi = 0.5, 15.0
+    if _buildable(5.2, 90 * DEG, 90 * DEG, hi, material, printer) is not None:
+        return (math.inf, -math.inf)
+    for _ in range(40):  # bisection on the lower bound
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if _buildable(5.2, 90 * DEG, 90 * DEG, mid, material, printer) is None else (mid, hi)
+    return (hi, 15.0)
+
+
+# ------------------------------------------------------------------ the design
+
+def _preload_ratios(th: np.ndarray, sequence: str) -> np.ndarray:
+    """x_i = θ0_i/θ*_i inside the preload limits, equal (simultaneous) or with the proximal joint lower."""
+    lo, hi = PRELOAD_RANGE
+    n = len(th)
+    d = lambda v: f"{math.degrees(v):.0f}°"  # noqa: E731
+    if sequence == "simultaneous" or n == 1:
+        a, b = float(np.max(lo / th)), float(np.min(hi / th))
+        if a > b:
+            i, j = int(np.argmax(lo / th)), int(np.argmin(hi / th))
+            raise InfeasibleDesign(
+                "preload", f"joints that start together need preloads in proportion to their targets "
+                f"(θ0/θ* equal): joint {i + 1} ({d(th[i])}) needs θ0/θ* >= {a:.2f} to keep its preload >= {d(lo)}, "
+                f"joint {j + 1} ({d(th[j])}) needs <= {b:.2f} to keep it <= {d(hi)}; the targets may differ by at "
+                f"most a factor {hi / lo:g}" + ("; try --sequence proximal-first" if i != 0 and j == 0 else ""))
+        return np.full(n, min(max(1.0, a), b))
+    a1, b1 = lo / th[0], hi / th[0]
+    A, B = float(np.max(lo / th[1:])), float(np.min(hi / th[1:]))
+    if A > B:
+        i, j = 1 + int(np.argmax(lo / th[1:])), 1 + int(np.argmin(hi / th[1:]))
+        raise InfeasibleDesign(
+            "preload", f"joints 2-{n} start together, so their preloads must be in proportion to their targets: "
+            f"joint {i + 1} ({d(th[i])}) needs θ0/θ* >= {A:.2f}, joint {j + 1} ({d(th[j])}) <= {B:.2f} "
+            f"(preloads {d(lo)}-{d(hi)})")
+    X = min(max(1.0, A), B)
+    x1 = min(max(LEAD * X, a1), b1)
+    if x1 > LEAD * X:  # the proximal preload floor: raise the distal ratio if allowed
+        X = min(B, max(X, x1 / LEAD))
+    if x1 >= X * (1 - 1e-6):
+        raise InfeasibleDesign(
+            "preload", f"the proximal joint cannot start first: its {d(th[0])} target with a preload >= {d(lo)} "
+            f"gives θ0/θ* >= {a1:.2f}, but joints 2-{n} must stay <= {B:.2f} to keep their preloads <= {d(hi)}")
+    return np.concatenate([[x1], np.full(n - 1, X)])
+
+
+def _order_ok(onset: np.ndarray, sequence: str, stroke: float) -> bool:
+    tol = max(0.02 * stroke, 0.1)
+    if sequence == "simultaneous" or len(onset) == 1:
+        return bool(np.ptp(onset) <= tol)
+    return bool(onset[0] + tol < np.min(onset[1:]) and np.ptp(onset[1:]) <= tol)
+
+
 def design_finger(target_deg: list[float], stroke: float, sequence: str = "simultaneous",
-                  base_stiffness: float = 5.2, material: str = "absplus-p430", printer: str = "generic-0.4",
-                  check_springs: bool = True) -> FingerDesign:
-    """Per-joint K, θ0 and r so that the frictionless closure ends at the targets (angles in deg in, rad inside)."""
+                  base_stiffness: float | None = None, material: str = "absplus-p430",
+                  printer: str = "generic-0.4", check_springs: bool = True) -> FingerDesign:
+    """Per-joint K, θ0 and r so that the frictionless closure ends at the targets (angles in deg in, rad inside).
+
+    ``base_stiffness`` fixes the softest joint [N·mm/rad]; None prefers 5.2 and rescales every joint alike
+    when that is not printable (the end angles do not depend on the common scale).
+    """
     if sequence not in ("simultaneous", "proximal-first"):
         raise ParameterError("sequence", sequence, "must be 'simultaneous' or 'proximal-first'")
     th = np.radians(np.asarray(target_deg, dtype=float))
     n = len(th)
     if not 1 <= n <= 6:
         raise ParameterError("target", len(th), "give 1 to 6 joint angles")
-    if np.any(th <= 0) or np.any(th > ROTATION_MAX):
-        bad = float(np.degrees(th[np.argmax((th <= 0) | (th > ROTATION_MAX))]))
+    if not np.all(np.isfinite(th)) or np.any(th <= 0) or np.any(th > ROTATION_MAX):
+        bad = float(np.degrees(th[np.argmax(~np.isfinite(th) | (th <= 0) | (th > ROTATION_MAX))]))
         raise ParameterError("target", bad, f"each angle must be in (0, {math.degrees(ROTATION_MAX):g}] deg")
-    if not stroke > 0:
+    if not (math.isfinite(stroke) and stroke > 0):
         raise ParameterError("stroke", stroke, "must be > 0 mm")
+    if base_stiffness is not None and not STIFFNESS_RANGE[0] <= base_stiffness <= STIFFNESS_RANGE[1]:
+        raise ParameterError("base_stiffness", base_stiffness, "must be in [{:g}, {:g}] N·mm/rad".format(
+            *STIFFNESS_RANGE))
     r = stroke / th.sum()
-    if not ARM_RANGE[0] <= r <= ARM_RANGE[1]:
+    a_lo, a_hi = arm_range(material, printer) if check_springs else (0.0, math.inf)
+    if not a_lo <= r <= a_hi:
         raise InfeasibleDesign("moment_arm", f"the stroke needs a moment arm of {r:.2f} mm (stroke / Σ targets); "
-                                             f"the joint builder allows {ARM_RANGE[0]}-{ARM_RANGE[1]} mm: "
-                                             f"change the stroke to {ARM_RANGE[0] * th.sum():.1f}-"
-                                             f"{ARM_RANGE[1] * th.sum():.1f} mm")
-    lo, hi = PRELOAD_RANGE
-    x_lo, x_hi = lo / th.min(), hi / th.max()
-    if x_lo > x_hi:
-        raise InfeasibleDesign("preload", "the targets are too different for one preload ratio within "
-                                          f"{math.degrees(lo):g}-{math.degrees(hi):g} deg")
-    x = np.full(n, min(max(1.0, x_lo), x_hi))
-    if sequence == "proximal-first" and n > 1:
-        x[0] = max(lo / th[0], 0.6 * x[1])
-        if x[0] >= x[1] - 1e-9:
-            raise InfeasibleDesign("preload", "the proximal joint cannot start first within the preload limits")
-    k_shape = 1.0 / ((1 + x) * th)  # K_i ∝ T_e/((1 + x_i)·θ*_i)
-    K = base_stiffness * k_shape / k_shape.min()
+                                             f"the joint builder allows {a_lo:.2f}-{a_hi:.2f} mm: "
+                                             f"change the stroke to {a_lo * th.sum():.1f}-"
+                                             f"{a_hi * th.sum():.1f} mm")
+    x = _preload_ratios(th, sequence)
     th0 = x * th
     rot = np.minimum(ROTATION_MAX, np.maximum(90 * DEG, th + 10 * DEG))
-    model = FingerModel(tuple(K), tuple(th0), tuple(rot), tuple([r] * n))
-    closure = simulate_stroke(model, stroke, steps=400)
-    end = closure.theta[400]
-    err = list(np.degrees(end - th))
-    onset = list(onset_tendon(closure))
+    q = 1.0 / ((1 + x) * th)
+    q = q / q.min()  # K_i = k·q_i with k the softest joint's stiffness
+    notes = []
+    k = DEFAULT_BASE_STIFFNESS if base_stiffness is None else float(base_stiffness)
     if check_springs:
-        from rjcad.spring import SpringRequirement, design_spring
-
-        for i, (k, p, ro) in enumerate(zip(K, th0, rot), start=1):
-            try:
-                design_spring(SpringRequirement(float(k), float(ro), float(p), material=material, printer=printer))
-            except InfeasibleDesign as e:
-                raise InfeasibleDesign(e.constraint, f"joint {i} would need K = {k:.2f} N·mm/rad with "
-                                                     f"{math.degrees(p):.0f} deg preload; no printable spring: {e}") \
-                    from None
+        k, notes = _printable_scale(k, q, th0, rot, r, material, printer, strict=base_stiffness is not None)
+    K = k * q
+    model = FingerModel(tuple(K), tuple(th0), tuple(rot), tuple([r] * n))
+    closure = simulate_stroke(model, stroke, steps=STEPS)
+    err = np.degrees(closure.theta[STEPS] - th)
+    onset = onset_tendon(closure, threshold=0.1 * DEG)
+    if np.max(np.abs(err)) > END_TOLERANCE_DEG or not _order_ok(onset, sequence, stroke):
+        raise InfeasibleDesign("closure", f"the simulated closure misses the request: end errors "
+                                          f"({', '.join(f'{e:+.2f}' for e in err)})°, onsets "
+                                          f"({', '.join(f'{o:.2f}' for o in onset)}) mm for '{sequence}'")
     return FingerDesign(list(map(float, K)), list(map(float, th0)), list(map(float, rot)), [float(r)] * n,
-                        closure, [float(e) for e in err], [float(o) for o in onset])
+                        closure, [float(e) for e in err], [float(o) for o in onset], notes)
+
+
+def _printable_scale(k, q, th0, rot, r, material, printer, strict):
+    """The softest joint's stiffness k (every joint K_i = k·q_i printable), the requested one if possible."""
+    bad = [i for i in range(len(q)) if _buildable(k * q[i], th0[i], rot[i], r, material, printer) is not None]
+    if not bad:
+        return k, []
+    grids = [printable_stiffness(float(p), float(ro), float(r), material, printer) for p, ro in zip(th0, rot)]
+    spans = []
+    for ks, ok in grids:
+        spans.append((float(ks[ok].min()), float(ks[ok].max())) if ok.any() else (math.nan, math.nan))
+    where = lambda i: f"{math.degrees(th0[i]):.0f}° preload, {math.degrees(rot[i]):.0f}° rotation"  # noqa: E731
+    for i, (lo, hi) in enumerate(spans):
+        if math.isnan(lo):
+            raise InfeasibleDesign("spring", f"joint {i + 1}: no printable spring at {where(i)} for any stiffness "
+                                             f"in {STIFFNESS_RANGE[0]:g}-{STIFFNESS_RANGE[1]:g} N·mm/rad "
+                                             f"({material}, {printer})")
+    i = bad[0]
+    if strict:
+        lo, hi = spans[i]
+        need = k * q[i]
+        side = "stiffest" if need > hi else "softest"
+        raise InfeasibleDesign("spring", f"joint {i + 1} would need K = {need:.2f} N·mm/rad, but there is no "
+                                         f"printable spring: the {side} one at {where(i)} gives "
+                                         f"{hi if need > hi else lo:.2f} ({material}, {printer}); a softest-joint "
+                                         f"stiffness of "
+                                         f"{max(s[0] / qq for s, qq in zip(spans, q)):.2f}-"
+                                         f"{min(s[1] / qq for s, qq in zip(spans, q)):.2f} would do")
+    # candidates for k: every grid point that makes some joint sit on a printable grid stiffness
+    cand = np.unique(np.concatenate([ks[ok] / qi for (ks, ok), qi in zip(grids, q)]))
+    cand = cand[np.argsort(np.abs(np.log(cand / k)))]
+    for c in cand:
+        if all(_buildable(c * q[j], th0[j], rot[j], r, material, printer) is None for j in range(len(q))):
+            return float(c), [f"softest joint rescaled from {k:g} to {c:.3f} N·mm/rad so that every spring is "
+                              f"printable (joint {i + 1} was not at {k * q[i]:.2f})"]
+    lo_j = int(np.argmax([s[0] / qq for s, qq in zip(spans, q)]))
+    hi_j = int(np.argmin([s[1] / qq for s, qq in zip(spans, q)]))
+    need = spans[hi_j][1] * q[lo_j] / q[hi_j]
+    raise InfeasibleDesign("spring", f"joint {hi_j + 1} can be at most {spans[hi_j][1]:.2f} N·mm/rad (stiffest "
+                                     f"printable spring at {where(hi_j)}), so joint {lo_j + 1} would need "
+                                     f"K < {need:.2f} N·mm/rad; the thinnest printable spring at {where(lo_j)} "
+                                     f"gives {spans[lo_j][0]:.2f}")

@@ -51,12 +51,36 @@ class JointModel:
             raise ParameterError("pulley_radius", self.pulley_radius, "must be > 0 mm")
         if self.relaxation_time <= 0:
             raise ParameterError("relaxation_time", self.relaxation_time, "must be > 0 s")
-        if self.beta_pos <= 0 or self.beta_neg <= 0:
-            raise ParameterError("beta_pos" if self.beta_pos <= 0 else "beta_neg",
-                                 min(self.beta_pos, self.beta_neg), "must be > 0")
+        if self.beta_pos < 1:
+            raise ParameterError("beta_pos", self.beta_pos, "must be >= 1 (pulling through the path costs force)")
+        if not 0 < self.beta_neg <= 1:
+            raise ParameterError("beta_neg", self.beta_neg, "must be in (0, 1] (releasing needs less force)")
+        if self.relaxation_stiffness < 0 or self.viscous < 0:
+            name = "viscous" if self.viscous < 0 else "relaxation_stiffness"
+            raise ParameterError(name, getattr(self, name), "must be >= 0")
 
     def with_(self, **kw) -> "JointModel":
         return replace(self, **kw)
+
+    def to_vector(self, names=None) -> np.ndarray:
+        """The parameters ``names`` (default: all of PARAM_NAMES, in that order) as a float array."""
+        return np.array([getattr(self, n) for n in (PARAM_NAMES if names is None else names)], dtype=float)
+
+    @classmethod
+    def from_vector(cls, x, names=None, base: "JointModel | None" = None) -> "JointModel":
+        """A model whose parameters ``names`` take the values ``x``; the others come from ``base``."""
+        names = PARAM_NAMES if names is None else tuple(names)
+        x = np.asarray(x, dtype=float).ravel()
+        if len(x) != len(names):
+            raise ParameterError("x", len(x), f"needs {len(names)} values, one per name")
+        unknown = [n for n in names if n not in PARAM_NAMES]
+        if unknown:
+            raise ParameterError("names", unknown[0], f"unknown parameter; known: {', '.join(PARAM_NAMES)}")
+        return replace(base if base is not None else cls(), **{n: float(v) for n, v in zip(names, x)})
+
+
+#: Parameter names in vector order (for fitting: JointModel.to_vector / from_vector).
+PARAM_NAMES = tuple(f.name for f in fields(JointModel))
 
 
 @dataclass(frozen=True)
@@ -110,12 +134,25 @@ def relaxation_torque(theta, t, k_m: float, t_r: float) -> np.ndarray:
     if np.ptp(dt) <= 1e-9 * max(dt.mean(), 1e-300):  # uniform steps: a linear filter
         tau = lfilter([1.0], [1.0, -a[0]], drive)
     else:
-        tau = np.empty_like(drive)
-        acc = 0.0
-        for k in range(len(drive)):
-            acc = a[k] * acc + drive[k]
-            tau[k] = acc
+        tau = _decaying_sum(drive, np.cumsum(dt) / t_r)
     return np.concatenate([[0.0], tau])
+
+
+def _decaying_sum(d: np.ndarray, s: np.ndarray, span: float = 40.0) -> np.ndarray:
+    """y_k = e^{−(s_k − s_{k−1})}·y_{k−1} + d_k for non-uniform steps, vectorised.
+
+    y_k = e^{−s_k}·Σ_{j≤k} e^{s_j}·d_j, evaluated in blocks where s grows by at most ``span``
+    (so e^{s} stays far from overflow); each block starts from the last value of the previous one.
+    """
+    y = np.empty_like(d)
+    carry, s_prev, i, n = 0.0, 0.0, 0, len(d)
+    while i < n:
+        j = int(np.searchsorted(s, s[i] + span, side="right"))
+        j = max(j, i + 1)
+        rel = s[i:j] - s[i]
+        y[i:j] = np.exp(-rel) * (np.cumsum(np.exp(rel) * d[i:j]) + carry * math.exp(-(s[i] - s_prev)))
+        carry, s_prev, i = y[j - 1], s[j - 1], j
+    return y
 
 
 def spring_torque(m: JointModel, theta_j) -> np.ndarray:

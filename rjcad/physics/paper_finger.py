@@ -13,13 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from rjcad.physics.finger import FingerModel, onset_tendon, simulate_stroke
+from rjcad.physics.finger import FingerModel, onset_tendon, simulate_path, simulate_stroke
 
 DEG = math.pi / 180
 MEASURED_DEG = np.array([65.0, 50.0, 50.0])
 STROKE = 25.0
 K_DESIGN = (5.2, 7.8, 10.4)
 ANGLE_SIGMA_DEG = 2.0  # assumed 1-σ error of the vision-tracked end angles
+PAPER_MU_FN = 6.92 * 1.5  # N·mm: the paper's joint, μ_j = 6.92 mm under F_n = 1.5 N (for scale only)
 
 
 def design_model(arm: float | list[float] = 6.0, **kw) -> FingerModel:
@@ -28,7 +29,8 @@ def design_model(arm: float | list[float] = 6.0, **kw) -> FingerModel:
 
 
 def end_and_onset(m: FingerModel, steps: int = 200):
-    c = simulate_stroke(m, STROKE, steps=steps)
+    """End angles [deg] and onsets [mm] of the pull 0 → STROKE (the measurement has no release)."""
+    c = simulate_path(m, np.linspace(0.0, STROKE, steps + 1))
     return np.degrees(c.theta[steps]), onset_tendon(c), c
 
 
@@ -61,32 +63,61 @@ def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
         if best is None or res.cost < best.cost:
             best = res
     end, onset, _ = end_and_onset(build(best.x))
-    try:
-        std = np.sqrt(np.clip(np.diag(np.linalg.pinv(best.jac.T @ best.jac)), 0, None))
-    except np.linalg.LinAlgError:
-        std = np.full(len(best.x), np.nan)
+    std = _std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float))
     return Explanation(name, cause, dict(zip(names, map(float, best.x))), dict(zip(names, map(float, std))),
                        list(map(float, end)), list(map(float, onset)),
                        float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x))
+
+
+def _std(jac, x, lb, ub) -> np.ndarray:
+    """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones; NaN when it is not identified.
+
+    Not identified: the end angles do not depend on it (its Jacobian column is ~0), or the fit
+    put it on a bound (the Gaussian interval does not apply there).
+    """
+    jac = np.asarray(jac, dtype=float)
+    norms = np.linalg.norm(jac, axis=0)
+    span = np.where(np.isfinite(ub - lb), ub - lb, 1.0)
+    on_bound = (x - lb <= 1e-4 * span) | (ub - x <= 1e-4 * span)
+    free = (norms > 1e-6 * max(norms.max(), 1e-300)) & ~on_bound
+    std = np.full(len(x), np.nan)
+    if free.any():
+        # SVD of the free columns: a parameter that loads on a (near-)null direction trades off with
+        # others without changing the fit (fewer informative angles than parameters): not identified
+        _, sv, vt = np.linalg.svd(jac[:, free], full_matrices=True)
+        sv = np.concatenate([sv, np.zeros(vt.shape[0] - len(sv))])
+        null = sv <= 1e-6 * sv.max()
+        ident = np.all(np.abs(vt[null].T) <= 1e-3, axis=1) if null.any() else np.ones(vt.shape[0], bool)
+        var = (vt[~null].T ** 2) @ (1.0 / sv[~null] ** 2)
+        idx = np.flatnonzero(free)
+        std[idx[ident]] = np.sqrt(var[ident])
+    return std
 
 
 def _k(scale2, scale3):
     return (K_DESIGN[0], K_DESIGN[1] * scale2, K_DESIGN[2] * scale3)
 
 
+FRICTION = "moment arm + pin friction at every joint"
+CAPSTAN_BASE = "moment arm + capstan in the base"
+CAPSTAN_ALONG = "moment arm + capstan along the finger"
 #: name → (cause, parameter names, starts, lower, upper, model builder)
 FAMILIES = {
     "moment arm (common)": (
         "the tendon runs farther from the axes than designed", ["r_mm"],
         [[7.0], [9.0], [12.0]], [3.0], [15.0], lambda x: design_model(float(x[0]))),
-    "moment arm + pin friction at joints 2, 3": (
-        "a longer arm and Coulomb friction bands in the distal pins", ["r_mm", "f2_nmm", "f3_nmm"],
-        [[8.0, 1.0, 1.0], [10.0, 5.0, 5.0]], [3.0, 0.0, 0.0], [15.0, 30.0, 30.0],
-        lambda x: design_model(float(x[0]), friction=(0.0, float(x[1]), float(x[2])))),
-    "moment arm + capstan in the base": (
+    FRICTION: (
+        "a longer arm and Coulomb friction bands in the pins", ["r_mm", "f1_nmm", "f2_nmm", "f3_nmm"],
+        [[9.0, 10.0, 2.0, 2.0], [8.7, 5.0, 0.5, 0.5]], [3.0, 0.0, 0.0, 0.0],
+        [15.0, 40.0, 40.0, 40.0], lambda x: design_model(float(x[0]), friction=tuple(map(float, x[1:])))),
+    CAPSTAN_BASE: (
         "a longer arm and tendon friction in the base channel (the tension reaching every joint drops alike)",
         ["r_mm", "mu_alpha"], [[8.0, 0.2], [10.0, 0.5]], [3.0, 0.0], [15.0, 2.0],
         lambda x: design_model(float(x[0]), wrap=(float(x[1]), 0.0, 0.0), mu_t=1.0)),
+    CAPSTAN_ALONG: (
+        "a longer arm and tendon friction in the channels of joints 2 and 3 (μ_t·α each)",
+        ["r_mm", "mu_alpha"], [[8.0, 0.2], [10.0, 0.5]], [3.0, 0.0], [15.0, 2.0],
+        lambda x: design_model(float(x[0]), wrap=(0.0, float(x[1]), float(x[1])), mu_t=1.0)),
     "moment arms per joint": (
         "each joint's tendon path sits at its own distance from the axis (distal arms longer)",
         ["r1_mm", "r2_mm", "r3_mm"], [[6.0, 9.0, 12.0], [8.0, 8.0, 8.0], [10.0, 10.0, 10.0]],
@@ -120,8 +151,31 @@ def baseline(arm: float = 6.0):
     return end, onset, closure
 
 
-def write_doc(out_dir, arm: float = 6.0, arm_source: str = "equal arms of 6 mm (the joint builder's default)"):
-    """docs/paper-finger.md and its plot, every number computed here."""
+def builder_arms(manifest: str | None = None) -> tuple[tuple[float, ...], str]:
+    """Moment arms of the design model: a finger manifest's measured ones, else the joint builder's design arm."""
+    if manifest is not None:
+        from rjcad.physics.finger import load_finger_model
+
+        m = load_finger_model(manifest)
+        if m.n != 3:
+            from rjcad.errors import ParameterError
+
+            raise ParameterError("manifest", m.n, "the paper's finger has 3 joints")
+        return tuple(m.moment_arm), f"moment arms measured on the built finger ({manifest})"
+    from rjcad.cad.params import JointParams  # parameters only, no CAD kernel
+
+    a = JointParams().moment_arm
+    return (a,) * 3, f"equal arms of {a:g} mm (the joint builder's design arm)"
+
+
+def _fmt_param(e: Explanation, k: str) -> str:
+    sd = e.std[k]
+    return f"{k} = {e.params[k]:.3g} ± {sd:.2g}" if math.isfinite(sd) else f"{k} = {e.params[k]:.3g} (not identified)"
+
+
+def write_doc(out_dir, manifest: str | None = None):
+    """docs/paper-finger.md and its plot, every number and every verdict computed here; nothing written on error."""
+    import io
     from pathlib import Path
 
     import matplotlib
@@ -132,37 +186,38 @@ def write_doc(out_dir, arm: float = 6.0, arm_source: str = "equal arms of 6 mm (
     from rjcad.config import write_atomic
 
     out = Path(out_dir)
-    end0, onset0, c0 = baseline(arm)
+    arms, arm_source = builder_arms(manifest)
+    end0, onset0, c0 = end_and_onset(design_model(list(arms)))
     exps = explanations()
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    for i in range(3):
-        axes[0].plot(c0.tendon_mm, np.degrees(c0.theta[:, i]), color=f"C{i}", label=f"θ{i + 1} design model")
-        axes[0].plot([STROKE], [MEASURED_DEG[i]], "o", color=f"C{i}", ms=8)
-    axes[0].set_title(f"design-time model ({arm_source}), frictionless; dots: measured")
+    by = {e.name: e for e in exps}
+    fits = [e for e in exps if e.rms_deg < 0.5]
+    ordered = [e for e in fits if e.sequence_ok]
     best = min(exps, key=lambda e: (not e.sequence_ok, round(e.rms_deg, 1), e.n_params))
+
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5))
     c1 = simulate_stroke(model_of(best), STROKE, steps=200)
-    for i in range(3):
-        axes[1].plot(c1.tendon_mm, np.degrees(c1.theta[:, i]), color=f"C{i}", label=f"θ{i + 1}")
-        axes[1].plot([STROKE], [MEASURED_DEG[i]], "o", color=f"C{i}", ms=8)
-    axes[1].set_title(f"an explanation that fits and keeps the order: {best.name}")
-    for ax in axes:
+    for ax, c, title in ((axes[0], c0, f"design-time model, frictionless\n({arm_source})"),
+                         (axes[1], c1, f"best explanation: {best.name}")):
+        for i in range(3):
+            ax.plot(c.tendon_mm, np.degrees(c.theta[:, i]), color=f"C{i}", label=f"θ{i + 1} model")
+            ax.plot([STROKE], [MEASURED_DEG[i]], "o", color=f"C{i}", ms=8, label=f"θ{i + 1} measured")
+        ax.set_title(title, fontsize=10)
         ax.set_xlabel("tendon displacement t_d [mm]")
         ax.set_ylabel("joint angle [deg]")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    import io
-
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100)
+    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
     plt.close(fig)
-    write_atomic(out / "paper-finger.png", buf.getvalue())
 
     f = lambda v: ", ".join(f"{x:.1f}" for x in v)  # noqa: E731
+    sum_meas = math.radians(MEASURED_DEG.sum())
     lines = [
         "# The paper's finger: what the design model gets wrong",
         "",
-        "Generated by `rjcad paper-finger` (`make paper-finger`); every number below is computed, none typed.",
+        "Generated by `rjcad paper-finger` (`make paper-finger`); every number and every verdict below is "
+        "computed, none typed.",
         "",
         "**Measurement** (paper Sec. V): pulling the tendon 0 → 25 mm closes the finger to "
         f"θ = ({f(MEASURED_DEG)})°; the proximal joint moves first, joints 2 and 3 start almost together.",
@@ -176,44 +231,83 @@ def write_doc(out_dir, arm: float = 6.0, arm_source: str = "equal arms of 6 mm (
     for i in range(3):
         lines.append(f"| {i + 1} | {MEASURED_DEG[i]:.0f} | {end0[i]:.1f} | {end0[i] - MEASURED_DEG[i]:+.1f} | "
                      f"{onset0[i]:.2f} |")
+    at_stop = [i + 1 for i in range(3) if end0[i] >= 90 - 1e-6]
     lines += [
         "",
-        f"With {arm:g} mm arms the tendon constraint Σ r·θ = 25 mm asks for Σθ = {math.degrees(STROKE / arm):.0f}°,"
-        f" but the measured angles add up to {MEASURED_DEG.sum():.0f}°: the design model closes the finger too far "
-        f"(it even reaches the 90° stops), so the tendon must run at about "
-        f"{STROKE / math.radians(MEASURED_DEG.sum()):.1f} mm on average from the axes, or lose displacement on the way.",
+        f"The tendon constraint Σ r·θ = {STROKE:g} mm with these arms asks for Σθ = "
+        f"{math.degrees(STROKE / np.mean(arms)):.0f}° (mean arm {np.mean(arms):.2f} mm), but the measured angles "
+        f"add up to {MEASURED_DEG.sum():.0f}°: the design model closes the finger "
+        f"{'too far' if end0.sum() > MEASURED_DEG.sum() else 'too little'}"
+        + (f" (joint{'s' if len(at_stop) > 1 else ''} {', '.join(map(str, at_stop))} on the 90° stop)" if at_stop
+           else "")
+        + f". An inextensible tendon on the measured angles needs a mean arm of {STROKE / sum_meas:.2f} mm, "
+        "or the tendon must lose displacement on the way.",
         "",
         "## Candidate explanations, fitted to the three end angles",
         "",
         f"Least squares on the end angles with an assumed ±{ANGLE_SIGMA_DEG:g}° (1σ) tracking error; "
-        "± is the 1σ parameter uncertainty from the fit's Jacobian.",
+        "± is the 1σ parameter uncertainty from the fit's Jacobian. *Not identified*: the end angles do not "
+        "change with that parameter, it trades off exactly with another one, or it sits on its bound.",
         "",
-        "| explanation | cause | fitted parameters | end angles [deg] | RMS error [deg] | onset t_d [mm] | order as measured |",
+        "| explanation | cause | fitted parameters | end angles [deg] | RMS error [deg] | onset t_d [mm] | "
+        "order as measured |",
         "|---|---|---|---|---|---|---|",
     ]
     for e in exps:
-        ps = "; ".join(f"{k} = {v:.3g} ± {e.std[k]:.2g}" for k, v in e.params.items())
+        ps = "; ".join(_fmt_param(e, k) for k in e.params)
         lines.append(f"| {e.name} | {e.cause} | {ps} | {f(e.end_deg)} | {e.rms_deg:.2f} | {f(e.onset_mm)} | "
                      f"{'yes' if e.sequence_ok else 'no'} |")
+    common = by["moment arm (common)"]
+    fric, cap, along = by[FRICTION], by[CAPSTAN_BASE], by[CAPSTAN_ALONG]
+    need = [k * math.radians(m + 90) for k, m in zip(K_DESIGN, MEASURED_DEG)]
+    kth = [k * math.radians(m) for k, m in zip(K_DESIGN, MEASURED_DEG)]
+    names = lambda es: ", ".join(f"*{e.name}*" for e in es) or "none"  # noqa: E731
+    first = lambda e: int(np.argmin(e.onset_mm)) + 1  # noqa: E731
+    misfits = [e for e in exps if e.rms_deg >= 0.5]
     lines += [
         "",
         "![closure curves](paper-finger.png)",
         "",
-"## What the data can and cannot tell",
+        "## What the data can and cannot tell",
         "",
-        "- With one tension T, each joint sits where r_i·T = K_i·(θ_i + θ0_i) (+ its friction). The measurement needs "
-        f"K·(θ + θ0)/r to be equal at the three joints; with the design's equal arms and preloads it is "
-        f"({', '.join(f'{k * (m + 90) * DEG:.1f}' for k, m in zip(K_DESIGN, MEASURED_DEG))}) N·mm/mm·r: "
-        "the distal joints are driven too weakly for their stiffness. A common arm can only raise all three "
-        "alike, so the soft proximal joint reaches its 90° stop first.",
-        "- Pin friction adds to the distal joints' resistance and capstan friction lowers the tension at every "
-        "joint alike: neither can close the distal joints further; their fits stay where the common arm is.",
-        "- Three explanations fit the three end angles exactly, with three parameters each: longer distal arms, "
-        "softer distal springs, lower distal preloads. Three numbers cannot tell three-parameter families apart.",
-        "- The order of motion can: lower distal preloads would start joint 3 first, against the measurement; "
-        "longer distal arms and softer distal springs both start the proximal joint first and joints 2 and 3 "
-        "together, as measured. Separating those two needs the joint torques: a bench test of each printed "
-        "spring (`rjcad identify`), or the tendon force during the closure.",
+        "- With one tension T, each joint sits where r_i·T = K_i·(θ_i + θ0_i) (± its friction). With equal arms "
+        "and preloads the measured angles need K_i·(θ_i + θ0_i) equal at the three joints; it is "
+        f"({f(need)}) N·mm: joint 3 would need {need[2] / need[0]:.2f}× joint 1's torque from the same tension. "
+        f"One common arm scales all three alike: its best fit leaves {common.rms_deg:.1f}° RMS, with joint 1 at "
+        f"{common.end_deg[0]:.1f}°.",
+        "- Do not fit (RMS ≥ 0.5°): " + "; ".join(f"*{e.name}* {e.rms_deg:.1f}°" for e in misfits) + ".",
     ]
+    if abs(cap.rms_deg - common.rms_deg) < 0.05:
+        lines.append(f"- A capstan in the base changes nothing ({cap.rms_deg:.1f}° RMS, as the common arm alone): it "
+                     "lowers the tension at every joint by the same factor, which the tendon constraint cancels, so "
+                     "its μ_t·α is not identified by the end angles.")
+    if along.rms_deg >= 0.5:
+        lines.append(f"- Capstan along the finger lowers the tension reaching the distal joints, the wrong way for "
+                     f"this measurement: its fit puts μ_t·α at {along.params['mu_alpha']:.2g} "
+                     f"({along.rms_deg:.1f}° RMS).")
+    lines += [
+        f"- {len(fits)} of the {len(exps)} families fit the three end angles within 0.5° RMS: {names(fits)}, with "
+        f"{', '.join(str(e.n_params) for e in fits)} parameters for 3 numbers. The end angles alone cannot tell "
+        "them apart.",
+        f"- The order of motion separates some: keeping the measured order (proximal first, 2 and 3 together): "
+        f"{names(ordered)}; against it: "
+        + (", ".join(f"*{e.name}* (joint {first(e)} starts first)" for e in fits if not e.sequence_ok) or "none")
+        + ".",
+    ]
+    if fric.rms_deg < 0.5:
+        lines.append(f"- Pin friction fits the end angles ({fric.n_params} parameters for 3 numbers, so the bands "
+                     f"trade off; the solution found has f1 = {fric.params['f1_nmm']:.1f} N·mm at joint 1, for "
+                     f"scale: the paper's bar test gives μ_j·F_n = {PAPER_MU_FN:.2f} N·mm under 1.5 N); on a pull a "
+                     "friction band acts like extra preload torque, so it delays the joints it holds back: "
+                     + ("the measured order is kept." if fric.sequence_ok else
+                        f"joint {first(fric)} starts first, against the measurement. This holds for all friction "
+                        "(or preload) values that fit: with equal arms joint i starts K_i·θ_i/r below the end "
+                        f"tension, and K_i·θ_i = ({f(kth)}) N·mm at the measured angles is largest at joint "
+                        f"{int(np.argmax(kth)) + 1}."))
+    if len(ordered) > 1:
+        lines.append("- What is left cannot be separated by this data: it needs the joint torques (a bench test of "
+                     "each printed spring, as in the paper's joint experiments), the tendon force during the "
+                     "closure, or a measured moment arm on the printed links.")
+    write_atomic(out / "paper-finger.png", buf.getvalue())
     write_atomic(out / "paper-finger.md", "\n".join(lines) + "\n")
     return exps

@@ -1,0 +1,103 @@
+"""The CLI of the physics: `rjcad simulate joint|finger`, `rjcad finger-design`, `rjcad paper-finger --manifest`;
+JSON shapes, the paper's numbers through the default flags, and one-line errors with no partial output."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from test_physics_finger import small_manifest
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "rjcad", *args], capture_output=True, text=True, timeout=300)
+
+
+def test_simulate_joint_bar_defaults_are_the_papers_joint():
+    r = run("simulate", "joint", "--drive", "bar", "--rotation", "90", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d) == {"theta_deg", "direction", "torque_nmm"}
+    th, s, tau = (np.array(d[k]) for k in ("theta_deg", "direction", "torque_nmm"))
+    assert th[0] == 0 and th.max() == pytest.approx(90) and th[-1] == 0 and set(s) == {1, -1}
+    up, dn = s > 0, s < 0
+    width = np.interp(th[up], th[dn][::-1], tau[dn][::-1])
+    assert np.mean(tau[up] - width) / 2 == pytest.approx(10.39, rel=0.01)  # μ_j·F_n from 6.92 mm × 1.5 N
+
+
+def test_simulate_joint_flags_change_the_loop():
+    a = json.loads(run("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json").stdout)
+    b = json.loads(run("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json", "--routed",
+                       "--normal-load", "0", "--pulley-radius", "8").stdout)
+    assert len(a["tendon_force_n"]) == len(b["tendon_force_n"]) and a["tendon_force_n"] != b["tendon_force_n"]
+
+
+def test_simulate_finger_from_a_manifest(tmp_path):
+    p = tmp_path / "finger.json"
+    p.write_text(json.dumps(small_manifest()))
+    png = tmp_path / "closure.png"
+    r = run("simulate", "finger", str(p), "--stroke", "15", "--steps", "50", "--mu-t", "0.3", "--json",
+            "--plot", str(png))
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"}
+    assert len(d["theta_deg"]) == 2 and len(d["theta_deg"][0]) == len(d["tendon_mm"]) == 101
+    assert set(d["phase"]) == {"pull", "release"} and min(d["tension_n"]) >= 0
+    assert png.stat().st_size > 5000
+
+
+@pytest.mark.parametrize("content, words", [
+    ('{"joints": [{"preload_deg": 90}]}', "joints[1].joint_stiffness_nmm_per_rad"),
+    ("{not json", "not valid JSON"),
+])
+def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words):
+    p = tmp_path / "finger.json"
+    p.write_text(content)
+    png = tmp_path / "x.png"
+    r = run("simulate", "finger", str(p), "--plot", str(png))
+    assert r.returncode == 2 and words in r.stderr and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    assert not png.exists()
+
+
+def test_finger_design_cli_writes_a_template_and_reports(tmp_path):
+    out = tmp_path / "my.toml"
+    r = run("finger-design", "--target", "90,20,20", "--stroke", "12", "--sequence", "proximal-first",
+            "--out", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert max(abs(e) for e in d["end_error_deg"]) < 1.0 and len(d["closure"]["theta_deg"]) == 3
+    assert "[[joint]]" in out.read_text()
+    bad = tmp_path / "bad.toml"
+    r = run("finger-design", "--target", "90,20,20", "--stroke", "12", "--out", str(bad))
+    assert r.returncode == 2 and "proximal-first" in r.stderr and r.stderr.count("\n") == 1
+    assert not bad.exists()
+
+
+def test_paper_finger_arms_from_a_manifest(tmp_path):
+    from rjcad.physics.paper_finger import builder_arms
+
+    man = small_manifest()
+    man["joints"].append({**man["joints"][1], "tendon_moment_arm_mm": 9.0})
+    p = tmp_path / "finger.json"
+    p.write_text(json.dumps(man))
+    arms, source = builder_arms(str(p))
+    assert arms == (6.5, 7.5, 9.0) and str(p) in source
+    arms, source = builder_arms(None)
+    assert arms == (6.0, 6.0, 6.0) and "builder" in source
+
+
+def test_physics_benchmark_smoke_all_keys():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    r = subprocess.run([sys.executable, str(root / "benchmarks" / "physics.py"), "--n", "2000", "--steps", "20",
+                        "--repeats", "1"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    for key in ("finger_1000_step_stroke_s", "joint_samples_per_s", "joint_given_direction_samples_per_s",
+                "joint_numpy_ceiling_samples_per_s", "joint_vs_numpy_ceiling",
+                "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s"):
+        assert d[key] > 0, key
+    assert d["finger_steps"] == 41 and d["n"] == 2000

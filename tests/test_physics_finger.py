@@ -1,0 +1,214 @@
+"""Finger statics: every step of a stroke checked against the equilibrium and stick-slip conditions
+(independently of the solver), capstan factors both ways, gravity, slack, and the input files."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rjcad.errors import ParameterError, RjcadError
+from rjcad.physics import finger as fm
+
+DEG = math.pi / 180
+TOL = 1e-6  # N·mm
+
+
+def frictional_finger(**kw):
+    base = dict(stiffness=(5.2, 7.8, 10.4), preload=(60 * DEG, 45 * DEG, 30 * DEG), rotation=(90 * DEG,) * 3,
+                moment_arm=(6.0, 7.0, 8.0), wrap=(0.45, 0.3, 0.3), mu_t=0.25, friction=(3.0, 2.0, 1.0),
+                gamma=(1.0, 0.5, 0.5))
+    base.update(kw)
+    return fm.FingerModel(**base)
+
+
+def check_conditions(m: fm.FingerModel, c: fm.Closure):
+    """The solver's answer must satisfy, at every step and joint, the conditions the model states."""
+    K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
+    f0, gam = np.array(m.friction), np.array(m.gamma)
+    for k in range(len(c.tendon_mm)):
+        th = c.theta[k]
+        drive = r * c.joint_tension[k]  # torque the tendon gives each joint
+        spring = K * (th + th0)
+        band = f0 + gam * (th + th0)
+        net = drive - spring
+        inside = (th > 1e-9) & (th < thmax - 1e-9)
+        assert np.all(np.abs(net[inside]) <= band[inside] + TOL), (k, net, band)
+        assert np.all(net[th <= 1e-9] <= band[th <= 1e-9] + TOL)  # the rest stop can only push back
+        assert np.all(net[th >= thmax - 1e-9] >= -band[th >= thmax - 1e-9] - TOL)
+        if k:  # a joint that moved sits on the edge of its band, on the side of its motion
+            moved = c.theta[k] - c.theta[k - 1]
+            up, dn = (moved > 1e-9) & (th < thmax - 1e-9), (moved < -1e-9) & (th > 1e-9)
+            assert np.allclose(net[up], band[up], atol=1e-6)
+            assert np.allclose(net[dn], -band[dn], atol=1e-6)
+        # the tendon: taut → Σ r·θ = t_d (inextensible); slack → T = 0 and the finger holds at least t_d
+        if c.tension[k] > 0:
+            assert r @ th == pytest.approx(c.tendon_mm[k], abs=1e-6)
+        else:
+            assert r @ th >= c.tendon_mm[k] - 1e-6
+        assert c.tension[k] >= 0
+
+
+def test_every_step_is_an_equilibrium_with_stick_slip():
+    m = frictional_finger()
+    c = fm.simulate_stroke(m, 22.0, 300)
+    check_conditions(m, c)
+    # stick is real: after the reversal joints 1 and 2 hold while the tendon moves (an inextensible tendon
+    # lets only the joint whose band is left first open), and the actuator tension falls across the bands
+    rev = 301
+    assert np.all(c.state[rev:rev + 5, :2] == 0) and np.all(c.theta[rev:rev + 5, :2] == c.theta[300, :2])
+    assert np.all(c.state[rev:rev + 5, 2] == -1)
+    assert c.tension[rev] < 0.6 * c.tension[300]
+    # a joint starts only once the tension reaching it leaves its band: later than without friction
+    # (joint 3, the first to move, must start at once: the tendon is inextensible)
+    free = fm.simulate_stroke(frictional_finger(friction=(0,) * 3, gamma=(0,) * 3), 22.0, 300)
+    on, on_free = fm.onset_tendon(c, 0.1 * DEG), fm.onset_tendon(free, 0.1 * DEG)
+    assert on[0] > on_free[0] + 2.0 and on[1] > on_free[1] + 0.3
+
+
+def test_conditions_hold_with_gravity_and_a_slack_release():
+    m = frictional_finger(friction=(12.0, 8.0, 6.0), link_mass=(20.0, 15.0, 10.0), gravity=(0.0, -1.0),
+                          preload=(30 * DEG,) * 3)
+    c = fm.simulate_stroke(m, 25.0, 200)
+    # gravity torques are taken from the previous step: check with no gravity term only where it is zero
+    assert np.any(c.slack) and np.all(c.tension[c.slack] == 0)
+    assert np.all(c.theta >= 0) and np.all(c.theta <= 90 * DEG + 1e-12)
+    m0 = frictional_finger(friction=(12.0, 8.0, 6.0), preload=(30 * DEG,) * 3)
+    c0 = fm.simulate_stroke(m0, 25.0, 200)
+    check_conditions(m0, c0)
+    assert np.any(c0.slack[201:])  # releasing, the springs cannot overcome the friction: the tendon goes slack
+
+
+def test_release_path_differs_from_pull_path():
+    m = frictional_finger()
+    c = fm.simulate_stroke(m, 22.0, 300)
+    pull, release = c.theta[:301], c.theta[301:][::-1]  # release[k] is at the same t_d as pull[k]
+    assert np.max(np.abs(release - pull[:-1])) > 5 * DEG
+    # the proximal joint (widest band) stays closed longer on the way back, the distal one (narrowest) opens
+    # first: at the same t_d the release is more proximal, the tendon constraint keeping Σ r·θ the same
+    assert np.all(release[:, 0] >= pull[:-1, 0] - 1e-9) and np.max(release[:, 0] - pull[:-1, 0]) > 20 * DEG
+    assert np.all(release[:, 2] <= pull[:-1, 2] + 1e-9)
+
+
+def test_capstan_factor_each_way():
+    m = frictional_finger()
+    c = fm.simulate_stroke(m, 22.0, 100)
+    cum = np.cumsum(m.wrap)
+    pull = np.array([p == "pull" for p in c.phase])
+    rel = np.array([p == "release" for p in c.phase])
+    assert c.joint_tension[pull] == pytest.approx(c.tension[pull, None] * np.exp(-m.mu_t * cum))
+    assert c.joint_tension[rel] == pytest.approx(c.tension[rel, None] * np.exp(m.mu_t * cum))
+    # the tension at the actuator is higher pulling than releasing at the same t_d
+    assert np.all(c.tension[20:100] > c.tension[101:][::-1][20:100])
+
+
+def test_gravity_torque_of_one_horizontal_link():
+    m = fm.FingerModel((5.0,), (0.5,), (90 * DEG,), (6.0,), link_mass=(30.0,), link_length=(40.0,),
+                       gravity=(0.0, -1.0))
+    assert fm.gravity_torques(m, np.array([0.0]))[0] == pytest.approx(30 * 9.81e-3 * 20.0)
+    assert fm.gravity_torques(m, np.array([90 * DEG]))[0] == pytest.approx(0.0, abs=1e-9)
+    # pointing down (gravity along +x): the weight pulls the link towards the axis, no torque either way
+    m2 = fm.FingerModel((5.0,), (0.5,), (90 * DEG,), (6.0,), link_mass=(30.0,), gravity=(1.0, 0.0))
+    assert fm.gravity_torques(m2, np.array([0.0]))[0] == pytest.approx(0.0, abs=1e-9)
+
+
+def small_manifest():
+    """A two-joint manifest in the finger builder's format (only the keys the physics reads matter)."""
+    spring = {"stiffness_nmm_per_rad": 2.6, "width_mm": 5.0, "thickness_mm": 0.8, "length_mm": 120.0}
+    joints = []
+    for i, (k, arm, wrap) in enumerate(((4.0, 6.5, 0.45), (6.0, 7.5, 0.0)), start=1):
+        joints.append({"parent": "base" if i == 1 else "link1", "child": "link1" if i == 1 else "distal",
+                       "axis_point_mm": [40.0 * (i - 1), 0, 0], "axis_dir": [0, 0, 1],
+                       "joint_stiffness_nmm_per_rad": k, "spring": spring, "preload_deg": 80, "rotation_deg": 95,
+                       "tendon_moment_arm_mm": arm, "tendon_wrap_angle_rad": wrap})
+    return {"joints": joints, "tendon_length_mm": 110.0,
+            "bodies": [{"name": "base", "volume_mm3": 9000.0, "mass_g": 9.4},
+                       {"name": "link1", "volume_mm3": 15000.0, "mass_g": 15.6},
+                       {"name": "distal", "volume_mm3": 8000.0, "mass_g": 8.3}]}
+
+
+def test_manifest_file_is_read_whole(tmp_path):
+    p = tmp_path / "finger.json"
+    p.write_text(json.dumps(small_manifest()))
+    m = fm.load_finger_model(str(p), mu_t=0.2)
+    assert m.stiffness == (4.0, 6.0) and m.moment_arm == (6.5, 7.5) and m.wrap == (0.45, 0.0)
+    assert m.preload == pytest.approx((80 * DEG,) * 2) and m.rotation == pytest.approx((95 * DEG,) * 2)
+    assert m.link_mass == (15.6, 8.3) and m.mu_t == 0.2  # the child body of each joint
+
+
+@pytest.mark.parametrize("edit, name", [
+    (lambda d: d["joints"][1].pop("tendon_moment_arm_mm"), "joints[2].tendon_moment_arm_mm"),
+    (lambda d: d["joints"][0].update(preload_deg="ninety"), "joints[1].preload_deg"),
+    (lambda d: d.update(joints=[]), "joints"),
+])
+def test_bad_manifest_names_the_key(tmp_path, edit, name):
+    d = small_manifest()
+    edit(d)
+    p = tmp_path / "finger.json"
+    p.write_text(json.dumps(d))
+    with pytest.raises(ParameterError) as e:
+        fm.load_finger_model(str(p))
+    assert e.value.parameter == name
+
+
+def test_template_physics_keys_defaults_and_errors(tmp_path):
+    t = tmp_path / "f.toml"
+    t.write_text('material = "pla"\nclearance_mm = 0.3\n[defaults]\npreload_deg = 80\n'
+                 "[[joint]]\nstiffness_nmm_per_rad = 5.2\n"
+                 "[[joint]]\nstiffness_nmm_per_rad = 7.8\ntendon_moment_arm_mm = 8.5\nrotation_deg = 100\n")
+    m = fm.load_finger_model(str(t))
+    assert m.moment_arm == (6.0, 8.5) and m.wrap == (0.0, 0.0)  # 6 mm unless given, no wrap in a template
+    assert m.preload == pytest.approx((80 * DEG,) * 2) and m.rotation == pytest.approx((90 * DEG, 100 * DEG))
+    t.write_text("[[joint]]\nstiffness_nmm_per_rad = 5.2\n[[joint]]\npreload_deg = true\n"
+                 "stiffness_nmm_per_rad = 3\n")
+    with pytest.raises(ParameterError, match=r"joint\[2\]\.preload_deg"):
+        fm.load_finger_model(str(t))
+    t.write_text("[[joint]\n")
+    with pytest.raises(RjcadError, match="not valid TOML"):
+        fm.load_finger_model(str(t))
+
+
+@pytest.mark.parametrize("kw, name", [({"rotation": (0.0,)}, "rotation"), ({"mu_t": -0.1}, "mu_t"),
+                                      ({"friction": (-1.0,)}, "friction"), ({"moment_arm": (math.inf,)},
+                                                                            "moment_arm")])
+def test_bad_model_parameters(kw, name):
+    base = dict(stiffness=(5.0,), preload=(0.5,), rotation=(1.5,), moment_arm=(6.0,))
+    base.update(kw)
+    with pytest.raises(ParameterError) as e:
+        fm.FingerModel(**base)
+    assert e.value.parameter == name
+
+
+def test_the_condition_checker_rejects_a_wrong_answer():
+    """The checker has teeth: the frictionless answer is not an equilibrium of the frictional finger."""
+    m = frictional_finger()
+    wrong = fm.simulate_stroke(frictional_finger(friction=(0,) * 3, gamma=(0,) * 3), 22.0, 100)
+    with pytest.raises(AssertionError):
+        check_conditions(m, wrong)
+
+
+# ---------------------------------------------------------------- the paper's finger: honest uncertainties
+
+def test_fit_uncertainty_says_not_identified_when_it_is_not():
+    from rjcad.physics.paper_finger import _std
+
+    rng = np.random.default_rng(1)
+    J = rng.normal(size=(3, 2))
+    lb, ub = np.zeros(2), np.full(2, 10.0)
+    x = np.array([2.0, 3.0])
+    assert _std(J, x, lb, ub) == pytest.approx(np.sqrt(np.diag(np.linalg.inv(J.T @ J))))
+    assert np.isnan(_std(np.c_[J[:, :1], np.zeros(3)], x, lb, ub)[1])  # no effect on the fit
+    both = _std(np.c_[J[:, :1], 2 * J[:, :1], J[:, 1:]], np.r_[x, 1.0], np.zeros(3), np.full(3, 10.0))
+    assert np.isnan(both[0]) and np.isnan(both[1]) and np.isfinite(both[2])  # two that trade off exactly
+    assert np.isnan(_std(J, np.array([0.0, 3.0]), lb, ub)[0])  # on its bound
+
+
+def test_paper_finger_capstan_and_friction_verdicts():
+    from rjcad.physics import paper_finger as pf
+
+    common = pf._fit("moment arm (common)", *pf.FAMILIES["moment arm (common)"])
+    base = pf._fit(pf.CAPSTAN_BASE, *pf.FAMILIES[pf.CAPSTAN_BASE])
+    fric = pf._fit(pf.FRICTION, *pf.FAMILIES[pf.FRICTION])
+    assert base.rms_deg == pytest.approx(common.rms_deg, abs=0.01) and np.isnan(base.std["mu_alpha"])
+    assert fric.rms_deg < 0.5 and not fric.sequence_ok and np.argmin(fric.onset_mm) == 2
+    assert np.isfinite(fric.std["r_mm"]) and np.isnan(fric.std["f1_nmm"])

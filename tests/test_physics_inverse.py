@@ -1,0 +1,98 @@
+"""Inverse finger design: reachable targets end within 1° in the requested order with joints the builder
+accepts; unreachable ones say why, and the numbers in the message are true."""
+
+import math
+
+import numpy as np
+import pytest
+
+from rjcad.cad.params import JointParams
+from rjcad.errors import InfeasibleDesign, RjcadError
+from rjcad.physics import finger as fm
+from rjcad.physics.inverse import _printable_scale, arm_range, design_finger
+
+DEG = math.pi / 180
+
+
+def buildable(k, preload, rotation, arm):
+    try:
+        JointParams(stiffness=k, preload=preload, rotation=rotation, tendon_moment_arm=arm)
+    except RjcadError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("target, stroke, sequence", [
+    ([90, 20, 20], 12, "proximal-first"),  # preloads cannot be proportional: only proximal-first reaches it
+    ([30, 60, 90], 15, "simultaneous"),
+    ([40, 70], 14, "proximal-first"),
+    ([100, 80, 60, 40], 30, "simultaneous"),
+])
+def test_reachable_targets_end_within_a_degree_in_order(target, stroke, sequence):
+    d = design_finger(target, stroke, sequence)
+    # re-simulate independently from the written template's physics keys
+    import tomllib
+
+    m = fm.model_from_template(tomllib.loads(d.template()))
+    c = fm.simulate_stroke(m, stroke, 300)
+    assert np.degrees(c.theta[300]) == pytest.approx(target, abs=1.0)
+    on = fm.onset_tendon(c, 0.1 * DEG)
+    if sequence == "proximal-first":
+        assert on[0] < on[1:].min() - 0.02 * stroke and np.ptp(on[1:]) < 0.02 * stroke
+    else:
+        assert np.ptp(on) < 0.02 * stroke
+    # every joint is one the builder accepts (printable spring, preload, rotation, arm)
+    for k, p, r, a in zip(d.stiffness, d.preload, d.rotation, d.moment_arm):
+        assert buildable(k, p, r, a)
+
+
+def test_simultaneous_start_of_very_different_targets_is_refused_with_the_reason():
+    with pytest.raises(InfeasibleDesign) as e:
+        design_finger([90, 20, 20], 12, "simultaneous")
+    msg = str(e.value)
+    assert "joint 2 (20°)" in msg and "joint 1 (90°)" in msg and "proximal-first" in msg
+
+
+def test_unprintable_stiffness_message_is_true():
+    with pytest.raises(InfeasibleDesign) as e:
+        design_finger([65, 50, 50], 25, base_stiffness=40)
+    msg = str(e.value)
+    assert "joint 1 would need K = 40.00" in msg and "no printable spring" in msg
+    stiffest = float(msg.split("gives ")[1].split(" ")[0])
+    arm = 25 / math.radians(165)
+    # the quoted stiffest spring is printable, and a little more is not
+    assert buildable(stiffest, 65 * DEG, 90 * DEG, arm)
+    assert not buildable(stiffest * 1.1, 65 * DEG, 90 * DEG, arm) and not buildable(40, 65 * DEG, 90 * DEG, arm)
+    # and the range it suggests does work
+    hi = float(msg.split("would do")[0].split("-")[-1])
+    d = design_finger([65, 50, 50], 25, base_stiffness=hi * 0.98)
+    assert max(abs(x) for x in d.end_error_deg) < 1.0
+
+
+def test_preferred_stiffness_is_rescaled_to_the_nearest_printable_one():
+    q = np.array([1.0, 1.3, 1.3])
+    th0 = np.radians([65, 50, 50])
+    rot = np.radians([90, 90, 90])
+    k, notes = _printable_scale(40.0, q, th0, rot, 8.68, "absplus-p430", "generic-0.4", strict=False)
+    assert k < 40 and notes and "rescaled" in notes[0]
+    assert all(buildable(k * qi, p, r, 8.68) for qi, p, r in zip(q, th0, rot))
+    assert not all(buildable(k * 1.05 * qi, p, r, 8.68) for qi, p, r in zip(q, th0, rot))  # the nearest one
+
+
+def test_arm_limits_come_from_the_builder():
+    lo, hi = arm_range("absplus-p430", "generic-0.4")
+    assert buildable(5.2, 90 * DEG, 90 * DEG, lo + 1e-6) and not buildable(5.2, 90 * DEG, 90 * DEG, lo - 0.01)
+    assert hi == 15.0
+    with pytest.raises(InfeasibleDesign, match=r"moment arm of 2\.\d\d mm"):
+        design_finger([65, 50, 50], 8)
+
+
+def test_the_written_template_is_accepted_by_the_finger_builder(tmp_path):
+    from rjcad.cad.finger import FingerParams
+
+    d = design_finger([90, 20, 20], 12, "proximal-first")
+    p = tmp_path / "f.toml"
+    p.write_text(d.template())
+    fp = FingerParams.from_toml(p)
+    assert [j.stiffness for j in fp.joints] == pytest.approx(d.stiffness, abs=1e-4)
+    assert [j.moment_arm for j in fp.joints] == pytest.approx(d.moment_arm, abs=1e-4)
