@@ -5,7 +5,7 @@ VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: demo test pytest bench clean docs-images paper-finger
+.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
@@ -39,3 +39,11 @@ clean:
 # docs/paper-finger.md and its plot, every number computed
 paper-finger: $(VENV)/.installed
 	$(VENV)/bin/rjcad paper-finger --out docs
+
+# examples/paper_campaign: the SYNTHETIC paper campaign (experiments A-E), seed 7
+paper-campaign: $(VENV)/.installed
+	$(VENV)/bin/rjcad bench --paper --out examples/paper_campaign --seed 7
+
+# docs/identify/: the report that docs/identify.md walks through
+identify-doc: $(VENV)/.installed
+	$(VENV)/bin/rjcad identify examples/paper_campaign/campaign.toml --report docs/identify --json docs/identify/result.json

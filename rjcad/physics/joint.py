@@ -161,18 +161,19 @@ def spring_torque(m: JointModel, theta_j) -> np.ndarray:
     return m.stiffness * th + m.cubic * th**3
 
 
-def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None) -> np.ndarray:
+def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None, velocity_=None) -> np.ndarray:
     """The measured quantity along a trajectory: torque [N·mm] (bar) or actuator tendon force [N] (tendon).
 
     ``t`` (s) is needed for viscous damping and relaxation; ``direction`` (±1) may be given,
-    else it is the sign of Δθ held through holds.
+    else it is the sign of Δθ held through holds; ``velocity_`` [rad/s] may be given (e.g. a
+    smoothed estimate), else it is the central difference of θ_j.
     """
     theta_j = np.asarray(theta_j, dtype=float)
     s = motion_direction(theta_j) if direction is None else np.asarray(direction, dtype=float)
     tau = spring_torque(m, theta_j) + s * m.mu_j * setup.normal_load
     if t is not None and (m.viscous or m.relaxation_stiffness):
         if m.viscous:
-            tau = tau + m.viscous * velocity(theta_j, t)
+            tau = tau + m.viscous * (velocity(theta_j, t) if velocity_ is None else np.asarray(velocity_, float))
         if m.relaxation_stiffness:
             tau = tau + relaxation_torque(theta_j, t, m.relaxation_stiffness, m.relaxation_time)
     if setup.drive == "bar":

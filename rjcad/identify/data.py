@@ -1,0 +1,427 @@
+"""Campaign loading and validation: a TOML file plus CSV files (format pinned by issue #7).
+
+Inside, angles are rad, torques N·mm, forces N, time s. Every problem with the input is one
+RjcadError line naming the file and the problem.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.ndimage import median_filter
+
+from rjcad.config import check_key
+from rjcad.errors import ParameterError, RjcadError
+from rjcad.physics.joint import Setup
+
+DEG = math.pi / 180
+
+
+@dataclass(frozen=True)
+class Design:
+    """The design the simulation assumes: joint stiffness [N·mm/rad], preload [rad], pulley radius [mm]."""
+
+    stiffness: float
+    preload: float
+    pulley_radius: float
+
+    def as_json(self) -> dict:
+        return {"stiffness_nmm_per_rad": self.stiffness, "preload_deg": self.preload / DEG,
+                "pulley_radius_mm": self.pulley_radius}
+
+
+@dataclass(frozen=True, eq=False)
+class Experiment:
+    """One experiment: its setup and its samples (t [s], theta [rad] from rest, y the measured quantity)."""
+
+    file: str                 # as written in the campaign TOML
+    path: Path
+    drive: str                # "bar" | "tendon"
+    normal_load: float        # N
+    routed: bool
+    pulley_radius: float      # mm
+    t: np.ndarray
+    theta: np.ndarray
+    y: np.ndarray
+    rows: int                 # data rows in the file
+    dropped: dict = field(default_factory=dict)  # reason -> rows dropped
+
+    @property
+    def quantity(self) -> str:
+        return "torque_nmm" if self.drive == "bar" else "tendon_force_n"
+
+    @property
+    def setup(self) -> Setup:
+        return Setup(drive=self.drive, normal_load=self.normal_load, routed=self.routed)
+
+    @property
+    def name(self) -> str:
+        return Path(self.file).stem
+
+
+@dataclass(frozen=True)
+class Campaign:
+    path: Path
+    design: Design
+    experiments: tuple[Experiment, ...]
+    notes: tuple[str, ...] = ()   # e.g. "exp1.csv: dropped 3 of 3000 rows (2 non-numeric, 1 NaN)"
+
+
+DESIGN_KEYS = {"stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "pulley_radius_mm": (int, float)}
+EXPERIMENT_KEYS = {"file": str, "drive": str, "normal_load_n": (int, float), "routed": bool,
+                   "pulley_radius_mm": (int, float)}
+COLUMNS = {"bar": "torque_nmm", "tendon": "tendon_force_n"}
+MIN_SAMPLES = 50
+MAX_BAD_FRACTION = 0.02
+MIN_RANGE_DEG = 1.0
+REASONS = ("non-numeric", "NaN", "infinite", "empty")   # why a row is dropped, in report order
+
+
+def load_campaign(path) -> Campaign:
+    """Read and validate a campaign TOML and its CSV files (paths relative to the TOML).
+
+    Raises RjcadError (ParameterError for TOML values) with one line naming the file and the problem.
+    """
+    path = Path(path)
+    doc = _read_toml(path)
+    where = f"{path}: "
+    design = _design(doc, where)
+    specs = _experiment_specs(doc, path, design)
+    experiments, notes = [], []
+    for spec in specs:
+        exp, note = _load_experiment(spec)
+        experiments.append(exp)
+        if note:
+            notes.append(note)
+    return Campaign(path=path, design=design, experiments=tuple(experiments), notes=tuple(notes))
+
+
+# ---- the TOML file ----
+
+
+def _read_toml(path: Path) -> dict:
+    """The parsed TOML document; RjcadError if it is missing, unreadable or not TOML."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise RjcadError(f"{path}: file not found") from None
+    except UnicodeDecodeError:
+        raise RjcadError(f"{path}: not a UTF-8 text file") from None
+    except OSError as e:
+        raise RjcadError(f"{path}: cannot read ({e.strerror or e})") from None
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise RjcadError(f"{path}: not valid TOML ({_one_line(str(e))})") from None
+    for key in doc:
+        if key not in ("design", "experiment"):
+            raise RjcadError(f"{path}: unknown key or table '{key}'; known: [design], [[experiment]]")
+    return doc
+
+
+def _check(where: str, key: str, value, allowed: dict):
+    """check_key, plus booleans (which check_key refuses as numbers)."""
+    if allowed.get(key) is bool:
+        if not isinstance(value, bool):
+            raise ParameterError(f"{where}{key}", value, "must be true or false")
+        return value
+    return check_key(where, key, value, allowed)
+
+
+def _number(where: str, key: str, value, positive: bool = False, nonnegative: bool = False) -> float:
+    """A finite float from a checked TOML number; ParameterError if out of range."""
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{where}{key}", value, "must be finite")
+    if positive and value <= 0:
+        raise ParameterError(f"{where}{key}", value, "must be > 0")
+    if nonnegative and value < 0:
+        raise ParameterError(f"{where}{key}", value, "must be >= 0")
+    return value
+
+
+def _design(doc: dict, where: str) -> Design:
+    """The [design] table: stiffness [N·mm/rad], preload [deg → rad], pulley radius [mm]."""
+    known = ", ".join(DESIGN_KEYS)
+    table = doc.get("design")
+    if table is None:
+        raise RjcadError(f"{where}missing [design] table (keys: {known})")
+    if not isinstance(table, dict):
+        raise RjcadError(f"{where}design must be a table: [design] with keys {known}")
+    w = f"{where}[design] "
+    for key, value in table.items():
+        _check(w, key, value, DESIGN_KEYS)
+    for key in DESIGN_KEYS:
+        if key not in table:
+            raise RjcadError(f"{where}[design]: missing key '{key}' (needed: {known})")
+    return Design(stiffness=_number(w, "stiffness_nmm_per_rad", table["stiffness_nmm_per_rad"], positive=True),
+                  preload=_number(w, "preload_deg", table["preload_deg"]) * DEG,
+                  pulley_radius=_number(w, "pulley_radius_mm", table["pulley_radius_mm"], positive=True))
+
+
+def _experiment_specs(doc: dict, toml: Path, design: Design) -> list[dict]:
+    """The [[experiment]] tables, checked, with defaults filled in and the CSV path resolved."""
+    tables = doc.get("experiment")
+    if tables is None or tables == []:
+        raise RjcadError(f"{toml}: no [[experiment]] tables; add one per CSV file")
+    if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
+        raise RjcadError(f"{toml}: experiments must be an array of tables: one [[experiment]] per CSV file")
+    specs, names = [], {}
+    for i, table in enumerate(tables, start=1):
+        where = f"{toml}: experiment {i}: "
+        if "file" not in table:
+            raise RjcadError(f"{where}missing key 'file' (the CSV file, relative to the campaign file)")
+        file = _check(where, "file", table["file"], EXPERIMENT_KEYS)
+        if not file.strip():
+            raise ParameterError(f"{where}file", file, "must name a CSV file")
+        where = f"{toml}: experiment {i} ({file}): "
+        for key, value in table.items():
+            _check(where, key, value, EXPERIMENT_KEYS)
+        if "drive" not in table:
+            raise RjcadError(f"{where}missing key 'drive' ('bar' or 'tendon')")
+        drive = table["drive"]
+        if drive not in COLUMNS:
+            raise ParameterError(f"{where}drive", drive, "must be 'bar' or 'tendon'")
+        routed = table.get("routed", False)
+        if routed and drive == "bar":
+            raise RjcadError(f"{where}routed = true is invalid with drive = 'bar': routing applies to a tendon drive")
+        normal_load = _number(where, "normal_load_n", table.get("normal_load_n", 0.0), nonnegative=True)
+        radius = table.get("pulley_radius_mm")
+        radius = design.pulley_radius if radius is None else _number(where, "pulley_radius_mm", radius,
+                                                                       positive=True)
+        csv_path = toml.parent / file
+        if not csv_path.is_file():
+            problem = "is not a file" if csv_path.exists() else "not found"
+            raise RjcadError(f"{toml}: experiment {i}: file '{file}' {problem} (looked for {csv_path})")
+        name = Path(file).stem
+        if name in names:
+            j, other = names[name]
+            raise RjcadError(f"{where}name '{name}' is already used by experiment {j} ({other}); "
+                             "experiment file names must differ")
+        names[name] = (i, file)
+        specs.append(dict(file=file, path=csv_path, drive=drive, normal_load=normal_load, routed=routed,
+                          pulley_radius=radius))
+    return specs
+
+
+# ---- the CSV files ----
+
+
+def _load_experiment(spec: dict) -> tuple[Experiment, str | None]:
+    """One Experiment from its CSV file, and a note on dropped rows (or None)."""
+    file, drive = spec["file"], spec["drive"]
+    columns = ("t_s", "theta_deg", COLUMNS[drive])
+    values, lines, rows, dropped, note = _read_csv(file, spec["path"], columns, drive)
+    t, theta_deg, y = values
+    if len(t) < MIN_SAMPLES:
+        detail = " (no data rows)" if rows == 0 else ""
+        raise RjcadError(f"{file}: only {len(t)} usable samples{detail}; at least {MIN_SAMPLES} are needed")
+    _check_time(file, t, lines)
+    _check_motion(file, theta_deg)
+    exp = Experiment(file=file, path=spec["path"], drive=drive, normal_load=spec["normal_load"],
+                     routed=spec["routed"], pulley_radius=spec["pulley_radius"], t=t, theta=theta_deg * DEG,
+                     y=y, rows=rows, dropped=dropped)
+    return exp, note
+
+
+def _read_csv(file: str, path: Path, columns: tuple[str, ...], drive: str):
+    """The columns as float arrays with bad rows dropped.
+
+    Returns (arrays, file line number of each kept row (1-based), data rows, {reason: count}, note or None).
+    """
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise RjcadError(f"{file}: not a UTF-8 text file") from None
+    except OSError as e:
+        raise RjcadError(f"{file}: cannot read ({e.strerror or e})") from None
+    lines = text.split("\n")
+    idx = [i for i, line in enumerate(lines) if (s := line.lstrip()) and s[0] != "#"]
+    if not idx:
+        raise RjcadError(f"{file}: only 0 usable samples (the file is empty); at least {MIN_SAMPLES} are needed")
+    cols = _column_indices(file, lines[idx[0]], columns, drive)
+    data = [lines[i] for i in idx[1:]]
+    line_no = np.asarray(idx[1:], dtype=np.int64) + 1
+    rows = len(data)
+    if rows == 0:
+        return [np.empty(0) for _ in cols], line_no, 0, {}, None
+    try:   # fast path: every cell parses as a float
+        table = np.loadtxt(data, delimiter=",", usecols=cols, comments=None, dtype=float, ndmin=2)
+        values, codes = [table[:, k] for k in range(len(cols))], None
+    except ValueError:
+        values, codes = _parse_slowly(data, cols, len(lines[idx[0]].split(",")))
+    bad, reason = _bad_rows(values, codes)
+    n_bad = int(bad.sum())
+    if n_bad == 0:
+        return [np.ascontiguousarray(v) for v in values], line_no, rows, {}, None
+    if n_bad > MAX_BAD_FRACTION * rows:
+        first = int(np.flatnonzero(bad)[0])
+        k = int(reason[first] // len(REASONS))
+        why = REASONS[int(reason[first] % len(REASONS))]
+        cell = _cell(data[first], cols[k])
+        what = {"non-numeric": f"non-numeric value {_show(cell)}", "NaN": "NaN",
+                "infinite": f"infinite value {_show(cell)}", "empty": "empty cell"}[why]
+        raise RjcadError(f"{file}: column {columns[k]}: {what} at line {line_no[first]} "
+                         f"({n_bad} of {rows} rows bad; at most {MAX_BAD_FRACTION:.0%} are dropped)")
+    counts = np.bincount((reason[bad] % len(REASONS)).astype(int), minlength=len(REASONS))
+    dropped = {r: int(c) for r, c in zip(REASONS, counts) if c}
+    note = (f"{file}: dropped {n_bad} of {rows} rows ("
+            + ", ".join(f"{c} {r}" for r, c in dropped.items()) + ")")
+    keep = ~bad
+    return [np.ascontiguousarray(v[keep]) for v in values], line_no[keep], rows, dropped, note
+
+
+def _column_indices(file: str, header: str, columns: tuple[str, ...], drive: str) -> list[int]:
+    """Index of each wanted column in the header (names stripped of whitespace)."""
+    names = [n.strip() for n in header.split(",")]
+    for name in columns:
+        if names.count(name) > 1:
+            where = ", ".join(str(i + 1) for i, n in enumerate(names) if n == name)
+            raise RjcadError(f"{file}: column '{name}' appears more than once (columns {where})")
+    missing = [c for c in columns if c not in names]
+    if missing:
+        label = "column" if len(missing) == 1 else "columns"
+        drive_note = f" (drive '{drive}')" if COLUMNS[drive] in missing else ""
+        found = ", ".join(names)
+        hint = ""
+        if len(names) == 1 and (";" in header or "\t" in header):
+            hint = " (the file must be comma-separated)"
+        elif COLUMNS[drive] in missing:
+            other = next(d for d in COLUMNS if d != drive)
+            if COLUMNS[other] in names:
+                hint = f" (the file has '{COLUMNS[other]}': is the drive '{other}'?)"
+        raise RjcadError(f"{file}: missing {label} {', '.join(repr(c) for c in missing)}{drive_note}; "
+                         f"columns found: {found}{hint}")
+    return [names.index(c) for c in columns]
+
+
+def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np.ndarray], list]:
+    """Parse cell by cell where needed: NaN for an empty or non-numeric cell, with a code per cell
+    (0 ok, 1 non-numeric, 2 empty); the code array is None for a column whose cells all parse.
+
+    Rows are padded or cut to the header's ``width`` fields, then split in one go.
+    """
+    rows = [line if line.count(",") == width - 1 else ",".join((line.split(",") + [""] * width)[:width])
+            for line in data]
+    joined = ",".join(rows)
+    flat = joined.split(",")
+    underscores = "_" in joined   # float() takes '1_0'; the fast path does not
+    values, codes = [], []
+    for j in cols:
+        cells = flat[j::width]
+        if not underscores:
+            try:
+                values.append(np.array(cells, dtype=float))
+                codes.append(None)
+                continue
+            except ValueError:
+                pass
+        v, code = _parse_cells(cells)
+        values.append(v)
+        codes.append(code)
+    return values, codes
+
+
+def _parse_cells(cells: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Floats of ``cells`` (NaN where bad) and codes: 0 ok, 1 non-numeric, 2 empty."""
+    out = []
+    code = np.zeros(len(cells), dtype=np.int8)
+    for i, c in enumerate(cells):
+        try:
+            if "_" in c:
+                raise ValueError
+            out.append(float(c))
+        except ValueError:
+            out.append(math.nan)
+            code[i] = 1 if c.strip() else 2
+    return np.array(out, dtype=float), code
+
+
+def _bad_rows(values: list[np.ndarray], codes) -> tuple[np.ndarray, np.ndarray]:
+    """Bad-row mask and, per row, the first bad cell as column·len(REASONS) + reason index."""
+    n = len(values[0])
+    bad = np.zeros(n, dtype=bool)
+    reason = np.zeros(n, dtype=np.int64)
+    for k in reversed(range(len(values))):   # the first bad column wins
+        v = values[k]
+        r = np.where(np.isnan(v), 1, np.where(np.isinf(v), 2, -1))
+        c = codes[k] if codes is not None else None
+        if c is not None:
+            r = np.where(c == 1, 0, np.where(c == 2, 3, r))
+        here = r >= 0
+        reason = np.where(here, k * len(REASONS) + r, reason)
+        bad |= here
+    return bad, reason
+
+
+def _cell(line: str, j: int) -> str:
+    parts = line.split(",")
+    return parts[j].strip() if j < len(parts) else ""
+
+
+def _show(cell: str, limit: int = 30) -> str:
+    return repr(cell if len(cell) <= limit else cell[:limit] + "...")
+
+
+def _one_line(s: str) -> str:
+    return " ".join(s.split())
+
+
+# ---- plausibility of the samples ----
+
+
+def _check_time(file: str, t: np.ndarray, lines: np.ndarray) -> None:
+    """t_s must increase strictly, row after row."""
+    step = np.diff(t)
+    if len(step) and not np.all(step > 0):
+        i = int(np.flatnonzero(step <= 0)[0]) + 1
+        raise RjcadError(f"{file}: t_s is not increasing at line {lines[i]} (t = {t[i]:.6g} s after {t[i - 1]:.6g} s)")
+
+
+def _reversal_threshold(theta_deg: np.ndarray, smooth: np.ndarray) -> float:
+    """Hysteresis a [deg] a reversal must exceed: max(0.5°, 10% of the smoothed range, 5·σ_noise).
+
+    σ_noise = 1.4826·median|Δ²θ|/√6 on the raw angles (second differences cancel steady motion).
+    """
+    d2 = np.diff(theta_deg, 2)
+    sigma = 1.4826 * float(np.median(np.abs(d2))) / math.sqrt(6) if len(d2) else 0.0
+    return max(0.5, 0.1 * float(np.ptp(smooth)), 5 * sigma)
+
+
+def _smooth_angle(theta_deg: np.ndarray, size: int = 7) -> np.ndarray:
+    """Running median of the angle over ``size`` samples (removes camera outliers and some noise)."""
+    return median_filter(np.asarray(theta_deg, dtype=float), size=size, mode="mirror")
+
+
+def _has_reversal(theta: np.ndarray, a: float) -> bool:
+    """True if theta rises by ≥ a and then falls by ≥ a, or falls by ≥ a and then rises by ≥ a.
+
+    A peak at j: θ_j − min(θ_0..θ_j) ≥ a and θ_j − min(θ_j..θ_n) ≥ a (valleys likewise).
+    """
+    theta = np.asarray(theta, dtype=float)
+    if len(theta) < 3:
+        return False
+    low_before = np.minimum.accumulate(theta)
+    low_after = np.minimum.accumulate(theta[::-1])[::-1]
+    high_before = np.maximum.accumulate(theta)
+    high_after = np.maximum.accumulate(theta[::-1])[::-1]
+    peak = (theta - low_before >= a) & (theta - low_after >= a)
+    valley = (high_before - theta >= a) & (high_after - theta >= a)
+    return bool(peak.any() or valley.any())
+
+
+def _check_motion(file: str, theta_deg: np.ndarray) -> None:
+    """The joint must move at least 1° and reverse at least once (on the median-filtered angle)."""
+    smooth = _smooth_angle(theta_deg)
+    lo, hi = float(smooth.min()), float(smooth.max())
+    if hi - lo < MIN_RANGE_DEG:
+        raise RjcadError(f"{file}: the joint angle spans only {hi - lo:.2f} deg ({lo:.1f}–{hi:.1f} deg); "
+                         f"it must move at least {MIN_RANGE_DEG:g} deg")
+    a = _reversal_threshold(theta_deg, smooth)
+    if not _has_reversal(smooth, a):
+        raise RjcadError(f"{file}: no reversal: the joint must move forward and back (range {lo:.1f}–{hi:.1f} deg, "
+                         f"monotonic; a reversal needs a return of at least {a:.1f} deg)")

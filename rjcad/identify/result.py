@@ -1,0 +1,87 @@
+"""The identification result as plain JSON (keys pinned by issue #7)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rjcad.identify.catalogue import EFFECTS
+from rjcad.identify.diagnose import diagnose
+from rjcad.identify.select import Identification
+
+
+def _r(x, nd: int = 6):
+    if x is None:
+        return None
+    x = float(x)
+    if not math.isfinite(x):
+        return None
+    return float(f"{x:.{nd}g}")
+
+
+def residuals(ident: Identification, values=None) -> list[np.ndarray]:
+    """y − ŷ per experiment (full length, quantity units) for ``values`` (default: the final model)."""
+    preds = ident.predictions(values)
+    return [p.exp.y - yh for p, yh in zip(ident.prepared, preds)]
+
+
+def to_json(ident: Identification) -> dict:
+    """effects, params, param_ci95, not_identifiable, steps, experiments, gain, and the evidence behind them.
+
+    heldout_rmse is whitened: residuals on held-out whole cycles divided by each experiment's noise
+    σ, pooled (1.0 = the noise floor).
+    """
+    fin, des = ident.final, ident.design
+    params = {"stiffness_nmm_per_rad": fin.values["stiffness_nmm_per_rad"], "preload_deg": fin.values["preload_deg"]}
+    for e in ident.effects:
+        for n in EFFECTS[e].param_names:
+            params[n] = fin.values[n]
+    r_design = residuals(ident, des.values)
+    r_final = residuals(ident, fin.values)
+    exps = []
+    for p, rmse_d, rmse_f, rd, rf in zip(ident.prepared, des.rmse(), fin.rmse(), r_design, r_final):
+        e = p.exp
+        exps.append({
+            "file": e.file, "quantity": e.quantity, "drive": e.drive, "normal_load_n": e.normal_load,
+            "routed": e.routed, "samples": int(len(e.t)), "samples_fitted": int(p.valid.sum()),
+            "samples_masked_at_reversals": int((~p.valid).sum()), "cycles": p.motion.n_cycles,
+            "reversals": int(len(p.motion.reversals)), "rows_dropped": dict(e.dropped),
+            "rmse_design": _r(rmse_d), "rmse_final": _r(rmse_f), "noise": _r(p.sigma),
+            "final_over_noise": _r(rmse_f / p.sigma), "range": _r(p.span),
+            "diagnostics_design": _clean(diagnose(p, rd)),
+            "diagnostics_final": _clean(diagnose(p, rf)),
+        })
+    return {
+        "effects": list(ident.effects),
+        "params": {k: _r(v) for k, v in params.items()},
+        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items()},
+        "not_identifiable": sorted(ident.not_identifiable),
+        "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
+        "fitted": list(fin.names),
+        "steps": [{"step": i + 1, "effect": s.effect, "name": EFFECTS[s.effect].name, "cause": s.cause,
+                   "action": s.action, "delta_bic": _r(s.delta_bic),
+                   "heldout_rmse": _r(s.heldout_rmse), "relevance": _r(s.relevance),
+                   "rmse": [_r(x) for x in s.rmse], "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
+        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
+                        "verdict": c.verdict} for c in ident.candidates],
+        "experiments": exps,
+        "gain": _r(ident.gain),
+        "heldout_rmse_design": _r(ident.heldout_design),
+        "heldout_rmse_final": _r(ident.heldout_final),
+        "design": ident.campaign.design.as_json(),
+        "notes": list(ident.campaign.notes) + list(ident.notes),
+        "units": {"heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
+                  "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",
+                  "relevance": "max |Δprediction| / measured range"},
+    }
+
+
+def _clean(d):
+    if isinstance(d, dict):
+        return {k: _clean(v) for k, v in d.items()}
+    if isinstance(d, (list, tuple)):
+        return [_clean(v) for v in d]
+    if isinstance(d, (float, np.floating)):
+        return _r(d)
+    return d
