@@ -462,3 +462,68 @@ def test_cli_no_reversal(tmp_path, capsys):
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\n')
     line = _cli_error(toml, capsys)
     assert "exp1.csv" in line and "no reversal" in line
+
+
+def _bad_cells(value, every=10):
+    cols = columns()
+    lines = data_lines(cols)
+    for i in range(1, len(lines), every):  # 10% of the rows: beyond what is dropped
+        parts = lines[i].split(",")
+        parts[2] = value
+        lines[i] = ",".join(parts)
+    return lines
+
+
+@pytest.mark.parametrize("case, expect", [
+    ("non-numeric", "non-numeric value 'abc'"),
+    ("nan", "NaN"),
+    ("time", "t_s is not increasing"),
+    ("few", "usable samples"),
+    ("drive", "drive = 'motor' is invalid"),
+])
+def test_cli_every_bad_data_case_is_one_line_exit_2(tmp_path, capsys, case, expect):
+    drive = "bar"
+    if case == "non-numeric":
+        lines = _bad_cells("abc")
+    elif case == "nan":
+        lines = _bad_cells("nan")
+    elif case == "time":
+        lines = data_lines(columns())
+        lines[300], lines[301] = lines[301], lines[300]
+    elif case == "few":
+        lines = data_lines(columns())[:20]
+    else:
+        lines, drive = data_lines(columns()), "motor"
+    (tmp_path / "exp1.csv").write_text("\n".join(lines) + "\n")
+    toml = write_campaign(tmp_path, f'[[experiment]]\nfile = "exp1.csv"\ndrive = "{drive}"\n')
+    out = tmp_path / "out.json"
+    with pytest.raises(SystemExit) as info:
+        rjcad.cli.main(["identify", str(toml), "--json", str(out), "--report", str(tmp_path / "rep")])
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "exp1.csv" in err[0] and expect in err[0], err
+    assert "Traceback" not in err[0]
+    assert not out.exists() and not (tmp_path / "rep").exists()  # no partial output
+
+
+def test_cli_reports_dropped_rows(tmp_path, capsys):
+    from rjcad.identify.bench import write_campaign as bench
+
+    bench(tmp_path / "c", ["coulomb_pin"], seed=2, experiments=[{"name": "A", "drive": "bar", "normal_load": 1.5}])
+    csv = tmp_path / "c" / "A_bar_Fn1.5.csv"
+    lines = csv.read_text().splitlines()
+    for i in (100, 200, 1500):
+        lines[i] = lines[i].rsplit(",", 1)[0] + ",NaN"
+    lines[700] = lines[700].rsplit(",", 1)[0] + ",n/a"
+    csv.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "r.json"
+    with pytest.raises(SystemExit) as info:
+        rjcad.cli.main(["identify", str(tmp_path / "c" / "campaign.toml"), "--json", str(out)])
+    assert info.value.code == 0
+    text = capsys.readouterr().out
+    assert "dropped 4 of 3000 rows (1 non-numeric, 3 NaN)" in text
+    import json
+
+    js = json.loads(out.read_text())
+    assert js["experiments"][0]["rows_dropped"] == {"non-numeric": 1, "NaN": 3}
+    assert js["effects"] == ["coulomb_pin"]

@@ -14,7 +14,7 @@ from rjcad.identify.report import fmt, render_markdown, unit_of, write_report
 from rjcad.identify.result import to_json
 from rjcad.identify.select import identify
 
-FILES = ["fit.png", "residuals.png", "steps.png", "report.md"]
+FILES = ["fit.png", "residuals.png", "steps.png", "diagnostics.png", "report.md"]
 ROUTED_ONLY = [{"name": "C", "drive": "tendon", "normal_load": 0.0, "routed": True}]
 
 
@@ -68,7 +68,7 @@ def test_effects_causes_and_step_table(paper):
         row = f"| {i} | `{s['effect']}` | {short} | {fmt(s['delta_bic'])} | {fmt(s['heldout_rmse'], 3)} | " \
               f"{fmt(s['gain'], 3)} |"
         assert row in md
-    for png in ("fit.png", "residuals.png", "steps.png"):
+    for png in ("fit.png", "residuals.png", "steps.png", "diagnostics.png"):
         assert f"]({png})" in md
 
 

@@ -230,6 +230,54 @@ def plot_steps(js: dict, path) -> Path:
     return _save(fig, Path(path))
 
 
+def plot_diagnostics(ident: Identification, js: dict, path) -> Path:
+    """Design residual against velocity [rad/s] (left) and against time into each hold [s] (right), per experiment.
+
+    Before plotting against velocity, the angle/direction part of the residual (the regression of
+    ``diagnose``: [1, θ, θ², s, s·θ]) is removed, so a slope left there is damping; during holds the
+    residual is drawn relative to its value at the start of the hold, so a decay is relaxation.
+    """
+    plt = _pyplot()
+    preds_d = ident.predictions(ident.design.values)
+    n = len(ident.prepared)
+    fig, axes = plt.subplots(n, 2, figsize=(11, 2.8 * n), squeeze=False)
+    for row, p, e, yd in zip(axes, ident.prepared, js["experiments"], preds_d):
+        unit = quantity_unit(e["quantity"])
+        ok = p.valid
+        r = (p.exp.y - yd)
+        th, s, v = p.motion.theta[ok], p.motion.direction[ok], p.motion.velocity[ok]
+        X = np.column_stack([np.ones_like(th), th, th**2, s, s * th])
+        coef, *_ = np.linalg.lstsq(X, r[ok], rcond=None) if len(th) > 5 else (np.zeros(5),)
+        left = r[ok] - X @ coef
+        k = _stride(len(v))
+        ax = row[0]
+        ax.axhspan(-p.sigma, p.sigma, color="0.8", alpha=0.6, lw=0, label="± noise σ", zorder=0)
+        ax.scatter(v[::k][s[::k] > 0], left[::k][s[::k] > 0], s=2, lw=0, color="C0", label="forward")
+        ax.scatter(v[::k][s[::k] < 0], left[::k][s[::k] < 0], s=2, lw=0, color="C1", label="backward")
+        ax.set_xlabel("joint velocity [rad/s]")
+        ax.set_ylabel(f"residual − angle/direction fit [{unit}]")
+        ax.set_title(f"{e['file']}: design residual vs velocity", fontsize=9)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, markerscale=3, loc="best")
+        ax = row[1]
+        hold = p.motion.hold & ok
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], hold.astype(np.int8), [0]])))
+        for i, (a, b) in enumerate(zip(edges[::2], edges[1::2])):
+            if b - a < 5:
+                continue
+            tt = p.exp.t[a:b] - p.exp.t[a]
+            rr = r[a:b] - r[a:a + max((b - a) // 10, 1)].mean()
+            col = "C0" if p.motion.direction[a] > 0 else "C1"
+            ax.plot(tt, rr, lw=0.7, color=col, alpha=0.8)
+        ax.axhline(0.0, color="0.4", lw=0.6)
+        ax.set_xlabel("time into the hold [s]")
+        ax.set_ylabel(f"residual change [{unit}]")
+        ax.set_title(f"{e['file']}: holds (blue: after forward)", fontsize=9)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return _save(fig, Path(path))
+
+
 # ---------------------------------------------------------------- report.md
 
 
@@ -461,20 +509,22 @@ def render_markdown(js: dict, plots: dict[str, str] | None = None) -> str:
             out += [""] + section
     out += [""] + _diagnostics_section(js)
     out += img("residuals", "residuals before and after, by motion direction")
+    out += img("diagnostics", "design residual against velocity and during holds")
     if js["notes"]:
         out += ["", "## Notes", ""] + [f"- {n}" for n in js["notes"]]
     return "\n".join(out) + "\n"
 
 
 def write_report(ident: Identification, js: dict, out_dir) -> list[Path]:
-    """Write report.md, fit.png, residuals.png and steps.png into ``out_dir`` (created); return their paths."""
+    """Write report.md, fit.png, residuals.png, steps.png and diagnostics.png into ``out_dir``; return their paths."""
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise RjcadError(f"{out}: exists and is not a directory")
     out.mkdir(parents=True, exist_ok=True)
     paths = [plot_fit(ident, js, out / "fit.png"),
              plot_residuals(ident, js, out / "residuals.png"),
-             plot_steps(js, out / "steps.png")]
+             plot_steps(js, out / "steps.png"),
+             plot_diagnostics(ident, js, out / "diagnostics.png")]
     md = render_markdown(js, {p.stem: p.name for p in paths})
     paths.append(write_atomic(out / "report.md", md))
     return paths
