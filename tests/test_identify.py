@@ -212,3 +212,38 @@ def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "nope.csv" in err[0]
     assert not (tmp_path / "o.json").exists()
+
+
+def test_a_parameter_the_data_only_bound_is_not_reported_as_fitted(tmp_path):
+    """γ⁻ > K: the tendon is slack in every release, so the data say only γ⁻ ≳ K."""
+    truth, ident, js = _run(tmp_path, ["tendon_pin_friction"],
+                            params={"gamma_pos_nmm_per_rad": 2.0, "gamma_neg_nmm_per_rad": 7.0})
+    assert js["effects"] == ["tendon_pin_friction"]
+    assert "gamma_neg_nmm_per_rad" in js["not_identifiable"]
+    why = js["not_identifiable_why"]["gamma_neg_nmm_per_rad"]
+    assert "only bound" in why and "above" in why
+    assert "gamma_neg_nmm_per_rad" not in js["params"] and "gamma_neg_nmm_per_rad" not in js["param_ci95"]
+    assert js["params"]["gamma_pos_nmm_per_rad"] == pytest.approx(2.0, rel=0.05)
+    for ex in js["experiments"]:
+        assert ex["rmse_final"] <= 1.1 * truth["noise"][ex["quantity"]]
+
+
+def test_camera_glitches_and_load_cell_spikes_are_left_out(tmp_path):
+    write_campaign(tmp_path / "c", ["coulomb_pin"], seed=5)
+    csv = tmp_path / "c" / "A_bar_Fn1.5.csv"
+    lines = csv.read_text().splitlines()
+    for i in (400, 1300, 2200):  # the camera loses the marker for one frame: +8°
+        t, th, y = lines[i].split(",")
+        lines[i] = f"{t},{float(th) + 8:.5f},{y}"
+    t, th, y = lines[900].split(",")
+    lines[900] = f"{t},{th},{float(y) + 5:.5f}"  # a load-cell spike
+    csv.write_text("\n".join(lines) + "\n")
+    js = to_json(identify(load_campaign(tmp_path / "c" / "campaign.toml")))
+    a = js["experiments"][0]
+    assert a["outliers_angle"] >= 3 and a["outliers_quantity"] >= 1
+    assert a["reversals"] == 7  # no false reversals from the glitches
+    assert a["rmse_final"] <= 1.1 * DEFAULT_NOISE["torque_nmm"]
+    assert js["effects"] == ["coulomb_pin"] and js["params"]["mu_j_mm"] == pytest.approx(6.92, rel=0.01)
+    assert any("angle outlier" in n for n in js["notes"])
+    # clean experiments report none
+    assert all(e["outliers_angle"] == 0 and e["outliers_quantity"] == 0 for e in js["experiments"][1:])

@@ -15,7 +15,7 @@ from scipy.optimize import least_squares
 
 from rjcad.identify.catalogue import EFFECTS, PARAMS, model_kwargs
 from rjcad.identify.data import Campaign, Experiment
-from rjcad.identify.signal import Motion, analyse_motion, noise_sigma
+from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
 from rjcad.physics.joint import JointModel, simulate
 
 
@@ -28,10 +28,11 @@ class Prepared:
     sigma: float          # noise σ of the measured quantity (its units)
     span: float           # measured range (0.5–99.5 percentile) of the quantity
     folds: np.ndarray     # int per sample: held-out fold (−1: always trained on)
+    outliers: np.ndarray  # bool: load-cell spikes in the quantity (left out)
 
     @property
     def valid(self) -> np.ndarray:
-        return self.motion.valid
+        return self.motion.valid & ~self.outliers
 
 
 def prepare(campaign: Campaign, n_folds: int = 2) -> list[Prepared]:
@@ -40,11 +41,12 @@ def prepare(campaign: Campaign, n_folds: int = 2) -> list[Prepared]:
     for e in campaign.experiments:
         m = analyse_motion(e.t, e.theta)
         sig = noise_sigma(e.y)
+        spiky = spikes(e.y, sig)
         lo, hi = np.percentile(e.y[m.valid] if m.valid.any() else e.y, [0.5, 99.5])
         span = float(hi - lo)
         sig = max(sig, 1e-6 * max(span, 1e-12), 1e-12)
         folds = m.cycle % n_folds if m.n_cycles >= n_folds else np.full(len(e.t), -1)
-        out.append(Prepared(exp=e, motion=m, sigma=sig, span=span, folds=folds))
+        out.append(Prepared(exp=e, motion=m, sigma=sig, span=span, folds=folds, outliers=spiky))
     return out
 
 
@@ -129,15 +131,18 @@ class Problem:
                             xtol=1e-10, ftol=1e-10, gtol=1e-10)
         vals = self.values(names, res.x)
         b, rss, ns = self.bic(vals, len(names))
-        jac = res.jac if masks is None else _jacobian(lambda x: np.concatenate(self.residuals(self.values(names, x))), res.x)
+        jac = res.jac if masks is None else np.zeros((0, len(names)))  # held-out fits need no Jacobian
         return FitResult(names, vals, res.x, np.asarray(jac), rss, ns, b, float(res.cost))
 
 
-def _jacobian(fun, x, rel: float = 1e-6) -> np.ndarray:
+def _jacobian(fun, x, rel: float = 1e-6, upper=None) -> np.ndarray:
+    """Forward-difference Jacobian; steps backwards where a forward step would cross ``upper``."""
     f0 = fun(x)
     J = np.empty((len(f0), len(x)))
     for j in range(len(x)):
         h = rel * max(abs(x[j]), 1.0)
+        if upper is not None and x[j] + h > upper[j]:
+            h = -h
         xp = x.copy()
         xp[j] += h
         J[:, j] = (fun(xp) - f0) / h

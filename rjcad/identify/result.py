@@ -37,6 +37,9 @@ def to_json(ident: Identification) -> dict:
     for e in ident.effects:
         for n in EFFECTS[e].param_names:
             params[n] = fin.values[n]
+    for n in ident.not_identifiable:  # reported, not fitted arbitrarily
+        if n in fin.names:
+            params.pop(n, None)
     r_design = residuals(ident, des.values)
     r_final = residuals(ident, fin.values)
     exps = []
@@ -45,7 +48,9 @@ def to_json(ident: Identification) -> dict:
         exps.append({
             "file": e.file, "quantity": e.quantity, "drive": e.drive, "normal_load_n": e.normal_load,
             "routed": e.routed, "samples": int(len(e.t)), "samples_fitted": int(p.valid.sum()),
-            "samples_masked_at_reversals": int((~p.valid).sum()), "cycles": p.motion.n_cycles,
+            "samples_masked_at_reversals": _n(p.motion.at_reversal),
+            "outliers_angle": _n(p.motion.glitches), "outliers_quantity": _n(p.outliers),
+            "cycles": p.motion.n_cycles,
             "reversals": int(len(p.motion.reversals)), "rows_dropped": dict(e.dropped),
             "rmse_design": _r(rmse_d), "rmse_final": _r(rmse_f), "noise": _r(p.sigma),
             "final_over_noise": _r(rmse_f / p.sigma), "range": _r(p.span),
@@ -55,7 +60,7 @@ def to_json(ident: Identification) -> dict:
     return {
         "effects": list(ident.effects),
         "params": {k: _r(v) for k, v in params.items()},
-        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items()},
+        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items() if k not in ident.not_identifiable},
         "not_identifiable": sorted(ident.not_identifiable),
         "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
         "fitted": list(fin.names),
@@ -70,11 +75,25 @@ def to_json(ident: Identification) -> dict:
         "heldout_rmse_design": _r(ident.heldout_design),
         "heldout_rmse_final": _r(ident.heldout_final),
         "design": ident.campaign.design.as_json(),
-        "notes": list(ident.campaign.notes) + list(ident.notes),
+        "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
         "units": {"heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
                   "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",
                   "relevance": "max |Δprediction| / measured range"},
     }
+
+
+def _outlier_notes(ident: Identification) -> list[str]:
+    out = []
+    for p in ident.prepared:
+        a, q = _n(p.motion.glitches), _n(p.outliers)
+        if a or q:
+            out.append(f"{p.exp.file}: {a} angle outlier(s) replaced by the running median, "
+                       f"{q} spike(s) in {p.exp.quantity} left out (|x − median of 5| > 8σ)")
+    return out
+
+
+def _n(mask) -> int:
+    return 0 if mask is None else int(np.sum(mask))
 
 
 def _clean(d):

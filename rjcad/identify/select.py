@@ -122,7 +122,8 @@ class Selector:
         """Structural check at the start point: parameters the campaign cannot determine."""
         names = self.free_names(effects)
         x0 = np.array([self.starts(effects, start)[0][n] for n in names])
-        J = _jacobian(lambda x: np.concatenate(self.prob.residuals(self.prob.values(names, x))), x0)
+        J = _jacobian(lambda x: np.concatenate(self.prob.residuals(self.prob.values(names, x))), x0,
+                      upper=self.bounds(names)[1])
         return unidentifiable(J, names)
 
     def fit_set(self, effects, start: dict[str, float], masks=None) -> FitResult:
@@ -184,6 +185,40 @@ class Selector:
                               fr.rmse(), _gain(design.rmse(), fr.rmse())))
         return current, ho_cur
 
+    def post_check(self, fr: FitResult, step: float = 0.05, flat: float = 0.01) -> dict[str, str]:
+        """Fitted parameters the data bound from one side only, barely see, or that sit on a box bound.
+
+        Each parameter is moved by ±``step``·|value| (others fixed); if one side changes the
+        residual by less than ``flat`` times the other, values beyond it fit the data as well
+        (e.g. γ⁻ ≥ K: the tendon is slack in every release, so the data show only a bound).
+        """
+        out: dict[str, str] = {}
+        if not fr.names:
+            return out
+        lo, hi = self.bounds(fr.names)
+        base = np.concatenate(self.prob.residuals(fr.values))
+        for n, a, b in zip(fr.names, lo, hi):
+            v = fr.values[n]
+            d = step * max(abs(v), 1e-3)
+            if v - a <= 1e-6 * max(abs(a), 1.0):
+                out[n] = f"at its lower bound {a:g}"
+                continue
+            if b - v <= 1e-6 * max(abs(b), 1.0):
+                out[n] = f"at its upper bound {b:g}"
+                continue
+            change = []
+            for x in (max(v - d, a), min(v + d, b)):
+                r = np.concatenate(self.prob.residuals(dict(fr.values, **{n: x})))
+                change.append(float(np.linalg.norm(r - base)))
+            if max(change) < 2.0:  # whitened: a ±5 % change is lost in the noise
+                out[n] = (f"too weakly determined: a {100 * step:g} % change of {v:.4g} moves the fit by less "
+                          f"than the noise")
+            elif min(change) < flat * max(change):
+                side = "above" if change[1] < change[0] else "below"
+                out[n] = (f"the data only bound it: values {side} {v:.4g} fit as well "
+                          f"(the quantity it acts on is out of reach there, e.g. a slack tendon)")
+        return out
+
     # -- the selection -----------------------------------------------------------------------
     def run(self) -> Identification:
         design = self.prob.fit((), [], [], [])
@@ -244,6 +279,11 @@ class Selector:
         notes = []
         if not self._fold_ids:
             notes.append("no experiment has two whole cycles: the held-out check was skipped")
+        for n, why in self.post_check(current).items():
+            if why.startswith("at its"):
+                notes.append(f"{n} = {current.values[n]:.4g} is {why}")
+            else:
+                not_ident.setdefault(n, why)
         return Identification(self.campaign, self.prepared, design, current, accepted, steps, cands,
                               not_ident, confidence(current, self.prob), ho_design, ho_cur, notes)
 

@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.ndimage import median_filter
 from scipy.signal import savgol_coeffs, savgol_filter
 
 MAD = 1.4826  # σ = MAD·median|x − median| for Gaussian noise
@@ -40,6 +41,8 @@ class Motion:
     sigma_theta: float      # raw angle noise [rad]
     step: float             # hysteresis h [rad]
     window: int             # smoothing window [samples]
+    glitches: np.ndarray = None  # bool: camera outliers, replaced by the running median
+    at_reversal: np.ndarray = None  # bool: masked because the direction is ambiguous there
 
     @property
     def n_cycles(self) -> int:
@@ -64,6 +67,9 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     n = len(raw)
     w = _window(t, span_s)
     sig = noise_sigma(raw)
+    glitch = spikes(raw, sig)
+    if glitch.any():  # a camera glitch: replace by the running median before smoothing
+        raw = np.where(glitch, median_filter(raw, size=5, mode="nearest"), raw)
     if n >= w:
         th = savgol_filter(raw, w, 2, mode="interp")
         dth = savgol_filter(raw, w, 2, deriv=1, mode="interp")
@@ -81,8 +87,25 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     direction, reversals, valid = _direction_and_mask(th, vel, start_dir, exts, h, w, dti)
     hold = _holds(vel, t, sig, wv, min_hold_s)
     cycle = _cycles(n, reversals, direction)
+    at_reversal = ~valid
+    valid = valid & ~_widen(glitch, w)
     return Motion(theta=th, velocity=vel, direction=direction, valid=valid, hold=hold, cycle=cycle,
-                  reversals=reversals, sigma_theta=sig, step=h, window=w)
+                  reversals=reversals, sigma_theta=sig, step=h, window=w, glitches=glitch, at_reversal=at_reversal)
+
+
+def spikes(x, sigma: float, k: float = 8.0) -> np.ndarray:
+    """Isolated outliers: |x − running median of 5| > k·σ (a median keeps steps, so friction jumps stay)."""
+    x = np.asarray(x, dtype=float)
+    if len(x) < 5 or sigma <= 0:
+        return np.zeros(len(x), dtype=bool)
+    return np.abs(x - median_filter(x, size=5, mode="nearest")) > k * sigma
+
+
+def _widen(mask: np.ndarray, w: int) -> np.ndarray:
+    """``mask`` grown by half a smoothing window on each side."""
+    if not mask.any():
+        return mask
+    return np.convolve(mask.astype(float), np.ones(w), mode="same") > 0
 
 
 def _schmitt(th: np.ndarray, h: float):
