@@ -9,6 +9,7 @@ Backward: drop any accepted effect whose removal, the others refitted, costs ΔB
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,7 +30,7 @@ class Step:
     effect: str
     cause: str
     action: str               # "added" | "dropped"
-    delta_bic: float
+    delta_bic: float          # BIC after the step − before (dropping an effect costs ≤ +10 by the rule)
     heldout_rmse: float | None  # whitened: 1.0 = noise floor
     relevance: float          # max |Δprediction| / measured range
     rmse: list[float]         # per experiment after the step, in its units
@@ -181,7 +182,7 @@ class Selector:
             accepted.remove(e)
             prev, current = current, fr
             ho_cur = self.heldout(accepted, {n: fr.values[n] for n in fr.names})
-            steps.append(Step(e, EFFECTS[e].cause, "dropped", -cost, ho_cur, self.relevance(prev.values, fr.values),
+            steps.append(Step(e, EFFECTS[e].cause, "dropped", cost, ho_cur, self.relevance(prev.values, fr.values),
                               fr.rmse(), _gain(design.rmse(), fr.rmse())))
         return current, ho_cur
 
@@ -200,16 +201,15 @@ class Selector:
         for n, a, b in zip(fr.names, lo, hi):
             v = fr.values[n]
             d = step * max(abs(v), 1e-3)
-            if v - a <= 1e-6 * max(abs(a), 1.0):
-                out[n] = f"at its lower bound {a:g}"
-                continue
-            if b - v <= 1e-6 * max(abs(b), 1.0):
-                out[n] = f"at its upper bound {b:g}"
-                continue
+            at_lo, at_hi = v - a <= 1e-6 * max(abs(a), 1.0), b - v <= 1e-6 * max(abs(b), 1.0)
             change = []
-            for x in (max(v - d, a), min(v + d, b)):
+            for x in ((max(v - d, a),) if at_hi else ()) + ((min(v + d, b),) if at_lo else ()) or \
+                    (max(v - d, a), min(v + d, b)):
                 r = np.concatenate(self.prob.residuals(dict(fr.values, **{n: x})))
                 change.append(float(np.linalg.norm(r - base)))
+            if (at_lo or at_hi) and max(change) >= 2.0:
+                out[n] = f"at its {'lower' if at_lo else 'upper'} bound {a if at_lo else b:g}"
+                continue
             if max(change) < 2.0:  # whitened: a ±5 % change is lost in the noise
                 out[n] = (f"too weakly determined: a {100 * step:g} % change of {v:.4g} moves the fit by less "
                           f"than the noise")
@@ -219,6 +219,39 @@ class Selector:
                           f"(the quantity it acts on is out of reach there, e.g. a slack tendon)")
         return out
 
+    @contextmanager
+    def _freezing(self, extra: dict[str, str]):
+        """Parameters ``extra`` held at neutral for the duration (one candidate's fits)."""
+        kept = self.frozen
+        self.frozen = {**kept, **extra}
+        try:
+            yield
+        finally:
+            self.frozen = kept
+
+    def final_identifiability(self, accepted: list[str], current: FitResult):
+        """What the final model cannot determine, judged in the final state (not at the step it was met).
+
+        Parameters frozen when their effect was accepted are checked again with the final set (a
+        confounding partner may have been dropped since); if that changes, the final set is refitted.
+        Effects not accepted report the parameters this campaign could not identify at all.
+        """
+        acc = set(n for e in accepted for n in EFFECTS[e].param_names)
+        start = {n: current.values[n] for n in current.names}
+        if any(n in acc for n in self.frozen):
+            kept, self.frozen = self.frozen, {}
+            now = self.check_identifiable(accepted, start)
+            self.frozen = now
+            if set(now) != {n for n in kept if n in acc}:
+                current = self.fit_set(accepted, start)
+        out = {n: r for n, r in self.frozen.items() if n in acc}
+        start = {n: current.values[n] for n in current.names}
+        for eff in CATALOGUE:
+            if eff.id not in accepted:
+                bad = self.check_identifiable(accepted + [eff.id], start)
+                out.update({n: r for n, r in bad.items() if n in eff.param_names})
+        return current, out
+
     # -- the selection -----------------------------------------------------------------------
     def run(self) -> Identification:
         design = self.prob.fit((), [], [], [])
@@ -227,7 +260,6 @@ class Selector:
         ho_design = ho_cur
         steps: list[Step] = []
         cands: list[Candidate] = []
-        not_ident: dict[str, str] = {}
         step_no = 0
         while True:
             step_no += 1
@@ -238,19 +270,16 @@ class Selector:
                     continue
                 effs = accepted + [eff.id]
                 bad = {n: r for n, r in self.check_identifiable(effs, start).items() if n in eff.param_names}
-                for n, r in bad.items():
-                    not_ident.setdefault(n, r)
-                    self.frozen[n] = r
-                if not self.free_names([eff.id]):
-                    cands.append(Candidate(eff.id, None, "not identifiable from this campaign: " + "; ".join(
-                        f"{n}: {not_ident.get(n, self.frozen.get(n, ''))}" for n in eff.param_names), step_no,
-                        "not_identifiable"))
-                    continue
-                fr = self.fit_set(effs, start)
-                tried.append((fr.bic - current.bic, eff, fr))
+                with self._freezing(bad):
+                    if not self.free_names([eff.id]):
+                        cands.append(Candidate(eff.id, None, "not identifiable from this campaign: " + "; ".join(
+                            f"{n}: {r}" for n, r in bad.items()), step_no, "not_identifiable"))
+                        continue
+                    fr = self.fit_set(effs, start)
+                tried.append((fr.bic - current.bic, eff, fr, bad))
             tried.sort(key=lambda x: x[0])
             chosen = None
-            for d, eff, fr in tried:
+            for d, eff, fr, bad in tried:
                 if chosen is not None or d >= -BIC_GATE:
                     why = "not needed" if chosen is not None else f"ΔBIC {d:+.1f} ≥ −{BIC_GATE:g}"
                     cands.append(Candidate(eff.id, d, why, step_no, "not_needed" if chosen is not None else "bic"))
@@ -260,22 +289,25 @@ class Selector:
                     cands.append(Candidate(eff.id, d, f"changes the prediction by only {100 * rel:.2f}% "
                                                       f"of the measured range", step_no, "relevance"))
                     continue
-                ho = self.heldout(accepted + [eff.id], {n: fr.values[n] for n in fr.names})
+                with self._freezing(bad):
+                    ho = self.heldout(accepted + [eff.id], {n: fr.values[n] for n in fr.names})
                 if ho is not None and ho_cur is not None and ho >= ho_cur:
                     cands.append(Candidate(eff.id, d, f"held-out error does not improve ({ho:.3g} ≥ {ho_cur:.3g})",
                                            step_no, "heldout"))
                     continue
-                chosen = (d, eff, fr, ho, rel)
+                chosen = (d, eff, fr, ho, rel, bad)
                 cands.append(Candidate(eff.id, d, "accepted", step_no, "accepted"))
             if chosen is None:
                 break
-            d, eff, fr, ho, rel = chosen
+            d, eff, fr, ho, rel, bad = chosen
             accepted.append(eff.id)
+            self.frozen.update(bad)
             current, ho_cur = fr, ho
             steps.append(Step(eff.id, eff.cause, "added", d, ho, rel, fr.rmse(), _gain(design.rmse(), fr.rmse())))
 
         current, ho_cur = self.backward(accepted, current, ho_cur, steps, design)
 
+        current, not_ident = self.final_identifiability(accepted, current)
         notes = []
         if not self._fold_ids:
             notes.append("no experiment has two whole cycles: the held-out check was skipped")
