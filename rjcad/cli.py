@@ -562,7 +562,7 @@ def main(argv: list[str] | None = None) -> None:
         if debug:
             traceback.print_exc()
         ctx = getattr(e, "ctx", None)
-        where = f" (see 'rjcad {ctx.info_name} --help')" if ctx is not None and ctx.info_name != "rjcad" else ""
+        where = f" (see '{ctx.command_path} --help')" if ctx is not None and ctx.info_name != "rjcad" else ""
         click.echo(f"rjcad: error: {e.format_message()}{where}", err=True)
         sys.exit(2)
     sys.exit(rv if isinstance(rv, int) else 0)

@@ -101,3 +101,13 @@ def test_physics_benchmark_smoke_all_keys():
                 "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s"):
         assert d[key] > 0, key
     assert d["finger_steps"] == 41 and d["n"] == 2000
+
+
+def test_usage_error_in_a_subcommand_points_to_its_own_help(capsys):
+    from rjcad.cli import main
+
+    with pytest.raises(SystemExit) as e:
+        main(["simulate", "joint", "--rotation", "abc"])
+    assert e.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "(see 'rjcad simulate joint --help')" in err[0]
