@@ -186,37 +186,44 @@ class Selector:
                               fr.rmse(), _gain(design.rmse(), fr.rmse())))
         return current, ho_cur
 
-    def post_check(self, fr: FitResult, step: float = 0.05, flat: float = 0.01) -> dict[str, str]:
-        """Fitted parameters the data bound from one side only, barely see, or that sit on a box bound.
+    def post_check(self, fr: FitResult, rel: float = 0.2, gate: float = 4.0) -> dict[str, str]:
+        """Profile check of each fitted parameter: the data must pin it from both sides.
 
-        Each parameter is moved by ±``step``·|value| (others fixed); if one side changes the
-        residual by less than ``flat`` times the other, values beyond it fit the data as well
-        (e.g. γ⁻ ≥ K: the tendon is slack in every release, so the data show only a bound).
+        The parameter is fixed at (1 ± ``rel``)·value and the others are refitted; a side whose
+        whitened Δχ² stays below ``gate`` fits the data as well. Both sides flat: not identifiable
+        (the others absorb it); one side flat: only a bound (e.g. γ⁻ ≥ K, a tendon slack in every
+        release). A well-pinned parameter on a box bound is only noted.
         """
         out: dict[str, str] = {}
         if not fr.names:
             return out
         lo, hi = self.bounds(fr.names)
-        base = np.concatenate(self.prob.residuals(fr.values))
+        chi0 = sum(float(np.sum(r**2)) for r in self.prob.residuals(fr.values))
         for n, a, b in zip(fr.names, lo, hi):
             v = fr.values[n]
-            d = step * max(abs(v), 1e-3)
-            at_lo, at_hi = v - a <= 1e-6 * max(abs(a), 1.0), b - v <= 1e-6 * max(abs(b), 1.0)
-            change = []
-            for x in ((max(v - d, a),) if at_hi else ()) + ((min(v + d, b),) if at_lo else ()) or \
-                    (max(v - d, a), min(v + d, b)):
-                r = np.concatenate(self.prob.residuals(dict(fr.values, **{n: x})))
-                change.append(float(np.linalg.norm(r - base)))
-            if (at_lo or at_hi) and max(change) >= 2.0:
-                out[n] = f"at its {'lower' if at_lo else 'upper'} bound {a if at_lo else b:g}"
-                continue
-            if max(change) < 2.0:  # whitened: a ±5 % change is lost in the noise
-                out[n] = (f"too weakly determined: a {100 * step:g} % change of {v:.4g} moves the fit by less "
-                          f"than the noise")
-            elif min(change) < flat * max(change):
-                side = "above" if change[1] < change[0] else "below"
-                out[n] = (f"the data only bound it: values {side} {v:.4g} fit as well "
-                          f"(the quantity it acts on is out of reach there, e.g. a slack tendon)")
+            d = rel * max(abs(v), 1e-3)
+            others = [m for m in fr.names if m != n]
+            olo, ohi = self.bounds(others)
+            dchi = {}
+            for side, x in (("below", max(v - d, a)), ("above", min(v + d, b))):
+                if abs(x - v) <= 1e-9 * max(abs(v), 1.0):
+                    continue
+                prob = Problem(self.campaign, self.prepared, {**self.base, **fr.values, n: x})
+                if others:
+                    chi = 2.0 * prob.fit(others, [fr.values[m] for m in others], olo, ohi, max_nfev=60).cost
+                else:
+                    chi = sum(float(np.sum(r**2)) for r in prob.residuals(prob.fixed))
+                dchi[side] = chi - chi0
+            flat = [side for side, c in dchi.items() if c < gate]
+            if dchi and len(flat) == len(dchi):
+                out[n] = (f"not identifiable: fixing it {100 * rel:g} % away from {v:.4g} and refitting the others "
+                          f"fits as well (Δχ² < {gate:g})")
+            elif flat:
+                out[n] = (f"the data only bound it: values {flat[0]} {v:.4g} fit as well (a {100 * rel:g} % move "
+                          f"that way changes χ² by < {gate:g}); what it acts on is out of reach there, "
+                          f"e.g. a slack tendon")
+            elif v - a <= 1e-6 * max(abs(a), 1.0) or b - v <= 1e-6 * max(abs(b), 1.0):
+                out[n] = f"at its {'lower' if v - a <= 1e-6 * max(abs(a), 1.0) else 'upper'} bound"
         return out
 
     @contextmanager
