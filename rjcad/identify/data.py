@@ -16,6 +16,7 @@ from scipy.ndimage import median_filter
 
 from rjcad.config import check_key
 from rjcad.errors import ParameterError, RjcadError
+from rjcad.identify.signal import noise_sigma
 from rjcad.physics.joint import Setup
 
 DEG = math.pi / 180
@@ -385,11 +386,9 @@ def _check_time(file: str, t: np.ndarray, lines: np.ndarray) -> None:
 def _reversal_threshold(theta_deg: np.ndarray, smooth: np.ndarray) -> float:
     """Hysteresis a [deg] a reversal must exceed: max(0.5°, 10% of the smoothed range, 5·σ_noise).
 
-    σ_noise = 1.4826·median|Δ²θ|/√6 on the raw angles (second differences cancel steady motion).
+    σ_noise from the raw angles' second differences (signal.noise_sigma: they cancel steady motion).
     """
-    d2 = np.diff(theta_deg, 2)
-    sigma = 1.4826 * float(np.median(np.abs(d2))) / math.sqrt(6) if len(d2) else 0.0
-    return max(0.5, 0.1 * float(np.ptp(smooth)), 5 * sigma)
+    return max(0.5, 0.1 * float(np.ptp(smooth)), 5 * noise_sigma(theta_deg))
 
 
 def _smooth_angle(theta_deg: np.ndarray, size: int = 7) -> np.ndarray:

@@ -11,19 +11,28 @@ from __future__ import annotations
 import numpy as np
 
 from rjcad.identify.fit import Prepared
+from rjcad.identify.signal import runs
+
+
+def angle_direction_fit(p: Prepared, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares fit of r on [1, θ_j, θ_j², s, s·θ_j] over the valid samples: (coefficients, design matrix)."""
+    ok = p.valid
+    th, s = p.motion.theta[ok], p.motion.direction[ok]
+    X = np.column_stack([np.ones_like(th), th, th**2, s, s * th])
+    coef, *_ = np.linalg.lstsq(X, r[ok], rcond=None)
+    return coef, X
 
 
 def diagnose(p: Prepared, r: np.ndarray) -> dict:
     """Band, centre line, velocity and hold features of residual ``r`` (full length, quantity units)."""
     m, ok = p.motion, p.valid
-    th, s, v = m.theta[ok], m.direction[ok], m.velocity[ok]
+    th, v = m.theta[ok], m.velocity[ok]
     rr = r[ok]
     out = {"quantity": p.exp.quantity, "noise": p.sigma, "rmse": float(np.sqrt(np.mean(rr**2))) if len(rr) else 0.0}
     if len(rr) < 10:
         return out | {"hints": []}
     lo, hi = float(th.min()), float(th.max())
-    X = np.column_stack([np.ones_like(th), th, th**2, s, s * th])
-    coef, *_ = np.linalg.lstsq(X, rr, rcond=None)
+    coef, X = angle_direction_fit(p, r)
     band = [float(coef[3] + coef[4] * lo), float(coef[3] + coef[4] * hi)]
     centre = X[:, :3] @ coef[:3]
     left = rr - X @ coef
@@ -49,10 +58,8 @@ def diagnose(p: Prepared, r: np.ndarray) -> dict:
 
 def _hold_drifts(p: Prepared, r: np.ndarray) -> list[float]:
     """For each hold, mean r over its last fifth minus over its first fifth, signed by the preceding motion."""
-    hold = p.motion.hold & p.valid
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], hold.astype(np.int8), [0]])))
     out = []
-    for a, b in zip(edges[::2], edges[1::2]):
+    for a, b in runs(p.motion.hold & p.valid):
         k = max((b - a) // 5, 1)
         if b - a >= 10:
             out.append(float((r[b - k:b].mean() - r[a:a + k].mean()) * p.motion.direction[a]))

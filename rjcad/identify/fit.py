@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from rjcad.identify.catalogue import EFFECTS, PARAMS, model_kwargs
+from rjcad.identify.catalogue import EFFECTS, model_kwargs
 from rjcad.identify.data import Campaign, Experiment
 from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
 from rjcad.physics.joint import JointModel, simulate
@@ -211,8 +211,5 @@ def _lag1(res: list[np.ndarray]) -> float:
 
 
 def param_names(effect_ids) -> tuple[str, ...]:
+    """The JSON parameter names of ``effect_ids``, in catalogue order within each effect."""
     return tuple(n for e in effect_ids for n in EFFECTS[e].param_names)
-
-
-def effect_of(name: str) -> str:
-    return PARAMS[name][0].id

@@ -16,7 +16,9 @@ import numpy as np
 from rjcad.config import write_atomic
 from rjcad.errors import RjcadError
 from rjcad.identify.catalogue import EFFECTS, PARAMS
+from rjcad.identify.diagnose import angle_direction_fit
 from rjcad.identify.select import BIC_GATE, Identification
+from rjcad.identify.signal import runs
 
 #: final RMSE / noise σ up to which an experiment counts as explained to the noise floor
 FLOOR_RATIO = 1.2
@@ -148,8 +150,8 @@ def _grid(plt, n: int, ncols: int, w: float, h: float):
 def plot_fit(ident: Identification, js: dict, path) -> Path:
     """Measured quantity vs joint angle [deg] per experiment: data (grey), design and final model."""
     plt = _pyplot()
-    preds_d = ident.predictions(ident.design.values)
-    preds_f = ident.predictions(ident.final.values)
+    preds_d = ident.design_predictions
+    preds_f = ident.final_predictions
     n = len(ident.prepared)
     fig, axes = _grid(plt, n, 1 if n == 1 else 2, 6.5, 4.2)
     for ax, p, e, yd, yf in zip(axes.flat, ident.prepared, js["experiments"], preds_d, preds_f):
@@ -178,8 +180,8 @@ def plot_residuals(ident: Identification, js: dict, path) -> Path:
     Both panels of an experiment share the y-scale, so the shrink is visible; masked samples are left out.
     """
     plt = _pyplot()
-    preds_d = ident.predictions(ident.design.values)
-    preds_f = ident.predictions(ident.final.values)
+    preds_d = ident.design_predictions
+    preds_f = ident.final_predictions
     n = len(ident.prepared)
     fig, axes = plt.subplots(n, 2, figsize=(11, 2.8 * n), squeeze=False, sharey="row")
     for row, p, e, yd, yf in zip(axes, ident.prepared, js["experiments"], preds_d, preds_f):
@@ -238,16 +240,15 @@ def plot_diagnostics(ident: Identification, js: dict, path) -> Path:
     residual is drawn relative to its value at the start of the hold, so a decay is relaxation.
     """
     plt = _pyplot()
-    preds_d = ident.predictions(ident.design.values)
+    preds_d = ident.design_predictions
     n = len(ident.prepared)
     fig, axes = plt.subplots(n, 2, figsize=(11, 2.8 * n), squeeze=False)
     for row, p, e, yd in zip(axes, ident.prepared, js["experiments"], preds_d):
         unit = quantity_unit(e["quantity"])
         ok = p.valid
         r = (p.exp.y - yd)
-        th, s, v = p.motion.theta[ok], p.motion.direction[ok], p.motion.velocity[ok]
-        X = np.column_stack([np.ones_like(th), th, th**2, s, s * th])
-        coef, *_ = np.linalg.lstsq(X, r[ok], rcond=None) if len(th) > 5 else (np.zeros(5),)
+        s, v = p.motion.direction[ok], p.motion.velocity[ok]
+        coef, X = angle_direction_fit(p, r)
         left = r[ok] - X @ coef
         k = _stride(len(v))
         ax = row[0]
@@ -260,9 +261,7 @@ def plot_diagnostics(ident: Identification, js: dict, path) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, markerscale=3, loc="best")
         ax = row[1]
-        hold = p.motion.hold & ok
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], hold.astype(np.int8), [0]])))
-        for i, (a, b) in enumerate(zip(edges[::2], edges[1::2])):
+        for a, b in runs(p.motion.hold & ok):
             if b - a < 5:
                 continue
             tt = p.exp.t[a:b] - p.exp.t[a]

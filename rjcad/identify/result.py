@@ -22,7 +22,7 @@ def _r(x, nd: int = 6):
 
 def residuals(ident: Identification, values=None) -> list[np.ndarray]:
     """y − ŷ per experiment (full length, quantity units) for ``values`` (default: the final model)."""
-    preds = ident.predictions(values)
+    preds = ident.final_predictions if values is None else ident.predictions(values)
     return [p.exp.y - yh for p, yh in zip(ident.prepared, preds)]
 
 
@@ -40,8 +40,8 @@ def to_json(ident: Identification) -> dict:
     for n in ident.not_identifiable:  # reported, not fitted arbitrarily
         if n in fin.names:
             params.pop(n, None)
-    r_design = residuals(ident, des.values)
-    r_final = residuals(ident, fin.values)
+    r_design = [p.exp.y - yh for p, yh in zip(ident.prepared, ident.design_predictions)]
+    r_final = residuals(ident)
     exps = []
     for p, rmse_d, rmse_f, rd, rf in zip(ident.prepared, des.rmse(), fin.rmse(), r_design, r_final):
         e = p.exp

@@ -11,13 +11,14 @@ from __future__ import annotations
 import math
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from rjcad.identify.catalogue import CATALOGUE, EFFECTS
 from rjcad.identify.data import Campaign
-from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, predict, \
-    prepare, unidentifiable
+from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, param_names, \
+    predict, prepare, unidentifiable
 
 BIC_GATE = 10.0
 RELEVANCE = 0.01
@@ -65,6 +66,14 @@ class Identification:
         v = self.final.values if values is None else values
         return [predict(v, p) for p in self.prepared]
 
+    @cached_property
+    def design_predictions(self) -> list[np.ndarray]:
+        return self.predictions(self.design.values)
+
+    @cached_property
+    def final_predictions(self) -> list[np.ndarray]:
+        return self.predictions(self.final.values)
+
     @property
     def gain(self) -> float:
         return _gain(self.design.rmse(), self.final.rmse())
@@ -85,22 +94,19 @@ class Selector:
         self.base = base_values(campaign)
         self.prob = Problem(campaign, self.prepared, self.base)
         self.frozen: dict[str, str] = {}   # parameters fixed at neutral: not identifiable
+        self._lo, self._hi = {}, {}
+        for e in CATALOGUE:
+            lo, hi = e.bounds(self.design_json)
+            self._lo.update(zip(e.param_names, lo))
+            self._hi.update(zip(e.param_names, hi))
         self._fold_ids = sorted({int(f) for p in self.prepared for f in np.unique(p.folds) if f >= 0})
 
     # -- fitting a set of effects ------------------------------------------------------------
     def free_names(self, effects) -> tuple[str, ...]:
-        return tuple(n for e in effects for n in EFFECTS[e].param_names if n not in self.frozen)
+        return tuple(n for n in param_names(effects) if n not in self.frozen)
 
     def bounds(self, names):
-        lo, hi = [], []
-        for e in CATALOGUE:
-            l, h = e.bounds(self.design_json)
-            for p, a, b in zip(e.params, l, h):
-                if p.name in names:
-                    lo.append((p.name, a))
-                    hi.append((p.name, b))
-        lo, hi = dict(lo), dict(hi)
-        return [lo[n] for n in names], [hi[n] for n in names]
+        return [self._lo[n] for n in names], [self._hi[n] for n in names]
 
     def starts(self, effects, start: dict[str, float]) -> list[dict[str, float]]:
         """Start points: accepted parameters at ``start``; a new effect at its typical sizes (several for T_r)."""
@@ -222,8 +228,10 @@ class Selector:
                 out[n] = (f"the data only bound it: values {flat[0]} {v:.4g} fit as well (a {100 * rel:g} % move "
                           f"that way changes χ² by < {gate:g}); what it acts on is out of reach there, "
                           f"e.g. a slack tendon")
-            elif v - a <= 1e-6 * max(abs(a), 1.0) or b - v <= 1e-6 * max(abs(b), 1.0):
-                out[n] = f"at its {'lower' if v - a <= 1e-6 * max(abs(a), 1.0) else 'upper'} bound"
+            elif v - a <= 1e-6 * max(abs(a), 1.0):
+                out[n] = "at its lower bound"
+            elif b - v <= 1e-6 * max(abs(b), 1.0):
+                out[n] = "at its upper bound"
         return out
 
     @contextmanager
@@ -243,7 +251,7 @@ class Selector:
         confounding partner may have been dropped since); if that changes, the final set is refitted.
         Effects not accepted report the parameters this campaign could not identify at all.
         """
-        acc = set(n for e in accepted for n in EFFECTS[e].param_names)
+        acc = set(param_names(accepted))
         start = {n: current.values[n] for n in current.names}
         if any(n in acc for n in self.frozen):
             kept, self.frozen = self.frozen, {}

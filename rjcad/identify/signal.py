@@ -70,21 +70,16 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     glitch = spikes(raw, sig)
     if glitch.any():  # a camera glitch: replace by the running median before smoothing
         raw = np.where(glitch, median_filter(raw, size=5, mode="nearest"), raw)
-    if n >= w:
-        th = savgol_filter(raw, w, 2, mode="interp")
-        dth = savgol_filter(raw, w, 2, deriv=1, mode="interp")
-    else:
-        th, dth = raw.copy(), np.gradient(raw)
-    dti = np.gradient(t)
+    th = savgol_filter(raw, w, 2, mode="interp") if n >= w else raw.copy()
     wv = _window(t, span_v_s)  # velocity: a wider window, local slope (noise ∝ w^−3/2, bias ∝ θ‴·w²)
-    vel = (savgol_filter(raw, wv, 2, deriv=1, mode="interp") if n >= wv else dth) / dti
+    vel = (savgol_filter(raw, wv, 2, deriv=1, mode="interp") if n >= wv else np.gradient(raw)) / np.gradient(t)
     # σ of the smoothed angle: white noise through the SG kernel (Σh² of its central row)
     sig_s = sig * math.sqrt(float(np.sum(savgol_coeffs(w, 2) ** 2))) if n >= w else sig
     # the range of n Gaussian samples stays below 2·√(2 ln n)·σ: a hold never trips the trigger
     h = max((2.0 * math.sqrt(2.0 * math.log(max(n, 2))) + 2.0) * sig_s, 0.01 * math.pi / 180)
 
     start_dir, exts = _schmitt(th, h)
-    direction, reversals, valid = _direction_and_mask(th, vel, start_dir, exts, h, w, dti)
+    direction, reversals, valid = _direction_and_mask(th, start_dir, exts, h, w)
     hold = _holds(vel, t, sig, wv, min_hold_s)
     cycle = _cycles(n, reversals, direction)
     at_reversal = ~valid
@@ -130,7 +125,7 @@ def _schmitt(th: np.ndarray, h: float):
     return s0, np.array(exts, dtype=int)
 
 
-def _direction_and_mask(th, vel, s0, exts, h, w, dti):
+def _direction_and_mask(th, s0, exts, h, w):
     """Direction per sample, reversal indices, and a mask that is False where the direction is ambiguous.
 
     Around each extremum, the samples within h of it form a block. A short block is a turn: the
@@ -185,13 +180,17 @@ def _holds(vel, t, sig, w, min_hold_s) -> np.ndarray:
     sig_v = sig * math.sqrt(12.0 / (w * (w * w - 1))) / dt
     moving_speed = np.percentile(np.abs(vel), 90) if len(vel) else 0.0
     thr = max(5.0 * sig_v, 0.02 * moving_speed, 1e-6)
-    still = np.abs(vel) < thr
-    out = np.zeros_like(still)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(np.int8), [0]])))
-    for a, b in zip(edges[::2], edges[1::2]):
+    out = np.zeros(len(vel), dtype=bool)
+    for a, b in runs(np.abs(vel) < thr):
         if t[b - 1] - t[a] >= min_hold_s:
             out[a:b] = True
     return out
+
+
+def runs(mask) -> list[tuple[int, int]]:
+    """(start, end) of each run of True in ``mask``, end exclusive."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], np.asarray(mask, dtype=np.int8), [0]])))
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
 
 
 def _cycles(n: int, reversals: np.ndarray, direction: np.ndarray) -> np.ndarray:
