@@ -13,7 +13,8 @@ OpenCASCADE's parallel booleans and meshing are not deterministic from run to ru
 triangles in another order, coordinates that differ by 1e-17 mm), the digest compares what is:
 an STL's triangles sorted, coordinates to 1e-6 mm; a STEP file without its header's FILE_NAME
 (a date and a path), numbers to 1e-9; a 3MF by each object's name and sorted triangles (its zip
-holds dates and its XML random UUIDs). Everything else is byte for byte.
+holds dates and its XML random UUIDs). A PNG is compared by its pixels, so that dropping the
+matplotlib version from its metadata is not a change. Everything else is byte for byte.
 """
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+from PIL import Image
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -61,6 +63,9 @@ def digest(data: bytes, name: str) -> str:
     if name.endswith(".step"):
         data = _STEP_HEADER.sub(b"FILE_NAME();", data)
         data = _FLOAT.sub(_round, data)
+    if name.endswith(".png"):
+        with Image.open(io.BytesIO(data)) as im:
+            data = f"{im.mode} {im.size}".encode() + im.tobytes()
     if name.endswith(".stl"):
         tri = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", 9), ("a", "<u2")]))
         data = data[:84] + _sorted_triangles(tri["v"])
