@@ -18,7 +18,7 @@ import trimesh
 
 from rjcad import check as chk
 from rjcad.cad.build import write_joint
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 from rjcad.materials import get_printer
 
 

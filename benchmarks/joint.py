@@ -13,7 +13,7 @@ import statistics
 import time
 
 from rjcad.cad import build as jb
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 
 
 def main() -> None:

@@ -160,7 +160,7 @@ _JOINT_FIELDS = {
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
     from rjcad.cad.build import write_joint
-    from rjcad.cad.params import JointParams
+    from rjcad.params import JointParams
 
     params = JointParams(**_merge_config(options, config, _JOINT_FIELDS))
     b = write_joint(params, out_dir, png=not no_png)

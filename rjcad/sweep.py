@@ -238,7 +238,7 @@ def build_task(point: dict, mesh_dir: str | None = None) -> dict:
     t0 = time.perf_counter()
     try:
         from rjcad.cad.build import build, render_files
-        from rjcad.cad.params import JointParams
+        from rjcad.params import JointParams
 
         p = JointParams(stiffness=float(point["stiffness_nmm_per_rad"]),
                         rotation=math.radians(float(point["rotation_deg"])),

@@ -98,7 +98,7 @@ def test_stops_bound_the_range(default_joint):
 
 def test_hook_sits_preload_clockwise_of_its_post():
     from rjcad.cad.joint import build_joint
-    from rjcad.cad.params import JointParams
+    from rjcad.params import JointParams
     import cadquery as cq
 
     p = JointParams()
@@ -139,7 +139,7 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     # moment arm: groove bottom 5.7 mm (measured) + half the 0.6 mm line = 6.0 mm (the default)
     assert m["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
     # wrap angle: the base channel climbs r = 6 mm over 40.5 − (X_g + 3) mm (X_g: where the fork block starts)
-    from rjcad.cad.params import JointParams
+    from rjcad.params import JointParams
     xb = JointParams().ground_block_start
     hand = math.atan2(6.0, 40.5 - (xb + 3.0))
     assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
@@ -148,7 +148,7 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
 
 def test_moment_arm_follows_the_parameter(tmp_path):
     from rjcad.cad.build import build
-    from rjcad.cad.params import JointParams
+    from rjcad.params import JointParams
 
     b = build(JointParams(tendon_moment_arm=7.5))
     assert b.manifest["tendon_moment_arm_mm"] == pytest.approx(7.5, abs=1e-6)

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from mesh_tools import manifold, sweep_collisions
 
 from rjcad.cad.build import build
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 from rjcad.errors import InfeasibleDesign, ParameterError
 
 DEG = math.pi / 180

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 from rjcad.errors import InfeasibleDesign, RjcadError
 from rjcad.physics import finger as fm
 from rjcad.physics.inverse import _printable_scale, arm_range, design_finger

@@ -20,7 +20,7 @@ from rjcad.cad.joint import (
     moving_channel_points,
     strip_volume,
 )
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 
 
 def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:

@@ -31,7 +31,7 @@ from rjcad.cad.joint import (
     support_pin,
     tube_path,
 )
-from rjcad.cad.params import DEG, JointParams
+from rjcad.params import DEG, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
 from rjcad.errors import ParameterError, RjcadError

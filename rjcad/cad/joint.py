@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import cadquery as cq
 
-from rjcad.cad.params import JointParams
+from rjcad.params import JointParams
 from rjcad.cad.spiral import radial_box, ring_hook, strip_solid
 
 Z = cq.Vector(0, 0, 1)

@@ -12,7 +12,7 @@ r_i·T = K_i·θ0_i and sits at θ_i = r_i·T/K_i − θ0_i. For target end angl
 * the free scale r·T_e sets the softest joint to the preferred stiffness, or the
   nearest one at which every joint is a printable spring.
 
-Every joint is checked as the joint builder checks it (rjcad.cad.params.JointParams:
+Every joint is checked as the joint builder checks it (rjcad.params.JointParams:
 spring from the optimiser, preload, rotation, moment arm and link length), and the
 simulated closure must end within 1° of the targets in the requested order.
 """
@@ -29,7 +29,7 @@ from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics.finger import Closure, FingerModel, onset_tendon, simulate_stroke
 
 DEG = math.pi / 180
-PRELOAD_RANGE = (30 * DEG, 120 * DEG)  # the joint builder's limits (rjcad.cad.params.RANGES)
+PRELOAD_RANGE = (30 * DEG, 120 * DEG)  # the joint builder's limits (rjcad.params.RANGES)
 ROTATION_MAX = 110 * DEG
 STIFFNESS_RANGE = (0.2, 60.0)  # N·mm/rad, the joint builder's limits
 LEAD = 0.6  # proximal-first: x_1 = LEAD·x_2 when the preload limits allow it
@@ -76,7 +76,7 @@ class FingerDesign:
 
 def _buildable(k: float, preload: float, rotation: float, arm: float, material: str, printer: str):
     """None if the joint builder accepts this joint, else its error."""
-    from rjcad.cad.params import JointParams  # no CAD kernel: parameters and the spring optimiser only
+    from rjcad.params import JointParams  # no CAD kernel: parameters and the spring optimiser only
 
     try:
         JointParams(stiffness=float(k), preload=float(preload), rotation=float(rotation),

@@ -162,7 +162,7 @@ def builder_arms(manifest: str | None = None) -> tuple[tuple[float, ...], str]:
 
             raise ParameterError("manifest", m.n, "the paper's finger has 3 joints")
         return tuple(m.moment_arm), f"moment arms measured on the built finger ({manifest})"
-    from rjcad.cad.params import JointParams  # parameters only, no CAD kernel
+    from rjcad.params import JointParams  # parameters only, no CAD kernel
 
     a = JointParams().moment_arm
     return (a,) * 3, f"equal arms of {a:g} mm (the joint builder's design arm)"

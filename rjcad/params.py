@@ -1,4 +1,4 @@
-"""Validated, frozen parameters of one joint module, and the layout derived from them.
+"""Validated, frozen parameters of one joint module (no CAD kernel: physics reads them too), and the layout derived from them.
 
 Coordinates: the joint axis is +Z through the origin; the ground link runs to
 −X, the moving link to +X; positive rotation about +Z is flexion (towards +Y).
@@ -17,7 +17,8 @@ from functools import cached_property
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
-from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement, design_spring
+from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
+from rjcad.spring.optimise import design_spring
 
 DEG = math.pi / 180.0
 
