@@ -14,6 +14,7 @@ import traceback
 import click
 
 from rjcad import spring as sp
+from rjcad.spring.optimise import design_spring
 from rjcad.config import load_toml
 from rjcad.errors import RjcadError
 from rjcad.materials import MATERIALS, PRINTERS
@@ -93,7 +94,7 @@ def _print_table(rows: list[tuple[str, str, str]]) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def spring(config, as_json, **options):
     """Design the twin spiral springs of one joint (smallest outer radius)."""
-    design = sp.design_spring(_requirement(options, config))
+    design = design_spring(_requirement(options, config))
     d = design.to_dict()
     if as_json:
         click.echo(json.dumps(d, indent=2))

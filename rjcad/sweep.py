@@ -38,6 +38,7 @@ from typing import Any, Callable
 import numpy as np
 
 from rjcad import spring as sp
+from rjcad.spring.optimise import CONSTRAINTS, infeasible_message, optimise_arrays
 from rjcad.config import load_toml, write_atomic
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.materials import get_material, get_printer
@@ -199,7 +200,7 @@ def analytic_rows(points: list[dict]) -> list[dict]:
         pre = np.radians([float(points[i]["preload_deg"]) for i in idx])
         sf = np.array([float(points[i]["safety_factor"]) for i in idx])
         allow = material.yield_strength_mpa / sf
-        res = sp.optimise_arrays(K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end)
+        res = optimise_arrays(K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end)
         E = material.youngs_modulus_mpa
         Ks = sp.stiffness(E, res["width"], res["thickness"], res["length"], end)
         cols = {
@@ -216,11 +217,11 @@ def analytic_rows(points: list[dict]) -> list[dict]:
                 row.update(status="ok", feasible=True, binding="", error="",
                            stress_margin=float(allow[k] / res["max_stress"][k]))
             else:
-                name = sp.CONSTRAINTS[int(res["binding"][k])]
+                name = CONSTRAINTS[int(res["binding"][k])]
                 row.update(status="infeasible", feasible=False, binding=name,
-                           error=sp._infeasible_message(name, float(res["binding_value"][k]),
-                                                        float(res["binding_limit"][k]),
-                                                        float(res["thickness"][k]), float(res["width"][k]), None))
+                           error=infeasible_message(name, float(res["binding_value"][k]),
+                                                    float(res["binding_limit"][k]),
+                                                    float(res["thickness"][k]), float(res["width"][k])))
             rows[i] = row
     out = [r for r in rows if r is not None]
     _life_columns(out)

@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from rjcad import life
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign
+from rjcad.spring import optimise as opt
 
 
 def test_packaged_table_i_with_its_conditions():
@@ -177,7 +178,7 @@ def test_selection_frequencies_small_run():
 
 
 def test_spring_json_has_predicted_life_without_min_cycles():
-    d = sp.design_spring(sp.SpringRequirement(5.2, math.pi / 2, math.pi / 2)).to_dict()
+    d = opt.design_spring(sp.SpringRequirement(5.2, math.pi / 2, math.pi / 2)).to_dict()
     lo, hi = d["predicted_cycles_interval"]
     assert lo < d["predicted_cycles"] < hi and d["backlash_mm"] == 0.25 and d["min_cycles"] is None
     med, lo2, _ = life.predict_cycles(d["stress_amplitude_mpa"], d["thickness_mm"], 0.25)
@@ -186,12 +187,12 @@ def test_spring_json_has_predicted_life_without_min_cycles():
 
 def test_min_cycles_constraint_meets_or_names_life():
     req = dict(joint_stiffness=5.2, rotation=math.pi / 2, preload=math.pi / 2)
-    base = sp.design_spring(sp.SpringRequirement(**req))
-    ok = sp.design_spring(sp.SpringRequirement(**req, min_cycles=1e5))
+    base = opt.design_spring(sp.SpringRequirement(**req))
+    ok = opt.design_spring(sp.SpringRequirement(**req, min_cycles=1e5))
     assert ok.predicted_life()[1] >= 1e5
     assert ok.to_dict()["outer_radius_mm"] == base.to_dict()["outer_radius_mm"]
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(sp.SpringRequirement(**req, min_cycles=1e5, backlash=0.75))
+        opt.design_spring(sp.SpringRequirement(**req, min_cycles=1e5, backlash=0.75))
     assert e.value.constraint == "life"
     msg = str(e.value)
     assert "\n" not in msg and "--min-cycles" in msg and "backlash 0.75 mm" in msg and "--backlash" in msg
@@ -207,14 +208,14 @@ def test_life_constraint_property(args):
     K, rot, pre, n_min, backlash = args
     kw = dict(joint_stiffness=K, rotation=math.radians(rot), preload=math.radians(pre), outer_radius_max=60.0)
     try:
-        free = sp.design_spring(sp.SpringRequirement(**kw))
+        free = opt.design_spring(sp.SpringRequirement(**kw))
     except InfeasibleDesign:
         free = None
     req = sp.SpringRequirement(**kw, min_cycles=n_min, backlash=backlash)
     try:
-        dsg = sp.design_spring(req)
+        dsg = opt.design_spring(req)
     except InfeasibleDesign as e:
-        assert e.constraint in sp.CONSTRAINTS
+        assert e.constraint in opt.CONSTRAINTS
         if free is not None:  # only the life constraint can have made a feasible requirement infeasible
             assert e.constraint == "life"
             assert life.predict_cycles(free.stress_amplitude, free.thickness, backlash)[1][0] < n_min
@@ -234,13 +235,13 @@ def test_life_constraint_with_a_stress_dependent_model(K, rot, n_min):
     try:
         kw = dict(joint_stiffness=K, rotation=math.radians(rot), preload=math.pi / 2, outer_radius_max=60.0)
         try:
-            free = sp.design_spring(sp.SpringRequirement(**kw))
+            free = opt.design_spring(sp.SpringRequirement(**kw))
         except InfeasibleDesign:
             return
         try:
-            dsg = sp.design_spring(sp.SpringRequirement(**kw, min_cycles=n_min))
+            dsg = opt.design_spring(sp.SpringRequirement(**kw, min_cycles=n_min))
         except InfeasibleDesign as e:
-            assert e.constraint in sp.CONSTRAINTS
+            assert e.constraint in opt.CONSTRAINTS
             assert life.predict_cycles(free.stress_amplitude, free.thickness, 0.25)[1][0] < n_min
             return
         assert dsg.predicted_life()[1] >= n_min * (1 - 1e-9)

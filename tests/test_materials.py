@@ -2,7 +2,7 @@ import pytest
 
 from rjcad.errors import ParameterError
 from rjcad.materials import MATERIALS, PRINTERS, get_material, get_printer
-from rjcad.spring import thickness_candidates
+from rjcad.spring.optimise import thickness_candidates
 
 
 def test_required_materials_present_with_sources():

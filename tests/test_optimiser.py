@@ -7,8 +7,9 @@ from spring_reference import brute_force
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import get_material, get_printer
+from rjcad.spring import optimise as opt
+from rjcad.units import DEG
 
-DEG = math.pi / 180
 
 
 def paper_requirement(**kw):
@@ -19,7 +20,7 @@ def paper_requirement(**kw):
 
 def test_paper_joint_is_feasible_and_meets_every_constraint():
     req = paper_requirement()
-    d = sp.design_spring(req)
+    d = opt.design_spring(req)
     E, yield_ = 2200.0, 31.0
     # stiffness: pinned K = 0.8·E·b·t³/(12L), each spring 2.6, joint 5.2, within 0.5 %
     K = 0.8 * E * d.width * d.thickness**3 / (12 * d.length)
@@ -54,7 +55,7 @@ def test_paper_joint_is_feasible_and_meets_every_constraint():
 
 
 def test_paper_joint_json_keys():
-    d = sp.design_spring(paper_requirement()).to_dict()
+    d = opt.design_spring(paper_requirement()).to_dict()
     for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
                 "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
                 "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end"):
@@ -64,27 +65,27 @@ def test_paper_joint_json_keys():
 
 
 def test_clamped_end_needs_less_spring_than_pinned():
-    pinned = sp.design_spring(paper_requirement(end="pinned"))
-    clamped = sp.design_spring(paper_requirement(end="clamped"))
+    pinned = opt.design_spring(paper_requirement(end="pinned"))
+    clamped = opt.design_spring(paper_requirement(end="clamped"))
     assert clamped.outer_radius < pinned.outer_radius
     assert clamped.width < pinned.width
 
 
 def test_papers_printer_allows_thinner_strips():
-    d = sp.design_spring(paper_requirement(printer="dimension-elite"))
+    d = opt.design_spring(paper_requirement(printer="dimension-elite"))
     assert d.thickness == pytest.approx(0.7)  # not a multiple of 0.4: this printer varies its roads
     assert d.outer_radius <= brute_force(d.requirement, margin=0.01) * 1.01
 
 
 def test_inner_radius_lower_bound_is_used_and_respected():
-    d = sp.design_spring(paper_requirement(inner_radius_min=4.5))
+    d = opt.design_spring(paper_requirement(inner_radius_min=4.5))
     assert d.inner_radius == pytest.approx(4.5)
 
 
 def test_stress_binding_error_message():
     req = paper_requirement(joint_stiffness=60.0, width_max=3.0, outer_radius_max=500.0)
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(req)
+        opt.design_spring(req)
     assert e.value.constraint == "stress"
     msg = str(e.value)
     assert "MPa allowed at t =" in msg and "stronger material" in msg
@@ -94,7 +95,7 @@ def test_stress_binding_error_message():
 def test_outer_radius_binding_error_message():
     req = paper_requirement(outer_radius_max=6.0)
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(req)
+        opt.design_spring(req)
     assert e.value.constraint == "outer_radius"
     assert "outer radius" in str(e.value) and "6 mm allowed" in str(e.value)
     assert brute_force(req, margin=0.01) == math.inf
@@ -104,7 +105,7 @@ def test_turns_binding_error_message():
     req = paper_requirement(joint_stiffness=40.0, rotation=20 * DEG, preload=0.0, min_turns=3.0,
                             width_max=3.0)
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(req)
+        opt.design_spring(req)
     assert e.value.constraint == "turns"
     assert brute_force(req, margin=0.01) == math.inf
 
@@ -112,7 +113,7 @@ def test_turns_binding_error_message():
 def test_inner_radius_binding_error_message():
     req = paper_requirement(inner_radius_min=1.0, inner_radius_max=2.0)
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(req)
+        opt.design_spring(req)
     assert e.value.constraint == "inner_radius"
     assert "3·t" in str(e.value)
 
@@ -120,7 +121,7 @@ def test_inner_radius_binding_error_message():
 def test_width_binding_error_message():
     req = paper_requirement(width_min=1.0, width_max=1.5)
     with pytest.raises(InfeasibleDesign) as e:
-        sp.design_spring(req)
+        opt.design_spring(req)
     assert e.value.constraint == "width"
 
 
@@ -159,11 +160,11 @@ def test_vectorised_optimiser_matches_scalar_designs():
     K_joint = np.array([2.0, 5.2, 7.8, 10.4, 12.0])
     rot = np.array([60, 90, 90, 90, 120]) * DEG
     pre = np.array([90, 90, 90, 90, 45]) * DEG
-    res = sp.optimise_arrays(
+    res = opt.optimise_arrays(
         K_joint / 2, rot + pre, material=get_material("absplus-p430"), printer=get_printer("generic-0.4"),
         allowed_stress=31.0 / 1.5, end="pinned")
     for i in range(len(K_joint)):
-        d = sp.design_spring(paper_requirement(joint_stiffness=K_joint[i], rotation=rot[i], preload=pre[i]))
+        d = opt.design_spring(paper_requirement(joint_stiffness=K_joint[i], rotation=rot[i], preload=pre[i]))
         assert res["feasible"][i]
         assert res["outer_radius"][i] == pytest.approx(d.outer_radius, rel=1e-12)
         assert res["width"][i] == pytest.approx(d.width)
@@ -173,11 +174,11 @@ def test_vectorised_optimiser_matches_scalar_designs():
 def test_stiffer_joint_of_the_paper_finger_is_feasible():
     # the paper's finger uses 5.2 × [1, 1.5, 2]
     for K in (5.2, 7.8, 10.4):
-        d = sp.design_spring(paper_requirement(joint_stiffness=K))
+        d = opt.design_spring(paper_requirement(joint_stiffness=K))
         assert d.joint_stiffness == pytest.approx(K, rel=0.005)
 
 
 def test_design_round_trips_through_its_json():
-    d = sp.design_spring(paper_requirement())
-    back = sp.design_from_dict(d.to_dict(), d.requirement)
+    d = opt.design_spring(paper_requirement())
+    back = opt.design_from_dict(d.to_dict(), d.requirement)
     assert back.to_dict() == d.to_dict()

@@ -9,8 +9,9 @@ from spring_reference import brute_force
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import MATERIALS, PRINTERS
+from rjcad.spring import optimise as opt
+from rjcad.units import DEG
 
-DEG = math.pi / 180
 
 requirements = st.builds(
     sp.SpringRequirement,
@@ -53,10 +54,10 @@ def assert_meets_every_constraint(d: sp.SpringDesign):
 @given(requirements)
 def test_optimiser_is_right_or_says_why(req):
     try:
-        d = sp.design_spring(req)
+        d = opt.design_spring(req)
     except InfeasibleDesign as e:
         event(f"infeasible: {e.constraint}")
-        assert e.constraint in sp.CONSTRAINTS
+        assert e.constraint in opt.CONSTRAINTS
         assert str(e)  # one clear sentence naming the binding constraint
         assert "\n" not in str(e)
         # never a false "infeasible": no design with a 1 % margin exists on a fine grid
@@ -74,7 +75,7 @@ def test_optimiser_is_right_or_says_why(req):
 def test_feasible_requirements_of_the_paper_family(K, rot, pre):
     req = sp.SpringRequirement(K, rot * DEG, pre * DEG, outer_radius_max=200.0, width_max=30.0)
     try:
-        d = sp.design_spring(req)
+        d = opt.design_spring(req)
     except InfeasibleDesign:
         assume(False)
     assert_meets_every_constraint(d)

@@ -1,0 +1,276 @@
+"""A spring requirement (what the user asks of one joint) and a spring design (one spring of the pair).
+
+Every derived value of a design comes from :mod:`rjcad.spring.formulas`. Lengths in mm,
+angles in rad, stresses in MPa. A joint has two springs in parallel, so a joint of
+stiffness K_joint uses springs of K_joint/2.
+
+A design reports its predicted life through the predictor it was built with
+(``life``; the optimiser passes ``rjcad.life.predict_cycles``): this module does not
+import ``rjcad.life``, whose Table I stresses come from the spring formulas.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+from rjcad.errors import ParameterError
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
+from rjcad.spring.formulas import (
+    DEFAULT_END,
+    END_CONDITIONS,
+    TWO_PI,
+    coil_gap,
+    outer_radius,
+    stiffness,
+    stress_amplitude,
+    windup_stress,
+)
+from rjcad.validate import in_range
+
+#: Thin-strip validity: the innermost centreline radius is at least this many t.
+MIN_RADIUS_TO_THICKNESS = 3.0
+#: A strip, not a plate on edge: width b is at least this many t.
+MIN_WIDTH_TO_THICKNESS = 2.0
+#: Stiffness tolerance the optimiser guarantees (relative).
+STIFFNESS_TOLERANCE = 0.005
+#: What the life keys of :meth:`SpringDesign.to_dict` rest on.
+LIFE_NOTE = ("rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 90 % interval; "
+             "an extrapolation for other materials and printers")
+
+#: (stress amplitude [MPa], thickness [mm], backlash [mm]) → (median, lower, upper) cycles, as arrays.
+LifePredictor = Callable[..., tuple]
+
+
+def check_end(end: str) -> str:
+    """``end`` if it is a known end condition, else ParameterError naming the known ones."""
+    if end not in END_CONDITIONS:
+        raise ParameterError("end", end, f"known end conditions: {', '.join(END_CONDITIONS)}")
+    return end
+
+
+def _angle(name: str, value, lo: float, lo_open: bool, limit: str) -> None:
+    """An angle in rad within lo..360° (shown in degrees); a non-finite value is shown as given."""
+    in_range(name, value, limit=limit)
+    in_range(name, value, lo, TWO_PI + 1e-12, lo_open=lo_open, deg=True, limit=limit)
+
+
+@dataclass(frozen=True)
+class SpringRequirement:
+    """What the user asks of one joint; validated on construction.
+
+    Angles in rad. ``joint_stiffness`` is the sum of the twin springs (N·mm/rad).
+    """
+
+    joint_stiffness: float
+    rotation: float
+    preload: float = math.pi / 2
+    material: str = DEFAULT_MATERIAL
+    printer: str = DEFAULT_PRINTER
+    safety_factor: float = 1.5
+    end: str = DEFAULT_END
+    width_min: float = 1.0
+    width_max: float = 10.0
+    inner_radius_min: float = 3.0
+    inner_radius_max: float = 10.0
+    outer_radius_max: float = 20.0
+    min_turns: float = 1.0
+    min_cycles: float | None = None
+    backlash: float = 0.25
+
+    def __post_init__(self):
+        in_range("stiffness", self.joint_stiffness, 0, 1e4, lo_open=True,
+                 limit="must be > 0 and <= 10000 N·mm/rad (joint, both springs)")
+        _angle("rotation", self.rotation, 0, True, "must be > 0 and <= 360 deg")
+        _angle("preload", self.preload, 0, False, "must be >= 0 and <= 360 deg")
+        in_range("safety_factor", self.safety_factor, 1.0, 100.0, limit="must be >= 1 and <= 100")
+        for name in ("width_min", "width_max", "inner_radius_min", "inner_radius_max", "outer_radius_max"):
+            in_range(name, getattr(self, name), 0, 1000, lo_open=True, limit="must be > 0 and <= 1000 mm")
+        in_range("width_max", self.width_max, self.width_min, limit=f"must be >= width_min = {self.width_min} mm")
+        in_range("inner_radius_max", self.inner_radius_max, self.inner_radius_min,
+                 limit=f"must be >= inner_radius_min = {self.inner_radius_min} mm")
+        in_range("min_turns", self.min_turns, 0.25, 100, limit="must be >= 0.25 and <= 100")
+        if self.min_cycles is not None:
+            in_range("min_cycles", self.min_cycles, 1, 1e9, limit="must be >= 1 and <= 1e9 cycles")
+        in_range("backlash", self.backlash, 0.05, 1.5, limit="must be >= 0.05 and <= 1.5 mm")
+        check_end(self.end)
+        object.__setattr__(self, "material", get_material(self.material).key)
+        object.__setattr__(self, "printer", get_printer(self.printer).key)
+
+    @property
+    def material_spec(self) -> Material:
+        return get_material(self.material)
+
+    @property
+    def printer_spec(self) -> Printer:
+        return get_printer(self.printer)
+
+    @property
+    def spring_stiffness(self) -> float:
+        """Stiffness of one of the twin springs, K_joint/2 [N·mm/rad]."""
+        return self.joint_stiffness / 2.0
+
+    @property
+    def max_windup(self) -> float:
+        """Total wind-up from the printed shape, preload + rotation [rad]."""
+        return self.preload + self.rotation
+
+    @property
+    def allowed_stress(self) -> float:
+        """Yield / safety factor [MPa]."""
+        return self.material_spec.yield_strength_mpa / self.safety_factor
+
+
+@dataclass(frozen=True)
+class SpringDesign:
+    """One spiral spring of a twin-spring joint. Lengths in mm, angles in rad.
+
+    ``life`` predicts cycles from (stress amplitude, thickness, backlash); without it the
+    design has no predicted life (no life keys in ``to_dict``).
+    """
+
+    width: float
+    thickness: float
+    length: float
+    inner_radius: float
+    pitch: float
+    turns: float
+    requirement: SpringRequirement = field(repr=False)
+    life: LifePredictor | None = field(default=None, repr=False, compare=False)
+
+    # --- derived, all from the model functions -----------------------------
+    @property
+    def end(self) -> str:
+        return self.requirement.end
+
+    @property
+    def youngs_modulus(self) -> float:
+        """E of the requirement's material [MPa]."""
+        return self.requirement.material_spec.youngs_modulus_mpa
+
+    @property
+    def centreline_outer_radius(self) -> float:
+        """r_in + p·n [mm]."""
+        return float(outer_radius(self.inner_radius, self.pitch, self.turns))
+
+    @property
+    def outer_radius(self) -> float:
+        """Encumbrance: outer centreline radius + t/2 [mm] (hook not included)."""
+        return self.centreline_outer_radius + self.thickness / 2.0
+
+    @property
+    def spring_stiffness(self) -> float:
+        return float(stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end))
+
+    @property
+    def joint_stiffness(self) -> float:
+        return 2.0 * self.spring_stiffness
+
+    def stress_at(self, theta: float) -> float:
+        """Peak stress at wind-up θ (rad) from the printed shape [MPa]."""
+        return float(windup_stress(self.youngs_modulus, self.width, self.thickness, self.length, theta, self.end))
+
+    @property
+    def max_stress(self) -> float:
+        """Peak stress at preload + rotation [MPa]."""
+        return self.stress_at(self.requirement.max_windup)
+
+    @property
+    def preload_stress(self) -> float:
+        return self.stress_at(self.requirement.preload)
+
+    @property
+    def min_coil_gap(self) -> float:
+        """Coil gap at maximum wind-up [mm]."""
+        return float(coil_gap(self.inner_radius, self.pitch, self.turns, self.thickness,
+                              self.requirement.max_windup))
+
+    @property
+    def print_coil_gap(self) -> float:
+        """Coil gap as printed (no wind-up), p − t [mm]."""
+        return self.pitch - self.thickness
+
+    @property
+    def stress_amplitude(self) -> float:
+        """Stress amplitude of the working cycle, preload → preload + rotation [MPa]."""
+        K = stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end)
+        return float(stress_amplitude(K, self.requirement.rotation, self.width, self.thickness, self.end))
+
+    def predicted_life(self) -> tuple[float, float, float]:
+        """Median cycles and 90 % interval from the life predictor (Table I's model, rjcad.life)."""
+        if self.life is None:
+            raise ValueError("this spring design has no life predictor: build it with rjcad.spring.optimise "
+                             "(design_spring or design_from_dict)")
+        med, lo, hi = self.life(self.stress_amplitude, self.thickness, self.requirement.backlash)
+        return float(med[0]), float(lo[0]), float(hi[0])
+
+    def constraint_report(self) -> dict[str, tuple[float, float, bool]]:
+        """Every constraint as name → (value, limit, met)."""
+        req = self.requirement
+        pr = req.printer_spec
+        steps = self.thickness / pr.thickness_step_mm
+        k_err = abs(self.spring_stiffness / req.spring_stiffness - 1.0)
+        tol = 1e-9
+        extra = {}
+        if req.min_cycles is not None:
+            lo = self.predicted_life()[1]
+            extra["life_lower_cycles"] = (lo, req.min_cycles, lo >= req.min_cycles * (1 - 1e-6))
+        b_min = max(req.width_min, MIN_WIDTH_TO_THICKNESS * self.thickness)
+        r_min = max(req.inner_radius_min, MIN_RADIUS_TO_THICKNESS * self.thickness)
+        return {**extra,
+            "stiffness_error": (k_err, STIFFNESS_TOLERANCE, k_err <= STIFFNESS_TOLERANCE),
+            "stress_mpa": (self.max_stress, req.allowed_stress, self.max_stress <= req.allowed_stress * (1 + tol)),
+            "min_wall_mm": (self.thickness, pr.min_wall_mm, self.thickness >= pr.min_wall_mm - tol),
+            "thickness_steps": (steps, round(steps), abs(steps - round(steps)) < 1e-6),
+            "coil_gap_mm": (self.min_coil_gap, pr.min_gap_mm, self.min_coil_gap >= pr.min_gap_mm - tol),
+            "turns": (self.turns, req.min_turns, self.turns >= req.min_turns - tol),
+            "width_min_mm": (self.width, b_min, self.width >= b_min - tol),
+            "width_max_mm": (self.width, req.width_max, self.width <= req.width_max + tol),
+            "inner_radius_min_mm": (self.inner_radius, r_min, self.inner_radius >= r_min - tol),
+            "inner_radius_max_mm": (self.inner_radius, req.inner_radius_max,
+                                    self.inner_radius <= req.inner_radius_max + tol),
+            "outer_radius_mm": (self.outer_radius, req.outer_radius_max,
+                                self.outer_radius <= req.outer_radius_max + tol),
+        }
+
+    def to_dict(self) -> dict:
+        """The pinned JSON keys of ``rjcad spring --json`` (and a few more)."""
+        req = self.requirement
+        K = self.spring_stiffness
+        return {
+            "width_mm": self.width,
+            "thickness_mm": self.thickness,
+            "length_mm": self.length,
+            "inner_radius_mm": self.inner_radius,
+            "pitch_mm": self.pitch,
+            "turns": self.turns,
+            "outer_radius_mm": self.outer_radius,
+            "centreline_outer_radius_mm": self.centreline_outer_radius,
+            "spring_stiffness_nmm_per_rad": K,
+            "joint_stiffness_nmm_per_rad": 2.0 * K,
+            "max_stress_mpa": self.max_stress,
+            "allowed_stress_mpa": req.allowed_stress,
+            "preload_stress_mpa": self.preload_stress,
+            "min_coil_gap_mm": self.min_coil_gap,
+            "print_coil_gap_mm": self.print_coil_gap,
+            "preload_torque_nmm": 2.0 * K * req.preload,
+            "max_torque_nmm": 2.0 * K * req.max_windup,
+            "material": req.material,
+            "printer": req.printer,
+            "end": req.end,
+            "safety_factor": req.safety_factor,
+            "rotation_deg": math.degrees(req.rotation),
+            "preload_deg": math.degrees(req.preload),
+            "requested_joint_stiffness_nmm_per_rad": req.joint_stiffness,
+            "stress_amplitude_mpa": self.stress_amplitude,
+            "backlash_mm": req.backlash,
+            "min_cycles": req.min_cycles,
+            **self._life_keys(),
+        }
+
+    def _life_keys(self) -> dict:
+        if self.life is None:
+            return {}
+        med, lo, hi = self.predicted_life()
+        return {"predicted_cycles": med, "predicted_cycles_interval": [lo, hi], "life_model": LIFE_NOTE}
