@@ -1,0 +1,72 @@
+"""Executing sweep tasks: on this process, a local process pool or a Dask cluster, with a progress display."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Callable
+
+
+class Progress:
+    """A progress bar with rate and ETA on a terminal; plain periodic lines otherwise."""
+
+    def __init__(self, total: int, stream=None, every_s: float = 5.0):
+        self.total, self.done, self.t0 = total, 0, time.perf_counter()
+        self.stream = stream or sys.stderr
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.every_s, self.last = every_s, 0.0
+
+    def update(self, n: int = 1) -> None:
+        self.done += n
+        now = time.perf_counter()
+        if self.tty or now - self.last >= self.every_s or self.done == self.total:
+            self.last = now
+            el = now - self.t0
+            rate = self.done / el if el > 0 else 0.0
+            eta = (self.total - self.done) / rate if rate > 0 else float("inf")
+            msg = f"{self.done}/{self.total} designs, {rate:.1f}/s, ETA {eta:.0f} s"
+            if self.tty:
+                w = 30
+                fill = int(w * self.done / max(self.total, 1))
+                self.stream.write(f"\r[{'#' * fill}{'.' * (w - fill)}] {msg}")
+                if self.done == self.total:
+                    self.stream.write("\n")
+            else:
+                self.stream.write(f"sweep: {msg}\n")
+            self.stream.flush()
+
+
+def run_tasks(fn: Callable, points: list[dict], workers: int, scheduler: str | None,
+              progress: Progress, on_row: Callable[[dict], None], **kw) -> None:
+    """Run ``fn(point, **kw)`` for every point on a local process pool or a Dask cluster."""
+    if not points:
+        return
+    if scheduler:
+        from dask.distributed import Client, as_completed
+
+        with Client(scheduler) as client:
+            futures = [client.submit(fn, pt, pure=False, **kw) for pt in points]
+            for fut in as_completed(futures):
+                on_row(fut.result())
+                progress.update()
+        return
+    if workers == 0:  # in this process (debugging, tests)
+        for pt in points:
+            on_row(fn(pt, **kw))
+            progress.update()
+        return
+    from concurrent.futures import ProcessPoolExecutor, as_completed as done
+    import multiprocessing as mp
+
+    # forkserver where the platform has it: a clean server process imports CadQuery once (about 2 s) and
+    # forks the workers from there, so they start at once; plain fork could inherit locked thread pools
+    if "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
+    else:
+        ctx = mp.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        futs = [pool.submit(fn, pt, **kw) for pt in points]
+        for fut in done(futs):
+            on_row(fut.result())
+            progress.update()
