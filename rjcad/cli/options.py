@@ -50,6 +50,9 @@ REQUIREMENT = (
 
 def requirement(after_printer: tuple[Field, ...] = (), **helps: str) -> tuple[Field, ...]:
     """``REQUIREMENT`` with ``after_printer`` inserted after ``--printer`` and help texts replaced (name → help)."""
+    unknown = set(helps) - {f.name for f in REQUIREMENT}
+    if unknown:
+        raise TypeError(f"requirement(): no option {', '.join(sorted(unknown))}")
     fields = tuple(f._replace(help=helps.get(f.name, f.help)) for f in REQUIREMENT)
     at = [f.name for f in fields].index("printer") + 1
     return fields[:at] + tuple(after_printer) + fields[at:]
