@@ -1,0 +1,89 @@
+"""``rjcad joint`` and ``rjcad finger``: build the solids, write meshes, preview and manifest, print a summary."""
+
+from __future__ import annotations
+
+import click
+
+from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+
+#: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
+FIELDS = requirement(
+    after_printer=(
+        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default 0.25)."),
+        Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40)."),
+        Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
+        Field("--tendon-moment-arm", "tendon_moment_arm_mm", float,
+              "Tendon moment arm about the axis [mm] (default 6)."),
+        Field("--pin-radius", "pin_radius_mm", float, "Knuckle pin radius [mm] (default 2)."),
+    ),
+    stiffness="Joint stiffness, both springs [N·mm/rad] (default 5.2).",
+    end="Spring outer end: pinned (default) or clamped.",
+)
+
+
+def _outputs(out_dir: str, stem: str, no_png: bool) -> str:
+    return f"{out_dir}/{stem}.{{stl,3mf,step{'' if no_png else ',png'},json}}"
+
+
+def _bodies(m: dict) -> tuple[str, str, str]:
+    return ("bodies", ", ".join(f"{b['name']} {b['mass_g']:.1f} g" for b in m["bodies"]), "")
+
+
+@click.command()
+@design_options(FIELDS, "TOML design (see templates/joint.toml).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/joint", show_default=True,
+              help="Output directory.")
+@click.option("--no-png", is_flag=True, help="Skip the preview image.")
+def joint(config, out_dir, no_png, **options):
+    """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
+    from rjcad.cad.build import write_joint
+    from rjcad.params import JointParams
+
+    params = JointParams(**merge_config(options, config, FIELDS))
+    b = write_joint(params, out_dir, png=not no_png)
+    click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
+    print_joint(b.manifest)
+
+
+def print_joint(m: dict) -> None:
+    """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
+    print_table([
+        ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", "N·mm/rad (both springs)"),
+        ("spring b × t × L", f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × "
+                             f"{m['spring']['length_mm']:.1f}", "mm"),
+        ("spring outer radius", f"{m['spring']['outer_radius_mm']:.2f}", "mm"),
+        ("tendon moment arm", f"{m['tendon_moment_arm_mm']:.3f}", "mm (measured)"),
+        ("tendon wrap angle", f"{m['tendon_wrap_angle_rad']:.3f}", "rad in the ground channel (measured)"),
+        ("min gap between bodies", f"{m['measured_min_gap_mm']:.3f}", "mm (on the mesh)"),
+        _bodies(m),
+        ("triangles", f"{m['mesh']['triangles']}", ""),
+    ])
+
+
+@click.command()
+@click.argument("template", required=False, type=click.Path(dir_okay=False))
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
+              help="Output directory.")
+@click.option("--no-png", is_flag=True, help="Skip the preview image.")
+def finger(template, out_dir, no_png):
+    """Build a finger of chained joint modules (default: the paper's finger, templates/finger.toml)."""
+    from rjcad.cad.build import write_finger
+    from rjcad.cad.finger import PAPER_FINGER, FingerParams
+
+    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(PAPER_FINGER, "built-in paper finger")
+    b = write_finger(fp, out_dir, png=not no_png)
+    m = b.manifest
+    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
+               f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
+    print_finger(m)
+
+
+def print_finger(m: dict) -> None:
+    """Summary table of a finger manifest: each joint's K, arm and wrap, the tendon length, the bodies."""
+    rows = [(f"joint {i + 1} ({j['parent']} → {j['child']})",
+             f"K {j['joint_stiffness_nmm_per_rad']:.2f}  r {j['tendon_moment_arm_mm']:.2f}  "
+             f"wrap {j['tendon_wrap_angle_rad']:.3f}",
+             "N·mm/rad, mm, rad") for i, j in enumerate(m["joints"])]
+    rows.append(("tendon length at rest", f"{m['tendon_length_mm']:.1f}", "mm"))
+    rows.append(_bodies(m))
+    print_table(rows)

@@ -1,0 +1,170 @@
+"""The physics commands: ``rjcad simulate joint|finger``, ``rjcad finger-design``, ``rjcad paper-finger``.
+
+Defaults that are the paper's measured values come from ``rjcad.paper``; degrees here, rad inside.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import click
+
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
+from rjcad.paper import FINGER, JOINT
+from rjcad.units import DEG
+
+
+@click.group()
+def simulate():
+    """Simulate the joint's hysteresis loop or the finger's closure."""
+
+
+def _plot(path, draw):
+    """Write a 7 × 5 in, 100 dpi PNG of one axes that ``draw(ax)`` fills (grid added here)."""
+    from rjcad.plotting import pyplot, save_png
+
+    fig, ax = pyplot().subplots(figsize=(7, 5))
+    draw(ax)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    save_png(fig, path, dpi=100)
+
+
+@simulate.command("joint")
+@click.option("--drive", type=click.Choice(["bar", "tendon"]), default="bar", show_default=True)
+@click.option("--routed", is_flag=True, help="Tendon slides on its path in the base link (capstan).")
+@click.option("--normal-load", type=float, default=JOINT.normal_load, show_default=True,
+              help="Transverse load F_n [N].")
+@click.option("--stiffness", type=float, default=JOINT.stiffness, show_default=True, help="K_s [N·mm/rad].")
+@click.option("--preload", type=float, default=JOINT.preload / DEG, show_default=True, help="θ_0 [deg].")
+@click.option("--mu-j", type=float, default=JOINT.mu_j, show_default=True, help="Generalised pin friction μ_j [mm].")
+@click.option("--gamma-pos", type=float, default=JOINT.gamma_pos, show_default=True, help="γ⁺ [N·mm/rad].")
+@click.option("--gamma-neg", type=float, default=JOINT.gamma_neg, show_default=True, help="γ⁻ [N·mm/rad].")
+@click.option("--beta-pos", type=float, default=JOINT.beta_pos, show_default=True, help="β⁺ (pulling, ≥ 1).")
+@click.option("--beta-neg", type=float, default=JOINT.beta_neg, show_default=True, help="β⁻ (releasing, ≤ 1).")
+@click.option("--pulley-radius", type=float, default=JOINT.pulley_radius, show_default=True,
+              help="Tendon moment arm r [mm].")
+@click.option("--rotation", type=float, required=True, help="Cycle 0 → rotation → 0 [deg].")
+@click.option("--json", "as_json", is_flag=True)
+@click.option("--plot", type=click.Path(dir_okay=False), help="Write the loop as a PNG.")
+def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_pos, gamma_neg, beta_pos, beta_neg,
+                   pulley_radius, rotation, as_json, plot):
+    """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7)."""
+    import numpy as np
+
+    from rjcad.physics.joint import JointModel, Setup, cycle, simulate as run
+
+    if not 0 < rotation <= 360:
+        raise click.BadParameter("must be in (0, 360] deg", param_hint="--rotation")
+    m = JointModel(stiffness=stiffness, preload=preload * DEG, mu_j=mu_j, gamma_pos=gamma_pos,
+                   gamma_neg=gamma_neg, beta_pos=beta_pos, beta_neg=beta_neg, pulley_radius=pulley_radius)
+    setup = Setup(drive, normal_load, routed)
+    th, d = cycle(rotation * DEG)
+    y = run(m, setup, th, direction=d)
+    if plot:
+        def draw(ax):
+            for sgn, lab in ((1, "flexing"), (-1, "extending")):
+                k = d == sgn
+                ax.plot(np.degrees(th[k]), y[k], label=lab)
+            ax.set_xlabel("joint angle θ_j [deg]")
+            ax.set_ylabel("torque [N·mm]" if drive == "bar" else "tendon force at the actuator [N]")
+            ax.legend()
+        _plot(plot, draw)
+    if as_json:
+        out = {"theta_deg": [math.degrees(v) for v in th], "direction": [int(v) for v in d],
+               setup.quantity: y.tolist()}
+        click.echo(json.dumps(out))
+    else:
+        click.echo(f"{setup.quantity}: {len(th)} samples, from {np.min(y):.3f} to {np.max(y):.3f}; "
+                   f"mean loop width {np.mean(y[d > 0]) - np.mean(y[d < 0]):.3f}")
+
+
+@simulate.command("finger")
+@click.argument("source", required=False, type=click.Path(dir_okay=False))
+@click.option("--stroke", type=float, default=FINGER.stroke, show_default=True, help="Tendon displacement [mm].")
+@click.option("--steps", type=click.IntRange(10, 100000), default=500, show_default=True)
+@click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
+@click.option("--json", "as_json", is_flag=True)
+@click.option("--plot", type=click.Path(dir_okay=False), help="Write θ_i(t_d) as a PNG.")
+def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
+    """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
+    import numpy as np
+
+    from rjcad.physics.finger import load_finger_model, simulate_stroke
+
+    if stroke <= 0:
+        raise click.BadParameter("must be > 0 mm", param_hint="--stroke")
+    model = load_finger_model(source, mu_t=mu_t)
+    c = simulate_stroke(model, stroke, steps=steps)
+    if plot:
+        def draw(ax):
+            pull = np.array([p == "pull" for p in c.phase])
+            for i in range(model.n):
+                ax.plot(c.tendon_mm[pull], np.degrees(c.theta[pull, i]), color=f"C{i}", label=f"θ{i + 1} pull")
+                ax.plot(c.tendon_mm[~pull], np.degrees(c.theta[~pull, i]), "--", color=f"C{i}",
+                        label=f"θ{i + 1} release")
+            ax.set_xlabel("tendon displacement t_d [mm]")
+            ax.set_ylabel("joint angle [deg]")
+            ax.legend(fontsize=8)
+        _plot(plot, draw)
+    if as_json:
+        click.echo(json.dumps(c.to_dict()))
+    else:
+        end = np.degrees(c.theta[steps])
+        click.echo(f"at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) deg, "
+                   f"tension {c.tension[steps]:.2f} N")
+
+
+@click.command("finger-design")
+@click.option("--target", required=True, help="End angles per joint [deg], e.g. 65,50,50.")
+@click.option("--stroke", type=float, required=True, help="Tendon displacement at the end [mm].")
+@click.option("--sequence", type=click.Choice(["simultaneous", "proximal-first"]), default="simultaneous",
+              show_default=True)
+@click.option("--base-stiffness", type=float, default=None,
+              help=f"Softest joint [N·mm/rad]; default {FINGER.designed_stiffness[0]:g}, "
+                   "rescaled if a spring would not be printable.")
+@click.option("--material", default=DEFAULT_MATERIAL, show_default=True)
+@click.option("--printer", default=DEFAULT_PRINTER, show_default=True)
+@click.option("--out", "out_path", type=click.Path(dir_okay=False), required=True, help="Finger template to write.")
+@click.option("--json", "as_json", is_flag=True)
+def finger_design(target, stroke, sequence, base_stiffness, material, printer, out_path, as_json):
+    """Choose stiffnesses, preloads and moment arms for a desired free closure; write a finger template."""
+    from rjcad.config import write_atomic
+    from rjcad.physics.inverse import design_finger
+
+    try:
+        angles = [float(v) for v in target.split(",")]
+    except ValueError:
+        raise click.BadParameter(f"{target!r} is not a list of angles like 65,50,50", param_hint="--target") from None
+    d = design_finger(angles, stroke, sequence, base_stiffness, material, printer)
+    write_atomic(out_path, d.template(material, printer))
+    rep = d.report()
+    if as_json:
+        click.echo(json.dumps(rep))
+    else:
+        print_finger_design(rep, out_path)
+
+
+def print_finger_design(rep: dict, out_path: str) -> None:
+    """The template written, the design's notes, and per joint: K, preload, arm, end error and onset."""
+    click.echo(f"wrote {out_path}")
+    for note in rep["notes"]:
+        click.echo(f"  note: {note}")
+    for i in range(len(rep["stiffness_nmm_per_rad"])):
+        click.echo(f"  joint {i + 1}: K {rep['stiffness_nmm_per_rad'][i]:.3f} N·mm/rad, preload "
+                   f"{rep['preload_deg'][i]:.1f} deg, arm {rep['tendon_moment_arm_mm'][i]:.2f} mm, "
+                   f"end error {rep['end_error_deg'][i]:+.3f} deg, starts at {rep['onset_tendon_mm'][i]:.2f} mm")
+
+
+@click.command("paper-finger")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="docs", show_default=True)
+@click.option("--manifest", type=click.Path(dir_okay=False),
+              help="Built finger manifest (out/finger/finger.json) for the design model's moment arms; "
+                   "default: the joint builder's design arm.")
+def paper_finger(out_dir, manifest):
+    """Regenerate docs/paper-finger.md: the paper's finger, the design model's error and its explanations."""
+    from rjcad.physics.paper_finger import write_doc
+
+    exps = write_doc(out_dir, manifest)
+    click.echo(f"wrote {out_dir}/paper-finger.md and paper-finger.png ({len(exps)} explanations fitted)")

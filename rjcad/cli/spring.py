@@ -1,0 +1,78 @@
+"""``rjcad spring``: design the twin spiral springs of one joint, print them as a table or JSON."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+from rjcad.spring import SpringDesign, SpringRequirement
+from rjcad.spring.optimise import design_spring
+from rjcad.units import DEG
+
+#: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
+FIELDS = requirement() + (
+    Field("--width-min", "width_min_mm", float, "Lower bound on spring width b [mm] (default 1)."),
+    Field("--width-max", "width_max_mm", float, "Upper bound on spring width b [mm] (default 10)."),
+    Field("--inner-radius-min", "inner_radius_min_mm", float,
+          "Lower bound on the inner (pin) radius [mm] (default 3)."),
+    Field("--inner-radius-max", "inner_radius_max_mm", float,
+          "Upper bound on the inner (pin) radius [mm] (default 10)."),
+    Field("--max-outer-radius", "max_outer_radius_mm", float, "Largest allowed outer radius [mm] (default 20)."),
+    Field("--min-turns", "min_turns", float, "Fewest turns of the spiral (default 1)."),
+    Field("--min-cycles", "min_cycles", float, "Required life: lower 90 % bound of the predicted cycles."),
+    Field("--backlash", "backlash_mm", float, "Pin backlash for the life model [mm] (default 0.25)."),
+)
+#: Options whose SpringRequirement field has another name.
+_RENAMED = {"stiffness": "joint_stiffness", "max_outer_radius": "outer_radius_max"}
+
+
+def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
+    """Merge defaults < config file < explicit options into a SpringRequirement (rotation defaults to 90°)."""
+    kwargs = {_RENAMED.get(k, k): v for k, v in merge_config(options, config, FIELDS).items()}
+    if "joint_stiffness" not in kwargs:
+        raise click.UsageError("missing --stiffness (or stiffness_nmm_per_rad in --config)")
+    kwargs.setdefault("rotation", 90.0 * DEG)
+    return SpringRequirement(**kwargs)
+
+
+@click.command()
+@design_options(FIELDS, "TOML file with the same keys (see templates/).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def spring(config, as_json, **options):
+    """Design the twin spiral springs of one joint (smallest outer radius)."""
+    design = design_spring(spring_requirement(options, config))
+    if as_json:
+        click.echo(json.dumps(design.to_dict(), indent=2))
+    else:
+        print_design(design)
+
+
+def print_design(design: SpringDesign) -> None:
+    """The design as a heading line and a table (degrees, mm, MPa, N·mm)."""
+    d = design.to_dict()
+    req = design.requirement
+    click.echo(f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
+               f"(two springs of {req.spring_stiffness:g}), {d['rotation_deg']:g}° rotation, "
+               f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end")
+    print_table([
+        ("width b", f"{d['width_mm']:.3f}", "mm"),
+        ("thickness t", f"{d['thickness_mm']:.3f}", "mm"),
+        ("length L", f"{d['length_mm']:.2f}", "mm"),
+        ("inner radius r_in", f"{d['inner_radius_mm']:.3f}", "mm (centreline)"),
+        ("pitch p", f"{d['pitch_mm']:.4f}", "mm"),
+        ("turns n", f"{d['turns']:.3f}", ""),
+        ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
+        ("spring stiffness", f"{d['spring_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (one spring)"),
+        ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (both)"),
+        ("peak stress", f"{d['max_stress_mpa']:.2f}", f"MPa at {d['rotation_deg'] + d['preload_deg']:g}° wind-up"),
+        ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
+        ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}", "mm at maximum wind-up"),
+        ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
+        ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
+        ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
+        ("predicted life", f"{d['predicted_cycles']:.3g}",
+         f"cycles (90 %: {d['predicted_cycles_interval'][0]:.2g}-{d['predicted_cycles_interval'][1]:.2g}; "
+         f"backlash {d['backlash_mm']:g} mm; see rjcad life)"),
+    ])
