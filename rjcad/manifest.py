@@ -75,7 +75,8 @@ def _vector(v) -> bool:
     return isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v)
 
 
-#: annotation (without "| None") → (test, what the error says it must be)
+#: annotation (without "| None") → (test, what the error says it must be). The annotations are read as
+#: strings (``from __future__ import annotations`` above): a field's type is its JSON schema.
 _KINDS = {
     "str": (lambda v: isinstance(v, str), "must be a string"),
     "float": (_is_number, "must be a number"),
@@ -189,6 +190,10 @@ class Manifest:
     extra: dict = field(default_factory=dict)
     #: the schema version it was read from (0: a joint's keys were flat at the top)
     read_version: int = field(default=SCHEMA_VERSION, compare=False, repr=False)
+
+    def __post_init__(self):
+        if self.kind not in KEY_ORDER:
+            raise ValueError(f"Manifest.kind must be one of {sorted(KEY_ORDER)}, not {self.kind!r}")
 
     # --- writing ---------------------------------------------------------------
     def to_json(self) -> dict:

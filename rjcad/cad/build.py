@@ -84,8 +84,7 @@ def build(p: JointParams) -> JointBuild:
     t3 = time.perf_counter()
     entry = joint_entry(p, "ground", "moving", list(solids.axis_point), list(solids.axis_dir))
     entry.tendon_moment_arm_mm, entry.tendon_wrap_angle_rad = arm, wrap
-    manifest = Manifest("joint", [entry], _bodies({"ground": solids.ground, "moving": solids.moving}, p),
-                        material=p.material, printer=p.printer, clearance_mm=p.clearance, extra={
+    extra = {
         "tendon_diameter_mm": p.tendon_diameter,
         "tendon_moment_arm_mm_requested": p.tendon_moment_arm,
         "pin_radius_mm": p.pin_radius,
@@ -116,7 +115,9 @@ def build(p: JointParams) -> JointBuild:
             "post_print": f"wind each spring's hook {math.degrees(p.preload):g} deg counter-clockwise "
                           "(in the flexion direction) and drop it over its post on the moving link",
         },
-    })
+    }
+    manifest = Manifest("joint", [entry], _bodies({"ground": solids.ground, "moving": solids.moving}, p),
+                        material=p.material, printer=p.printer, clearance_mm=p.clearance, extra=extra)
     return JointBuild(solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                  "measure_s": t3 - t2})
 
@@ -194,8 +195,7 @@ def build_finger_model(fp) -> FingerBuild:
         joints.append(entry)
     path = np.array(tendon_path(fp))
     p0 = fp.joints[0]
-    manifest = Manifest("finger", joints, _bodies(solids, p0), material=p0.material, printer=p0.printer,
-                        clearance_mm=p0.clearance, extra={
+    extra = {
         "template": fp.source,
         "n_joints": fp.n,
         "tendon_diameter_mm": p0.tendon_diameter,
@@ -208,7 +208,9 @@ def build_finger_model(fp) -> FingerBuild:
         "mesh": _mesh_summary(meshes),
         "frame": "joint 1's axis is +Z through the origin; the finger extends along +X; flexion is positive "
                  "about +Z (towards +Y, the tendon side); every body stands on z = 0",
-    })
+    }
+    manifest = Manifest("finger", joints, _bodies(solids, p0), material=p0.material, printer=p0.printer,
+                        clearance_mm=p0.clearance, extra=extra)
     t3 = time.perf_counter()
     return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                       "measure_s": t3 - t2})
