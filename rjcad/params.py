@@ -19,8 +19,8 @@ from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
-
-DEG = math.pi / 180.0
+from rjcad.units import DEG
+from rjcad.validate import in_range
 
 #: Validated ranges: name → (low, high, unit shown in errors). Angles in rad.
 RANGES = {
@@ -37,16 +37,8 @@ RANGES = {
 
 
 def _check(name: str, value, lo, hi, unit: str) -> None:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "must be a number") from None
-    shown = math.degrees(v) if unit == "deg" else v
-    show = (lambda x: f"{math.degrees(x):g}") if unit == "deg" else (lambda x: f"{x:g}")
-    if not math.isfinite(v) or (lo is not None and v < lo - 1e-12) or (hi is not None and v > hi + 1e-12):
-        limit = f"must be in [{show(lo)}, {show(hi)}] {unit}".strip() if lo is not None else \
-            f"must be <= {show(hi)} {unit}".strip()
-        raise ParameterError(name, shown, limit, unit=unit)
+    """``value`` within [lo, hi] (to 1e-12; shown in degrees when ``unit`` is "deg"), else ParameterError."""
+    in_range(name, value, lo, hi, unit=unit, deg=unit == "deg", tol=1e-12, not_a_number="must be a number")
 
 
 @dataclass(frozen=True)

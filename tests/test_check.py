@@ -28,7 +28,7 @@ def box(lo, hi):
 
 
 def union(*meshes):
-    from rjcad.check import to_manifold
+    from rjcad.mesh import to_manifold
 
     import manifold3d as m3
 
@@ -37,7 +37,7 @@ def union(*meshes):
 
 
 def difference(a, b):
-    from rjcad.check import to_manifold
+    from rjcad.mesh import to_manifold
 
     m = (to_manifold(a) - to_manifold(b)).to_mesh64()
     return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
@@ -166,7 +166,7 @@ def test_slicer_passes_on_a_good_mesh_and_fails_on_one_it_cannot_slice(tmp_path)
 
 
 def test_slicer_missing_is_skipped_never_passed(monkeypatch):
-    import rjcad.check as chk
+    import rjcad.check.slicer as chk
 
     monkeypatch.setattr(chk.shutil, "which", lambda name: None)
     rep = run_checks(hinge(), slicer="prusa")

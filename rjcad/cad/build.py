@@ -8,7 +8,6 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import manifold3d as m3
 import numpy as np
 import trimesh
 
@@ -20,13 +19,39 @@ from rjcad.cad.joint import (
     moving_channel_points,
     strip_volume,
 )
+from rjcad.manifest import BodyEntry, JointEntry, Manifest
+from rjcad.mesh import to_manifold
 from rjcad.params import JointParams
 
+GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
+             "max(clearance, the printer's vertical minimum)")
 
-def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
-    """manifold3d solid from a merged-vertex trimesh."""
-    return m3.Manifold(m3.Mesh(vert_properties=np.asarray(mesh.vertices, dtype=np.float32),
-                               tri_verts=np.asarray(mesh.faces, dtype=np.uint32)))
+
+def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float],
+                axis_dir: list[float]) -> JointEntry:
+    """Manifest entry of a joint built from ``p`` (the tendon's moment arm and wrap are measured later)."""
+    spring = p.spring.to_dict()
+    return JointEntry(
+        parent=parent, child=child, axis_point_mm=axis_point, axis_dir=axis_dir,
+        joint_stiffness_nmm_per_rad=spring["joint_stiffness_nmm_per_rad"],
+        requested_stiffness_nmm_per_rad=p.stiffness, spring=spring,
+        preload_deg=math.degrees(p.preload), rotation_deg=math.degrees(p.rotation),
+        link_length_mm=p.link_length, z_mid_mm=p.z_mid, height_mm=p.height,
+    )
+
+
+def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
+    """Name, volume [mm³] and mass [g] (at ``p``'s material density) of each solid."""
+    dens = p.material_spec.density_g_cm3
+    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0) for n, s in solids.items()]
+
+
+def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:
+    return {
+        "tolerance_mm": ex.MESH_TOLERANCE,
+        "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
+        "triangles": int(sum(len(m.faces) for m in meshes.values())),
+    }
 
 
 @dataclass
@@ -35,7 +60,7 @@ class JointBuild:
 
     solids: JointSolids
     meshes: dict[str, trimesh.Trimesh]
-    manifest: dict
+    manifest: Manifest
     timings: dict[str, float] = field(default_factory=dict)
 
 
@@ -57,28 +82,20 @@ def build(p: JointParams) -> JointBuild:
     man = [to_manifold(m) for m in meshes.values()]
     gap = float(man[0].min_gap(man[1], 2.0))
     t3 = time.perf_counter()
-    dens = p.material_spec.density_g_cm3
-    spring = p.spring.to_dict()
-    manifest = {
-        **p.summary(),
-        "spring": spring,
-        "joint_stiffness_nmm_per_rad": spring["joint_stiffness_nmm_per_rad"],
-        "bodies": [
-            {"name": name, "volume_mm3": float(s.Volume()), "mass_g": float(s.Volume()) * dens / 1000.0}
-            for name, s in (("ground", solids.ground), ("moving", solids.moving))
-        ],
-        "moving_body": "moving",
-        "axis_point_mm": list(solids.axis_point),
-        "axis_dir": list(solids.axis_dir),
-        "tendon_moment_arm_mm": arm,
-        "tendon_wrap_angle_rad": wrap,
+    entry = joint_entry(p, "ground", "moving", list(solids.axis_point), list(solids.axis_dir))
+    entry.tendon_moment_arm_mm, entry.tendon_wrap_angle_rad = arm, wrap
+    extra = {
+        "tendon_diameter_mm": p.tendon_diameter,
+        "tendon_moment_arm_mm_requested": p.tendon_moment_arm,
+        "pin_radius_mm": p.pin_radius,
+        "safety_factor": p.safety_factor,
+        "end": p.end,
         "gaps_mm": {
             "radial_pin_eye": p.gap_xy,
             "axial_stack": p.gap_z,
             "spring_internal_min": p.gap_internal,
             "extension_stop_in_print": p.clearance,
-            "note": "radial gaps print side by side in XY; axial gaps are Z steps and use "
-                    "max(clearance, the printer's vertical minimum)",
+            "note": GAPS_NOTE,
         },
         "measured_min_gap_mm": gap,
         "spring_strip_volume_mm3": strip_volume(p),
@@ -92,17 +109,15 @@ def build(p: JointParams) -> JointBuild:
             "note": "axis +Z through axis_point_mm; ground link to -X, moving link to +X; "
                     "flexion is positive about +Z; bottom on z = 0",
         },
-        "mesh": {
-            "tolerance_mm": ex.MESH_TOLERANCE,
-            "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
-            "triangles": int(sum(len(m.faces) for m in meshes.values())),
-        },
+        "mesh": _mesh_summary(meshes),
         "print": {
             "orientation": "as exported: joint axis vertical (Z), bottom spring on the bed",
             "post_print": f"wind each spring's hook {math.degrees(p.preload):g} deg counter-clockwise "
                           "(in the flexion direction) and drop it over its post on the moving link",
         },
     }
+    manifest = Manifest("joint", [entry], _bodies({"ground": solids.ground, "moving": solids.moving}, p),
+                        material=p.material, printer=p.printer, clearance_mm=p.clearance, extra=extra)
     return JointBuild(solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                  "measure_s": t3 - t2})
 
@@ -133,7 +148,7 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             ])
     t3 = time.perf_counter()
     b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "png_s": t3 - t2})
-    files[f"{name}.json"] = json.dumps(b.manifest, indent=2) + "\n"
+    files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
 
 
@@ -157,13 +172,13 @@ class FingerBuild:
     params: object  # rjcad.cad.finger.FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
-    manifest: dict
+    manifest: Manifest
     timings: dict[str, float] = field(default_factory=dict)
 
 
 def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
-    from rjcad.cad.finger import build_finger, joint_summary, tendon_path
+    from rjcad.cad.finger import build_finger, tendon_path
 
     t0 = time.perf_counter()
     solids = build_finger(fp)
@@ -173,44 +188,29 @@ def build_finger_model(fp) -> FingerBuild:
     names = fp.body_names
     joints = []
     for i, p in enumerate(fp.joints):
-        entry = joint_summary(fp, i)
-        child = solids[names[i + 1]]
-        entry["tendon_moment_arm_mm"] = ex.measure_moment_arm(child, p.z_mid, p.tendon_line_diameter,
-                                                              axis_point=entry["axis_point_mm"])
-        entry["tendon_wrap_angle_rad"] = ex.measure_wrap_angle(solids[names[i]], p.tendon_diameter / 2)
+        entry = joint_entry(p, names[i], names[i + 1], [fp.axis_x[i], 0.0, 0.0], [0.0, 0.0, 1.0])
+        entry.tendon_moment_arm_mm = ex.measure_moment_arm(solids[names[i + 1]], p.z_mid, p.tendon_line_diameter,
+                                                           axis_point=entry.axis_point_mm)
+        entry.tendon_wrap_angle_rad = ex.measure_wrap_angle(solids[names[i]], p.tendon_diameter / 2)
         joints.append(entry)
     path = np.array(tendon_path(fp))
-    dens = fp.joints[0].material_spec.density_g_cm3
     p0 = fp.joints[0]
-    manifest = {
+    extra = {
         "template": fp.source,
         "n_joints": fp.n,
-        "material": p0.material,
-        "printer": p0.printer,
-        "clearance_mm": p0.clearance,
         "tendon_diameter_mm": p0.tendon_diameter,
         "safety_factor": p0.safety_factor,
         "end": p0.end,
         "base_length_mm": fp.base_length,
-        "joints": joints,
-        "bodies": [{"name": n, "volume_mm3": float(s.Volume()), "mass_g": float(s.Volume()) * dens / 1000.0}
-                   for n, s in solids.items()],
         "tendon_length_mm": float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()),
         "tendon_path_mm": path.tolist(),
-        "gaps_mm": {
-            "radial_pin_eye": p0.gap_xy,
-            "axial_stack": p0.gap_z,
-            "note": "radial gaps print side by side in XY; axial gaps are Z steps and use "
-                    "max(clearance, the printer's vertical minimum)",
-        },
-        "mesh": {
-            "tolerance_mm": ex.MESH_TOLERANCE,
-            "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
-            "triangles": int(sum(len(m.faces) for m in meshes.values())),
-        },
+        "gaps_mm": {"radial_pin_eye": p0.gap_xy, "axial_stack": p0.gap_z, "note": GAPS_NOTE},
+        "mesh": _mesh_summary(meshes),
         "frame": "joint 1's axis is +Z through the origin; the finger extends along +X; flexion is positive "
                  "about +Z (towards +Y, the tendon side); every body stands on z = 0",
     }
+    manifest = Manifest("finger", joints, _bodies(solids, p0), material=p0.material, printer=p0.printer,
+                        clearance_mm=p0.clearance, extra=extra)
     t3 = time.perf_counter()
     return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                       "measure_s": t3 - t2})
@@ -227,11 +227,11 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
     t1 = time.perf_counter()
     if png:
         fp = b.params
-        ks = ", ".join(f"{j['joint_stiffness_nmm_per_rad']:.2f}" for j in b.manifest["joints"])
+        ks = ", ".join(f"{j.joint_stiffness_nmm_per_rad:.2f}" for j in b.manifest.joints)
         p0 = fp.joints[0]
         files["finger.png"] = ex.preview_png(
             b.meshes, f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
-            lines=[np.array(b.manifest["tendon_path_mm"])],
+            lines=[np.array(b.manifest.extra["tendon_path_mm"])],
             sections=[
                 ("section z = b/2 of joint 1: bottom springs, hooks, posts", (0, 0, p0.spring.width / 2), (0, 0, 1)),
                 ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
@@ -239,7 +239,7 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
             ])
     t2 = time.perf_counter()
     b.timings.update({"exports_s": t1 - t0, "png_s": t2 - t1})
-    files["finger.json"] = json.dumps(b.manifest, indent=2) + "\n"
+    files["finger.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import math
 import os
 import tempfile
@@ -14,6 +13,7 @@ import trimesh
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from rjcad.config import write_atomic
+from rjcad.plotting import png_bytes, pyplot
 
 #: Tessellation: absolute chord deviation [mm] and angular deflection [rad].
 #: A 0.1 rad angle keeps the sagitta on a 2 mm pin at 2·(1 − cos 0.05) = 2.5 µm,
@@ -115,10 +115,8 @@ def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.n
                 colours: dict[str, str] | None = None,
                 sections: list[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = ()) -> bytes:
     """Preview: a shaded isometric view plus plane sections (label, origin, normal); PNG bytes."""
+    plt = pyplot()
     import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
@@ -170,10 +168,7 @@ def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.n
     fig.legend(handles=handles, loc="upper right")
     fig.suptitle(title)
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    return buf.getvalue()
+    return png_bytes(fig)
 
 
 def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str]) -> list[Path]:

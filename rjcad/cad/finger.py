@@ -11,7 +11,6 @@ Body names: ``base``, ``link1`` … ``link{N-1}``, ``distal``. Joint i's axis is
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
@@ -31,11 +30,12 @@ from rjcad.cad.joint import (
     support_pin,
     tube_path,
 )
-from rjcad.params import DEG, JointParams
+from rjcad.params import JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
 from rjcad.errors import ParameterError, RjcadError
 from rjcad import templates
+from rjcad.units import DEG
 
 #: The paper's finger, as plain data in rjcad.templates (the builder's default).
 PAPER_FINGER = templates.PAPER_FINGER
@@ -234,24 +234,3 @@ def build_finger(fp: FingerParams) -> dict[str, cq.Shape]:
         bodies[f"link{i + 1}"] = link_body(js[i], js[i + 1]).translate(cq.Vector(fp.axis_x[i], 0, 0))
     bodies["distal"] = distal_body(js[-1]).translate(cq.Vector(fp.axis_x[-1], 0, 0))
     return bodies
-
-
-def joint_summary(fp: FingerParams, i: int) -> dict:
-    """Static manifest entry of joint i (0-based): names, axis, spring, angles."""
-    p = fp.joints[i]
-    names = fp.body_names
-    spring = p.spring.to_dict()
-    return {
-        "parent": names[i],
-        "child": names[i + 1],
-        "axis_point_mm": [fp.axis_x[i], 0.0, 0.0],
-        "axis_dir": [0.0, 0.0, 1.0],
-        "joint_stiffness_nmm_per_rad": spring["joint_stiffness_nmm_per_rad"],
-        "requested_stiffness_nmm_per_rad": p.stiffness,
-        "spring": spring,
-        "preload_deg": math.degrees(p.preload),
-        "rotation_deg": math.degrees(p.rotation),
-        "link_length_mm": p.link_length,
-        "z_mid_mm": p.z_mid,
-        "height_mm": p.height,
-    }

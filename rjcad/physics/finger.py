@@ -249,40 +249,38 @@ def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
     return out
 
 
-def model_from_manifest(manifest: dict, mu_t: float = 0.0, friction=None, gamma=None,
+def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
                         gravity: tuple[float, float] | None = None) -> FingerModel:
-    """A finger model from a finger (or joint) manifest: stiffness, preload, range, measured arms and wraps."""
-    if not isinstance(manifest, dict):
-        raise ParameterError("manifest", type(manifest).__name__, "must be a JSON object")
-    joints = manifest.get("joints")
-    if joints is None:  # a single joint module
-        joints = [manifest]
-        prefix = lambda i: ""  # noqa: E731
-    else:
-        prefix = lambda i: f"joints[{i}]."  # noqa: E731
-    if not isinstance(joints, list) or not joints:
-        raise ParameterError("joints", joints, "must be a non-empty list of joints, proximal first")
+    """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
+    preload, range, measured arms and wraps, and each joint's child body's mass."""
+    from rjcad.manifest import Manifest
 
-    def num(i, j, key, default=None):
-        v = j.get(key, default) if isinstance(j, dict) else None
-        if v is None:
-            raise ParameterError(f"{prefix(i)}{key}", None, "is required in a finger manifest")
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise ParameterError(f"{prefix(i)}{key}", v, "must be a number")
-        return float(v)
+    man = Manifest.coerce(manifest)
+    joints = man.joints
+    if not joints:
+        raise ParameterError("joints", [], "must be a non-empty list of joints, proximal first")
 
-    masses = {b.get("name"): b.get("mass_g", 0.0) for b in manifest.get("bodies", []) if isinstance(b, dict)}
+    def num(key: str, default=None) -> tuple[float, ...]:
+        out = []
+        for i, j in enumerate(joints):
+            v = getattr(j, key)
+            if v is None and default is None:
+                raise ParameterError(man.key_path(i, key), None, "is required in a finger manifest")
+            out.append(float(default if v is None else v))
+        return tuple(out)
+
+    masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
     return FingerModel(
-        stiffness=tuple(num(i, j, "joint_stiffness_nmm_per_rad") for i, j in enumerate(joints, 1)),
-        preload=tuple(num(i, j, "preload_deg") * DEG for i, j in enumerate(joints, 1)),
-        rotation=tuple(num(i, j, "rotation_deg") * DEG for i, j in enumerate(joints, 1)),
-        moment_arm=tuple(num(i, j, "tendon_moment_arm_mm") for i, j in enumerate(joints, 1)),
-        wrap=tuple(num(i, j, "tendon_wrap_angle_rad", 0.0) for i, j in enumerate(joints, 1)),
+        stiffness=num("joint_stiffness_nmm_per_rad"),
+        preload=tuple(x * DEG for x in num("preload_deg")),
+        rotation=tuple(x * DEG for x in num("rotation_deg")),
+        moment_arm=num("tendon_moment_arm_mm"),
+        wrap=num("tendon_wrap_angle_rad", 0.0),
         mu_t=mu_t,
         friction=tuple(friction) if friction is not None else (),
         gamma=tuple(gamma) if gamma is not None else (),
-        link_length=tuple(num(i, j, "link_length_mm", 40.0) for i, j in enumerate(joints, 1)),
-        link_mass=tuple(float(masses.get(j.get("child", ""), 0.0)) for j in joints),
+        link_length=num("link_length_mm", 40.0),
+        link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
         gravity=gravity,
     )
 

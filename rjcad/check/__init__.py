@@ -1,0 +1,81 @@
+"""Print-readiness checks of a mesh, the way a printer needs it.
+
+Checks, each with a measured value, a limit and, on failure, a location in mm:
+``watertight``, ``manifold``, ``bodies``, ``clearance``, ``motion`` (needs a
+manifest), ``min_feature``, ``bed`` and ``slicer`` (PrusaSlicer, on request).
+
+A body is a connected component of the mesh (STL) or a named object (3MF).
+STL bodies are matched to a manifest's bodies by volume.
+
+Modules: ``load`` (mesh file, manifest, body names), ``mesh_checks`` (the bodies at rest),
+``motion`` (the joints' sweep), ``feature`` (walls, gaps, bed), ``slicer``, ``report``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rjcad.check.feature import CONE_HALF_ANGLE, FEATURE_SAMPLES, check_bed, check_min_feature, feature_sizes
+from rjcad.check.load import load_bodies, load_manifest, name_bodies
+from rjcad.check.mesh_checks import check_bodies, check_clearance, check_manifold, check_watertight
+from rjcad.check.motion import check_motion, motion_joints, subtree
+from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
+from rjcad.check.slicer import check_slicer, prusa_config
+from rjcad.manifest import Manifest
+from rjcad.materials import get_printer
+
+__all__ = [
+    "BadInput", "CheckResult", "Report", "run_checks", "format_table", "load_bodies", "load_manifest", "name_bodies",
+    "check_watertight", "check_manifold", "check_bodies", "check_clearance", "check_motion", "check_min_feature",
+    "check_bed", "check_slicer", "feature_sizes", "motion_joints", "subtree", "prusa_config",
+    "DEFAULT_ALLOWANCE", "FEATURE_SAMPLES", "CONE_HALF_ANGLE",
+]
+
+#: Tessellation allowance on measured gaps and walls [mm].
+DEFAULT_ALLOWANCE = 0.02
+
+
+def _bodies_of(source) -> tuple[list, list[str] | None, str | None]:
+    """Meshes and names (if known) of a mesh file, a list or a {name: mesh} dict; and how they are named."""
+    if isinstance(source, (str, Path)):
+        meshes, names = load_bodies(source)
+        return meshes, names, "body names from the 3MF's objects"
+    meshes, names = list(source), None
+    if isinstance(source, dict):
+        names, meshes = list(source.keys()), list(source.values())
+    if not meshes or any(len(m.faces) == 0 for m in meshes):
+        raise BadInput("empty mesh")
+    return meshes, names, "body names given"
+
+
+def run_checks(source, manifest: Manifest | dict | str | Path | None = None, clearance: float | None = None,
+               printer: str | None = None, slicer: str | None = None, allowance: float = DEFAULT_ALLOWANCE,
+               bodies: int | None = None) -> Report:
+    """Run every check on a mesh file, or on a list of trimesh bodies; returns the report."""
+    man = load_manifest(manifest)
+    meshes, names, how = _bodies_of(source)
+    listed = man is not None and man.bodies is not None
+    if names is None:
+        how = "STL bodies matched to the manifest's bodies by volume (within 2 %)" if listed else "bodies numbered"
+    names = name_bodies(meshes, names, man)
+    if clearance is None:
+        clearance = float(man.clearance_mm) if man is not None and man.clearance_mm is not None else 0.25
+    prn = get_printer(printer or (man.printer if man is not None else None) or "generic-0.4")
+    expected = bodies if bodies is not None else (len(man.bodies) if listed else None)
+    rep = Report(body_names=names)
+    rep.checks.append(check_watertight(meshes, names))
+    man_check, mans = check_manifold(meshes, names)
+    rep.checks.append(man_check)
+    rep.checks.append(check_bodies(meshes, expected))
+    rep.checks[-1].detail += f"; {how}: " + ", ".join(
+        f"{n} {abs(m.volume):.0f} mm³" for n, m in zip(names, meshes))
+    if rep.checks[0].passed and man_check.passed:
+        rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance))
+        rep.checks.append(check_motion(meshes, names, mans, man, clearance, prn))
+    else:
+        rep.checks += [skipped(n, "skipped: needs watertight, manifold bodies") for n in ("clearance", "motion")]
+    rep.checks.append(check_min_feature(meshes, names, prn, allowance) if rep.checks[0].passed else
+                      skipped("min_feature", "skipped: needs watertight bodies"))
+    rep.checks.append(check_bed(meshes, prn))
+    rep.checks.append(check_slicer(meshes, prn, slicer))
+    return rep

@@ -1,0 +1,102 @@
+"""Checks of each body's features: thinnest wall, narrowest gap inside a body, and the bed."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import trimesh
+
+from rjcad.check.report import CheckResult, point
+from rjcad.materials import Printer
+
+#: Surface samples per body for the wall and gap rays.
+FEATURE_SAMPLES = 20000
+#: Half-angle of the ray cone used for walls and gaps [rad]; each sample takes the longest of its rays,
+#: so that a convex edge or a concave corner does not pass for a thin wall or a narrow gap.
+CONE_HALF_ANGLE = math.radians(25)
+
+
+def _cone(n: np.ndarray, half_angle: float) -> list[np.ndarray]:
+    """The normals, and four directions tilted from them by ``half_angle``."""
+    ref = np.where(np.abs(n[:, [0]]) < 0.9, np.array([[1.0, 0, 0]]), np.array([[0, 1.0, 0]]))
+    u = np.cross(n, ref)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(n, u)
+    c, s = math.cos(half_angle), math.sin(half_angle)
+    return [n] + [c * n + s * w for w in (u, -u, v, -v)]
+
+
+def _ray_lengths(mesh: trimesh.Trimesh, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
+    """Distance to the first hit of each ray on ``mesh`` (inf when none)."""
+    out = np.full(len(origins), np.inf)
+    locs, idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=False)
+    if len(idx):
+        out[idx] = np.linalg.norm(locs - origins[idx], axis=1)
+    return out
+
+
+def feature_sizes(mesh: trimesh.Trimesh, samples: int = FEATURE_SAMPLES, seed: int = 0):
+    """Surface samples with their wall thickness (inward) and in-body gap (outward), by ray cones [mm].
+
+    Each sample takes the longest ray of a 25° cone around its normal, projected on the normal: across
+    a flat wall or gap every ray gives the true size; at an edge or a corner some ray escapes.
+    """
+    pts, fi = trimesh.sample.sample_surface(mesh, samples, seed=seed)
+    n = mesh.face_normals[fi]
+    eps = 1e-4
+    wall = np.zeros(len(pts))
+    gap = np.zeros(len(pts))
+    for k, d in enumerate(_cone(n, CONE_HALF_ANGLE)):
+        # project each ray on the normal: across a flat wall every ray of the cone then gives its thickness
+        c = 1.0 if k == 0 else math.cos(CONE_HALF_ANGLE)
+        wall = np.maximum(wall, c * _ray_lengths(mesh, pts - n * eps, -d))
+        gap = np.maximum(gap, c * _ray_lengths(mesh, pts + n * eps, d))
+    return pts, n, wall, gap
+
+
+def check_min_feature(bodies, names, printer: Printer, allowance: float) -> CheckResult:
+    """Thinnest wall ≥ the printer's minimum wall; gaps inside a body ≥ its minimum gap (Z gaps: vertical)."""
+    worst_wall = (math.inf, None, None)
+    worst_gap = (math.inf, None, None, None)  # (ratio-to-limit margin, value, where, name/limit)
+    for b, name in zip(bodies, names):
+        pts, n, wall, gap = feature_sizes(b)
+        k = int(np.argmin(wall))
+        if wall[k] < worst_wall[0]:
+            worst_wall = (float(wall[k]), pts[k], name)
+        vertical = np.abs(n[:, 2]) > 0.7
+        lim = np.where(vertical, printer.min_gap_vertical_mm, printer.min_gap_mm)
+        finite = np.isfinite(gap)
+        if finite.any():
+            margin = np.where(finite, gap - lim, np.inf)
+            k = int(np.argmin(margin))
+            if margin[k] < worst_gap[0]:
+                worst_gap = (float(margin[k]), float(gap[k]), pts[k], (name, float(lim[k]), bool(vertical[k])))
+    wall_ok = worst_wall[0] >= printer.min_wall_mm - allowance
+    gap_ok = worst_gap[0] >= -allowance
+    detail = (f"thinnest wall {worst_wall[0]:.3f} mm in {worst_wall[2]} (min wall {printer.min_wall_mm} mm); ")
+    if worst_gap[1] is not None:
+        name, lim, vert = worst_gap[3]
+        detail += (f"narrowest gap inside a body {worst_gap[1]:.3f} mm in {name} "
+                   f"({'vertical' if vert else 'horizontal'}, min {lim} mm); ")
+    detail += f"{FEATURE_SAMPLES} ray-cone samples per body, allowance {allowance} mm"
+    if not wall_ok:
+        return CheckResult("min_feature", False, round(worst_wall[0], 4), printer.min_wall_mm,
+                           point(worst_wall[1]), "wall too thin: " + detail)
+    if not gap_ok:
+        return CheckResult("min_feature", False, round(worst_gap[1], 4), worst_gap[3][1], point(worst_gap[2]),
+                           "gap inside a body too narrow: " + detail)
+    return CheckResult("min_feature", True, round(worst_wall[0], 4), printer.min_wall_mm, None, detail)
+
+
+def check_bed(bodies, printer: Printer) -> CheckResult:
+    """The mesh fits the build volume (X and Y may swap) and lies on z = 0, or can be moved there."""
+    lo = np.min([b.bounds[0] for b in bodies], axis=0)
+    hi = np.max([b.bounds[1] for b in bodies], axis=0)
+    ext = hi - lo
+    vol = np.asarray(printer.build_volume_mm)
+    fits = (ext[2] <= vol[2]) and ((ext[0] <= vol[0] and ext[1] <= vol[1]) or (ext[1] <= vol[0] and ext[0] <= vol[1]))
+    on_bed = abs(lo[2]) < 1e-3
+    detail = (f"extent {ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm in a {vol[0]:g} × {vol[1]:g} × {vol[2]:g} mm "
+              f"volume; " + ("lies on z = 0" if on_bed else f"bottom at z = {lo[2]:.3f}: move it by {-lo[2]:.3f} mm"))
+    return CheckResult("bed", bool(fits), point(ext), [float(v) for v in vol], None if fits else point(lo), detail)

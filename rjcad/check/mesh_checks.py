@@ -1,0 +1,113 @@
+"""Checks of the bodies at rest: closed, manifold, as many as expected, and far enough apart."""
+
+from __future__ import annotations
+
+import math
+
+import manifold3d as m3
+import numpy as np
+import trimesh
+
+from rjcad.check.report import CheckResult, point
+from rjcad.mesh import to_manifold
+
+
+def _edge_defects(mesh: trimesh.Trimesh) -> tuple[np.ndarray, bool]:
+    """Undirected edges not shared by exactly two faces, and whether the winding is consistent.
+
+    Fast path: closed and consistently wound ⟺ every directed edge a→b occurs once and b→a occurs
+    too, i.e. sorted(a·N + b) == sorted(b·N + a) with no repeats.
+    """
+    F = np.asarray(mesh.faces, dtype=np.int64)
+    n = len(mesh.vertices)
+    a, b = F.ravel(), np.roll(F, -1, axis=1).ravel()
+    fwd, rev = np.sort(a * n + b), np.sort(b * n + a)
+    if np.array_equal(fwd, rev) and not np.any(fwd[1:] == fwd[:-1]):
+        return np.empty((0, 2), dtype=np.int64), True
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    keys, counts = np.unique(lo * n + hi, return_counts=True)
+    bad = keys[counts != 2]
+    return np.stack([bad // n, bad % n], axis=1), bool(mesh.is_winding_consistent)
+
+
+def check_watertight(bodies, names) -> CheckResult:
+    """Every edge shared by exactly two faces, winding consistent."""
+    bad = []
+    for b, n in zip(bodies, names):
+        open_edges, wound = _edge_defects(b)
+        if len(open_edges) or not wound:
+            where = b.vertices[open_edges[0]].mean(axis=0) if len(open_edges) else b.centroid
+            bad.append((n, len(open_edges), wound, where))
+    if not bad:
+        return CheckResult("watertight", True, 0, 0, None, f"{len(bodies)} bodies closed and consistently wound")
+    n, k, wind, where = bad[0]
+    return CheckResult("watertight", False, k, 0, point(where),
+                       f"{n}: {k} edges not shared by exactly two faces"
+                       + ("" if wind else ", winding inconsistent") + (f"; {len(bad)} bodies affected" if len(bad) > 1 else ""))
+
+
+def check_manifold(bodies, names) -> tuple[CheckResult, list[m3.Manifold]]:
+    """manifold3d accepts every body (status NoError) with a positive volume; genus reported."""
+    mans, bad, genus = [], [], []
+    for b, n in zip(bodies, names):
+        man = to_manifold(b)
+        mans.append(man)
+        st = man.status()
+        if st != m3.Error.NoError or man.is_empty() or man.volume() <= 0:
+            bad.append((n, st.name, b.centroid))
+        else:
+            genus.append(f"{n} genus {man.genus()}")
+    if bad:
+        n, st, where = bad[0]
+        return CheckResult("manifold", False, st, "NoError", point(where), f"{n}: manifold3d says {st}"), mans
+    return CheckResult("manifold", True, "NoError", "NoError", None, "; ".join(genus)), mans
+
+
+def check_bodies(bodies, expected: int | None) -> CheckResult:
+    if expected is None:
+        return CheckResult("bodies", None, len(bodies), None, None, "skipped: no manifest and no --bodies")
+    return CheckResult("bodies", len(bodies) == expected, len(bodies), expected, None,
+                       f"{len(bodies)} separate bodies, {expected} expected")
+
+
+def _closest_points(a: trimesh.Trimesh, b: trimesh.Trimesh) -> np.ndarray:
+    """Midpoint of the nearest vertex pair of two meshes (a location for a gap)."""
+    from scipy.spatial import cKDTree
+
+    d, i = cKDTree(b.vertices).query(a.vertices)
+    k = int(np.argmin(d))
+    return (a.vertices[k] + b.vertices[i[k]]) / 2
+
+
+def check_clearance(bodies, names, mans, clearance: float, allowance: float) -> CheckResult:
+    """Every pair of bodies: min gap ≥ clearance − allowance and no overlap."""
+    limit = clearance - allowance
+    if len(bodies) < 2:
+        return CheckResult("clearance", None, None, limit, None, "skipped: a single body")
+    search = clearance + 1.0
+    tight = (math.inf, None)
+    overlap = None
+    for i in range(len(mans)):
+        for j in range(i + 1, len(mans)):
+            lo = np.maximum(bodies[i].bounds[0], bodies[j].bounds[0])
+            hi = np.minimum(bodies[i].bounds[1], bodies[j].bounds[1])
+            if np.any(lo - hi > search):
+                continue  # boxes farther apart than the search length
+            inter = mans[i] ^ mans[j]
+            vol = inter.volume()
+            if vol > 1e-6 and (overlap is None or vol > overlap[0]):
+                verts = np.asarray(inter.to_mesh().vert_properties)[:, :3]
+                overlap = (vol, (i, j), verts.mean(axis=0))
+            gap = mans[i].min_gap(mans[j], search)
+            if gap < tight[0]:
+                tight = (gap, (i, j))
+    if overlap is not None:
+        vol, (i, j), where = overlap
+        return CheckResult("clearance", False, 0.0, limit, point(where),
+                           f"{names[i]} and {names[j]} overlap by {vol:.3f} mm³")
+    if tight[1] is None:
+        return CheckResult("clearance", True, search, limit, None, f"no two bodies within {search:.2f} mm")
+    gap, (i, j) = tight
+    where = _closest_points(bodies[i], bodies[j])
+    return CheckResult("clearance", bool(gap >= limit), round(float(gap), 4), round(limit, 4), point(where),
+                       f"tightest pair {names[i]}–{names[j]}: {gap:.3f} mm (allowance {allowance} mm for tessellation)")

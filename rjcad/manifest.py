@@ -1,0 +1,300 @@
+"""The build manifest: what a builder made (bodies, joints, inputs), as one typed object and its JSON.
+
+A joint module is a finger with one joint: ``Manifest.joints`` always holds the joints, proximal
+first. Builders (``rjcad.cad.build``) make a ``Manifest`` and write ``to_json()``; ``rjcad.check``
+and ``rjcad.physics`` read files through ``Manifest.from_json``.
+
+Schema versions:
+
+* 0 (no ``schema_version`` key; rjcad before the manifest type): a joint's keys flat at the top
+  (``moving_body``, ``axis_point_mm``, ``rotation_deg`` …), or a finger's ``joints`` list;
+* 1: the same keys and order, plus ``schema_version`` first and, for a joint, its one entry in
+  ``joints`` last (the flat keys stay, mirrored from that entry).
+
+Keys the readers do not need (``spring`` at the top, ``frame``, ``gaps_mm``, ``mesh``, ``print`` …)
+round-trip through ``extra``. ``None`` in a typed field means the key is absent. Lengths in mm,
+angles in the unit their key names.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from rjcad.errors import ParameterError
+
+#: Version written by ``Manifest.to_json``; ``from_json`` also reads 0 (no version key).
+SCHEMA_VERSION = 1
+
+#: A joint manifest's top-level keys mirrored from its one joint entry: top-level key → entry field.
+JOINT_FLAT_KEYS = {
+    "stiffness_nmm_per_rad": "requested_stiffness_nmm_per_rad",
+    "rotation_deg": "rotation_deg",
+    "preload_deg": "preload_deg",
+    "link_length_mm": "link_length_mm",
+    "spring": "spring",
+    "joint_stiffness_nmm_per_rad": "joint_stiffness_nmm_per_rad",
+    "moving_body": "child",
+    "axis_point_mm": "axis_point_mm",
+    "axis_dir": "axis_dir",
+    "tendon_moment_arm_mm": "tendon_moment_arm_mm",
+    "tendon_wrap_angle_rad": "tendon_wrap_angle_rad",
+}
+
+#: Top-level key order of each kind (keys not listed follow, in their own order; a joint's ``joints`` last).
+KEY_ORDER = {
+    "joint": ("stiffness_nmm_per_rad", "rotation_deg", "preload_deg", "material", "printer", "clearance_mm",
+              "link_length_mm", "tendon_diameter_mm", "tendon_moment_arm_mm_requested", "pin_radius_mm",
+              "safety_factor", "end", "spring", "joint_stiffness_nmm_per_rad", "bodies", "moving_body",
+              "axis_point_mm", "axis_dir", "tendon_moment_arm_mm", "tendon_wrap_angle_rad", "gaps_mm",
+              "measured_min_gap_mm", "spring_strip_volume_mm3", "frame", "mesh", "print"),
+    "finger": ("template", "n_joints", "material", "printer", "clearance_mm", "tendon_diameter_mm", "safety_factor",
+               "end", "base_length_mm", "joints", "bodies", "tendon_length_mm", "tendon_path_mm", "gaps_mm", "mesh",
+               "frame"),
+}
+
+
+class ManifestError(ParameterError):
+    """A manifest key is missing or has the wrong type: ``manifest: <key path> <problem>``."""
+
+    def __init__(self, key: str, value, problem: str):
+        super().__init__(key, value, problem)
+        self.args = (f"manifest: {key} {problem}",)
+
+
+# --------------------------------------------------------------------------
+# typed values: a field's annotation says what its JSON value must be
+# --------------------------------------------------------------------------
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _vector(v) -> bool:
+    return isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v)
+
+
+#: annotation (without "| None") → (test, what the error says it must be). The annotations are read as
+#: strings (``from __future__ import annotations`` above): a field's type is its JSON schema.
+_KINDS = {
+    "str": (lambda v: isinstance(v, str), "must be a string"),
+    "float": (_is_number, "must be a number"),
+    "list[float]": (_vector, "must be a list of 3 numbers"),
+    "dict": (lambda v: isinstance(v, dict), "must be an object"),
+}
+
+
+def _typed_fields(cls) -> list[tuple[str, str, bool]]:
+    """(name, kind, required) of a dataclass's JSON fields, in order (``extra`` excluded)."""
+    out = []
+    for f in dataclasses.fields(cls):
+        if f.name != "extra":
+            kind = f.type.replace(" | None", "")
+            out.append((f.name, kind, kind == f.type))
+    return out
+
+
+def _check(kind: str, value, path: str):
+    test, must = _KINDS[kind]
+    if value is not None and not test(value):
+        raise ManifestError(path, value, f"{must}, not {value!r}")
+    return list(value) if kind == "list[float]" and value is not None else value
+
+
+def _read(cls, data, path: str):
+    """``cls`` from a JSON object: typed fields checked, other keys into ``extra``."""
+    if not isinstance(data, dict):
+        raise ManifestError(path.rstrip("."), data, f"must be an object, not {data!r}")
+    values, extra = {}, {}
+    kinds = {name: (kind, req) for name, kind, req in _typed_fields(cls)}
+    for key, v in data.items():
+        if key in kinds:
+            values[key] = _check(kinds[key][0], v, path + key)
+        else:
+            extra[key] = v
+    for name, (_, required) in kinds.items():
+        if required and values.get(name) is None:
+            raise ManifestError(path + name, None, "is required")
+    return cls(**values, extra=extra)
+
+
+def _write(obj) -> dict:
+    """JSON object of a typed entry: its set fields in order, then ``extra``."""
+    out = {name: getattr(obj, name) for name, _, _ in _typed_fields(type(obj)) if getattr(obj, name) is not None}
+    out.update(obj.extra)
+    return out
+
+
+# --------------------------------------------------------------------------
+# the entries and the manifest
+# --------------------------------------------------------------------------
+
+
+@dataclass
+class BodyEntry:
+    """One printed body: its name (as in the 3MF and STEP), volume [mm³] and mass [g]."""
+
+    name: str
+    volume_mm3: float | None = None
+    mass_g: float | None = None
+    extra: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return _write(self)
+
+    @classmethod
+    def from_json(cls, data, path: str = "body.") -> "BodyEntry":
+        return _read(cls, data, path)
+
+
+@dataclass
+class JointEntry:
+    """One joint: parent and child bodies, the axis at rest (point, direction), the spring and its angles,
+    and the tendon's measured moment arm and wrap angle (in the channel that feeds the joint)."""
+
+    parent: str | None = None
+    child: str | None = None
+    axis_point_mm: list[float] | None = None
+    axis_dir: list[float] | None = None
+    joint_stiffness_nmm_per_rad: float | None = None
+    requested_stiffness_nmm_per_rad: float | None = None
+    spring: dict | None = None
+    preload_deg: float | None = None
+    rotation_deg: float | None = None
+    link_length_mm: float | None = None
+    z_mid_mm: float | None = None
+    height_mm: float | None = None
+    tendon_moment_arm_mm: float | None = None
+    tendon_wrap_angle_rad: float | None = None
+    extra: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return _write(self)
+
+    @classmethod
+    def from_json(cls, data, path: str = "joint.") -> "JointEntry":
+        return _read(cls, data, path)
+
+
+@dataclass
+class Manifest:
+    """A built joint (``kind`` "joint": one joint, its child the moving body) or finger ("finger")."""
+
+    kind: str
+    joints: list[JointEntry]
+    bodies: list[BodyEntry] | None = None
+    material: str | None = None
+    printer: str | None = None
+    clearance_mm: float | None = None
+    extra: dict = field(default_factory=dict)
+    #: the schema version it was read from (0: a joint's keys were flat at the top)
+    read_version: int = field(default=SCHEMA_VERSION, compare=False, repr=False)
+
+    def __post_init__(self):
+        if self.kind not in KEY_ORDER:
+            raise ValueError(f"Manifest.kind must be one of {sorted(KEY_ORDER)}, not {self.kind!r}")
+
+    # --- writing ---------------------------------------------------------------
+    def to_json(self) -> dict:
+        """The JSON object: ``schema_version`` first, then the keys in ``KEY_ORDER``, then any others."""
+        values = {k: getattr(self, k) for k in ("material", "printer", "clearance_mm") if getattr(self, k) is not None}
+        values.update(self.extra)
+        if self.bodies is not None:
+            values["bodies"] = [b.to_json() for b in self.bodies]
+        joints = [j.to_json() for j in self.joints]
+        if self.kind == "joint":
+            if self.joints:
+                entry = joints[0]
+                values.update({k: entry[f] for k, f in JOINT_FLAT_KEYS.items() if f in entry})
+        else:
+            values["joints"] = joints
+        out = {"schema_version": SCHEMA_VERSION}
+        out.update({k: values.pop(k) for k in KEY_ORDER[self.kind] if k in values})
+        out.update(values)
+        if self.kind == "joint":
+            out["joints"] = joints
+        return out
+
+    # --- reading ---------------------------------------------------------------
+    @classmethod
+    def from_json(cls, data) -> "Manifest":
+        """The manifest of a JSON object of version 1 or 0; one ``ManifestError`` line naming a bad key."""
+        if not isinstance(data, dict):
+            raise ParameterError("manifest", type(data).__name__, "must be a JSON object")
+        version = data.get("schema_version", 0)
+        if not _is_number(version) or version not in (0, SCHEMA_VERSION):
+            raise ManifestError("schema_version", version, f"is {version!r}: this rjcad reads versions 0 to "
+                                f"{SCHEMA_VERSION} (was the file written by a newer rjcad?)")
+        version = int(version)
+        if version and "joints" not in data:
+            raise ManifestError("joints", None, f"is required (schema_version {version})")
+        kind = "joint" if "moving_body" in data or "joints" not in data else "finger"
+        rest = {k: v for k, v in data.items() if k not in ("schema_version", "joints", "bodies")}
+        typed = {k: _check(kind_, rest.pop(k, None), k)
+                 for k, kind_ in (("material", "str"), ("printer", "str"), ("clearance_mm", "float"))}
+        bodies = _bodies(data.get("bodies"))
+        if kind == "joint" and "joints" not in data:
+            joints = [_flat_joint(rest, bodies)]
+        else:
+            joints = _joint_list(data["joints"])
+            if kind == "joint":
+                _drop_mirrored(rest, joints)
+        return cls(kind, joints, bodies, **typed, extra=rest, read_version=version)
+
+    @classmethod
+    def coerce(cls, manifest) -> "Manifest":
+        """``manifest`` itself if it is a Manifest, else ``from_json(manifest)``."""
+        return manifest if isinstance(manifest, cls) else cls.from_json(manifest)
+
+    def key_path(self, i: int, name: str) -> str:
+        """Where field ``name`` of joint ``i`` (0-based) is in the file: ``joints[i+1].name``, or the flat key."""
+        if self.kind == "joint" and self.read_version == 0:
+            return next((k for k, f in JOINT_FLAT_KEYS.items() if f == name), name)
+        return f"joints[{i + 1}].{name}"
+
+    # --- the JSON view, read-only (for printers and callers that want a key) --------------
+    def __getitem__(self, key: str):
+        return self.to_json()[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.to_json()
+
+    def get(self, key: str, default=None):
+        return self.to_json().get(key, default)
+
+
+def _bodies(data) -> list[BodyEntry] | None:
+    if data is None:
+        return None
+    if not isinstance(data, list):
+        raise ManifestError("bodies", data, "must be a list of bodies")
+    return [BodyEntry.from_json(b, f"bodies[{i}].") for i, b in enumerate(data, 1)]
+
+
+def _joint_list(data) -> list[JointEntry]:
+    if not isinstance(data, list):
+        raise ManifestError("joints", data, "must be a list of joints, proximal first")
+    return [JointEntry.from_json(j, f"joints[{i}].") for i, j in enumerate(data, 1)]
+
+
+def _flat_joint(rest: dict, bodies: list[BodyEntry] | None) -> JointEntry:
+    """Version 0 joint: the entry from the flat keys (consumed from ``rest``); its parent the other body."""
+    kinds = {name: kind for name, kind, _ in _typed_fields(JointEntry)}
+    values = {f: _check(kinds[f], rest.pop(k), k) for k, f in JOINT_FLAT_KEYS.items() if k in rest}
+    child = values.get("child")
+    if child is not None and bodies:
+        values["parent"] = next((b.name for b in bodies if b.name != child), None)
+    return JointEntry(**values)
+
+
+def _drop_mirrored(rest: dict, joints: list[JointEntry]) -> None:
+    """Version 1 joint: the flat keys must agree with its one entry (which they mirror); drop them."""
+    if len(joints) != 1:
+        raise ManifestError("joints", len(joints), "must hold exactly one joint in a joint manifest (moving_body)")
+    entry = joints[0].to_json()
+    for k, f in JOINT_FLAT_KEYS.items():
+        if k in rest:
+            v = rest.pop(k)
+            if entry.get(f) != v:
+                raise ManifestError(k, v, f"= {v!r} disagrees with joints[1].{f} = {entry.get(f)!r}")
