@@ -9,7 +9,6 @@ Units in files: s, deg, N·mm, N (as the column names say).
 from __future__ import annotations
 
 import json
-import math
 import os
 import re
 import shutil
@@ -21,19 +20,22 @@ import numpy as np
 from rjcad.config import write_atomic
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify import catalogue as cat
+from rjcad.paper import JOINT
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
+from rjcad.units import DEG
+from rjcad.validate import in_range
 
-DEG = math.pi / 180
-
-DEFAULT_DESIGN = {"stiffness_nmm_per_rad": 5.2, "preload_deg": 70.0, "pulley_radius_mm": 6.0}
+#: The paper's designed joint (rjcad.paper.JOINT), in the campaign's JSON names and units.
+DEFAULT_DESIGN = {"stiffness_nmm_per_rad": JOINT.designed_stiffness, "preload_deg": JOINT.preload / DEG,
+                  "pulley_radius_mm": JOINT.pulley_radius}
 #: Gaussian noise σ per column, in the column's unit.
 DEFAULT_NOISE = {"torque_nmm": 0.1, "tendon_force_n": 0.02, "theta_deg": 0.1}
 
 #: The paper's Sec. IV experiments A–E.
 PAPER_EXPERIMENTS = (
-    {"name": "A", "drive": "bar", "normal_load": 1.5, "routed": False},
-    {"name": "B", "drive": "tendon", "normal_load": 1.5, "routed": False},
-    {"name": "C", "drive": "tendon", "normal_load": 1.5, "routed": True},
+    {"name": "A", "drive": "bar", "normal_load": JOINT.normal_load, "routed": False},
+    {"name": "B", "drive": "tendon", "normal_load": JOINT.normal_load, "routed": False},
+    {"name": "C", "drive": "tendon", "normal_load": JOINT.normal_load, "routed": True},
     {"name": "D", "drive": "tendon", "normal_load": 0.0, "routed": False},
     {"name": "E", "drive": "tendon", "normal_load": 0.0, "routed": True},
 )
@@ -42,8 +44,9 @@ PAPER_EXPERIMENTS = (
 PAPER_PRESET = {
     "design": dict(DEFAULT_DESIGN),
     "effects": ("spring_calibration", "coulomb_pin", "tendon_pin_friction", "capstan_path"),
-    "params": {"stiffness_nmm_per_rad": 5.19, "preload_deg": 70.0, "mu_j_mm": 6.92,
-               "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 3.15, "beta_pos": 1.24, "beta_neg": 0.67},
+    "params": {"stiffness_nmm_per_rad": JOINT.stiffness, "preload_deg": JOINT.preload / DEG, "mu_j_mm": JOINT.mu_j,
+               "gamma_pos_nmm_per_rad": JOINT.gamma_pos, "gamma_neg_nmm_per_rad": JOINT.gamma_neg,
+               "beta_pos": JOINT.beta_pos, "beta_neg": JOINT.beta_neg},
 }
 
 #: Trajectory as (duration [s], start, end) in units of the rotation; start == end is a hold.
@@ -84,12 +87,13 @@ def experiment_file(e: dict) -> str:
 
 
 def _number(where: str, v, lo: float | None = None, hi: float | None = None, unit: str = "") -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise ParameterError(where, v, "must be a finite number", unit)
-    if (lo is not None and v < lo) or (hi is not None and v > hi):
-        lim = f"must be in [{'-inf' if lo is None else f'{lo:g}'}, {'inf' if hi is None else f'{hi:g}'}]"
-        raise ParameterError(where, float(v), lim, unit)
-    return float(v)
+    """A finite int or float (not a bool, not a numeric string) in [lo, hi]; else one ParameterError."""
+    finite = "must be a finite number"
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise ParameterError(where, v, finite, unit)
+    in_range(where, v, unit=unit, limit=finite)
+    limit = f"must be in [{'-inf' if lo is None else f'{lo:g}'}, {'inf' if hi is None else f'{hi:g}'}]"
+    return in_range(where, v, lo, hi, unit=unit, limit=limit)
 
 
 def _design(design) -> dict:
@@ -281,29 +285,7 @@ def _readme(truth: dict) -> str:
         "and the bottom; the 3 s cycle reverses at 40 % of the rotation on its way down and goes up again before "
         "returning to 0. The motion direction is held through holds.",
     ]
-    slack = [e for e in truth["experiments"] if e.get("slack_release_fraction", 0) > 0]
-    if slack:
-        out += [
-            "",
-            "## Slack tendon (a model prediction a real bench could not show)",
-            "",
-            "The model predicts a slack tendon (actuator force 0) while releasing in "
-            + ", ".join(f"{e['name']} ({100 * e['slack_release_fraction']:.0f} % of the release samples)"
-                        for e in slack)
-            + "; release samples are those moving back towards rest or held after such a move. There the spring "
-            "torque is below the friction that resists the return (μ_j·F_n + γ⁻·θ), so the spring alone cannot "
-            "bring the joint back and the tendon would have to push. A real tendon cannot push: a real bench would "
-            "show the joint sticking, not this trajectory. The samples are kept because the chosen parameters say "
-            "so. In them the measured force is pure noise around 0.",
-        ]
-        if _is_paper(truth):
-            v, fn = truth["params"], max(e["normal_load_n"] for e in slack)
-            limit = v["mu_j_mm"] * fn / (v["stiffness_nmm_per_rad"] - v["gamma_neg_nmm_per_rad"]) / DEG
-            out[-1] += (f" With the paper's own values and F_n = {fn:g} N, (K_s − γ⁻)·θ < μ_j·F_n for every "
-                        f"spring deformation θ below {limit:.0f}°, and this campaign reaches only "
-                        f"{v['preload_deg'] + truth['rotation_deg']:g}°: the spring never wins while releasing. "
-                        "This is one of the paper-notes' critiques (shared/paper-notes.md, \"What the paper's own "
-                        "numbers get wrong\").")
+    out += _readme_slack(truth)
     cmd = _command(truth)
     out += ["", "## Regenerate", ""]
     if cmd:
@@ -314,6 +296,35 @@ def _readme(truth: dict) -> str:
     if _is_paper(truth):
         out += ["", "`make paper-campaign` regenerates `examples/paper_campaign` (seed 7)."]
     return "\n".join(out) + "\n"
+
+
+def _readme_slack(truth: dict) -> list[str]:
+    """The README section on experiments where the model's tendon goes slack while releasing (none: [])."""
+    slack = [e for e in truth["experiments"] if e.get("slack_release_fraction", 0) > 0]
+    if not slack:
+        return []
+    out = [
+        "",
+        "## Slack tendon (a model prediction a real bench could not show)",
+        "",
+        "The model predicts a slack tendon (actuator force 0) while releasing in "
+        + ", ".join(f"{e['name']} ({100 * e['slack_release_fraction']:.0f} % of the release samples)"
+                    for e in slack)
+        + "; release samples are those moving back towards rest or held after such a move. There the spring "
+        "torque is below the friction that resists the return (μ_j·F_n + γ⁻·θ), so the spring alone cannot "
+        "bring the joint back and the tendon would have to push. A real tendon cannot push: a real bench would "
+        "show the joint sticking, not this trajectory. The samples are kept because the chosen parameters say "
+        "so. In them the measured force is pure noise around 0.",
+    ]
+    if _is_paper(truth):
+        v, fn = truth["params"], max(e["normal_load_n"] for e in slack)
+        limit = v["mu_j_mm"] * fn / (v["stiffness_nmm_per_rad"] - v["gamma_neg_nmm_per_rad"]) / DEG
+        out[-1] += (f" With the paper's own values and F_n = {fn:g} N, (K_s − γ⁻)·θ < μ_j·F_n for every "
+                    f"spring deformation θ below {limit:.0f}°, and this campaign reaches only "
+                    f"{v['preload_deg'] + truth['rotation_deg']:g}°: the spring never wins while releasing. "
+                    "This is one of the paper-notes' critiques (shared/paper-notes.md, \"What the paper's own "
+                    "numbers get wrong\").")
+    return out
 
 
 def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noise=None, samples=3000,
@@ -334,8 +345,7 @@ def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noi
     if isinstance(samples, bool) or not isinstance(samples, int) or not MIN_SAMPLES <= samples <= MAX_SAMPLES:
         raise ParameterError("samples", samples, f"must be an integer in [{MIN_SAMPLES}, {MAX_SAMPLES}]")
     rotation_deg = _number("rotation", rotation_deg, unit="deg")
-    if not 0 < rotation_deg <= 360:
-        raise ParameterError("rotation", rotation_deg, "must be in (0, 360]", "deg")
+    in_range("rotation", rotation_deg, 0.0, 360.0, lo_open=True, unit="deg", limit="must be in (0, 360]")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise RjcadError(f"{out}: exists and is not a directory")

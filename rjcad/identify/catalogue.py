@@ -1,7 +1,8 @@
 """The effect catalogue: candidate physical effects, as small strategy classes.
 
 Each effect names its physical cause, its parameters (JSON names, pinned by issue #7),
-the JointModel fields they set, bounds and a typical size (used by the synthetic bench).
+the JointModel fields they set, bounds, a typical size (used by the synthetic bench), the
+start points a fit of it begins from, and what a campaign needs to show it.
 Units inside are the JointModel's (rad, N·mm); JSON values use the units in their names.
 """
 
@@ -11,8 +12,8 @@ import math
 from dataclasses import dataclass
 
 from rjcad.errors import ParameterError
-
-DEG = math.pi / 180
+from rjcad.paper import JOINT
+from rjcad.units import DEG
 
 
 @dataclass(frozen=True)
@@ -38,7 +39,7 @@ class Param:
 
 
 class Effect:
-    """A candidate effect. Subclasses set ``id``, ``cause``, ``params``, ``needs``."""
+    """A candidate effect. Subclasses set ``id``, ``cause``, ``params``, ``needs`` and ``needs_text``."""
 
     id: str = ""
     name: str = ""     # short name of the cause, e.g. "Coulomb pin friction"
@@ -46,6 +47,8 @@ class Effect:
     params: tuple[Param, ...] = ()
     #: what kind of experiment carries the effect: "any", "normal_load", "tendon", "routed", "holds", "speeds"
     needs: str = "any"
+    #: ``needs`` in words, completing "it needs …" ("" when any experiment will do)
+    needs_text: str = ""
 
     @property
     def param_names(self) -> tuple[str, ...]:
@@ -62,6 +65,10 @@ class Effect:
 
     def neutral(self, design: dict) -> dict:
         return {p.name: p.neutral for p in self.params}
+
+    def starts(self, design: dict) -> list[dict]:
+        """Start points (JSON units) of a fit that adds this effect: its typical sizes."""
+        return [self.typical(design)]
 
     def __repr__(self) -> str:
         return f"<{self.id}: {', '.join(self.param_names)}>"
@@ -88,6 +95,10 @@ class SpringCalibration(Effect):
     def neutral(self, design):
         return {"stiffness_nmm_per_rad": design["stiffness_nmm_per_rad"], "preload_deg": design["preload_deg"]}
 
+    def starts(self, design):
+        """The design itself: the fit moves it only as far as the data ask."""
+        return [self.neutral(design)]
+
 
 class CoulombPin(Effect):
     id = "coulomb_pin"
@@ -95,7 +106,8 @@ class CoulombPin(Effect):
     cause = ("Coulomb friction in the pin under the transverse load: a torque ±μ_j·F_n that opposes "
              "the motion, the same at every angle")
     needs = "normal_load"
-    params = (Param("mu_j_mm", "mu_j", 1.0, 0.0, 60.0, 6.92, 0.0),)
+    needs_text = "an experiment with a transverse load F_n > 0"
+    params = (Param("mu_j_mm", "mu_j", 1.0, 0.0, 60.0, JOINT.mu_j, 0.0),)
 
 
 class TendonPinFriction(Effect):
@@ -104,9 +116,10 @@ class TendonPinFriction(Effect):
     cause = ("pin friction from the tendon's own load: the tendon presses the pin harder as the spring "
              "winds up, so the friction grows with the deflection (paper Eq. 4)")
     needs = "tendon"
+    needs_text = "a tendon-driven experiment"
     params = (
-        Param("gamma_pos_nmm_per_rad", "gamma_pos", 1.0, 0.0, 50.0, 1.89, 0.0),
-        Param("gamma_neg_nmm_per_rad", "gamma_neg", 1.0, 0.0, 50.0, 3.15, 0.0),
+        Param("gamma_pos_nmm_per_rad", "gamma_pos", 1.0, 0.0, 50.0, JOINT.gamma_pos, 0.0),
+        Param("gamma_neg_nmm_per_rad", "gamma_neg", 1.0, 0.0, 50.0, JOINT.gamma_neg, 0.0),
     )
 
 
@@ -116,9 +129,10 @@ class CapstanPath(Effect):
     cause = ("tendon friction on its path through the base link (capstan, paper Eq. 5–7): pulling "
              "costs a factor β⁺ more force at the actuator, releasing a factor β⁻ less")
     needs = "routed"
+    needs_text = "a tendon routed through the base link"
     params = (
-        Param("beta_pos", "beta_pos", 1.0, 1.0, 4.0, 1.24, 1.0),
-        Param("beta_neg", "beta_neg", 1.0, 0.1, 1.0, 0.67, 1.0),
+        Param("beta_pos", "beta_pos", 1.0, 1.0, 4.0, JOINT.beta_pos, 1.0),
+        Param("beta_neg", "beta_neg", 1.0, 0.1, 1.0, JOINT.beta_neg, 1.0),
     )
 
 
@@ -127,6 +141,7 @@ class Viscous(Effect):
     name = "viscous damping"
     cause = "velocity-proportional damping (c·θ̇): the friction band widens when the joint moves faster"
     needs = "speeds"
+    needs_text = "moves at several speeds"
     params = (Param("viscous_nmm_s_per_rad", "viscous", 1.0, 0.0, 100.0, 0.5, 0.0),)
 
 
@@ -144,12 +159,17 @@ class Relaxation(Effect):
     cause = ("viscoelastic stress relaxation of the printed polymer (a Maxwell arm beside the spring): "
              "the torque overshoots after a move and decays while the joint is held")
     needs = "holds"
+    needs_text = "holds (the joint standing still)"
     params = (
         Param("relaxation_stiffness_nmm_per_rad", "relaxation_stiffness", 1.0, 0.0, 200.0, 1.5, 0.0),
         Param("relaxation_time_s", "relaxation_time", 1.0, 0.5, 1000.0, 1.5, 1.0),
     )
     # T_r ≥ 0.5 s: a Maxwell arm much faster than that acts as damping (c = K_M·T_r) on bench data whose
     # velocity is smoothed over 0.15 s, and would compete with `viscous` by filtering the velocity noise.
+
+    def starts(self, design):
+        """The typical sizes with T_r at 0.6, 1.5 and 6 s: the fit in T_r has local minima."""
+        return [dict(self.typical(design), relaxation_time_s=tr) for tr in (0.6, 1.5, 6.0)]
 
 
 #: The catalogue, in a fixed order (ties in selection are broken by this order).

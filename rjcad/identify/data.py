@@ -18,8 +18,8 @@ from rjcad.config import check_key
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify.signal import noise_sigma
 from rjcad.physics.joint import Setup
-
-DEG = math.pi / 180
+from rjcad.units import DEG
+from rjcad.validate import in_range
 
 
 @dataclass(frozen=True)
@@ -135,13 +135,10 @@ def _check(where: str, key: str, value, allowed: dict):
 
 def _number(where: str, key: str, value, positive: bool = False, nonnegative: bool = False) -> float:
     """A finite float from a checked TOML number; ParameterError if out of range."""
-    value = float(value)
-    if not math.isfinite(value):
-        raise ParameterError(f"{where}{key}", value, "must be finite")
-    if positive and value <= 0:
-        raise ParameterError(f"{where}{key}", value, "must be > 0")
-    if nonnegative and value < 0:
-        raise ParameterError(f"{where}{key}", value, "must be >= 0")
+    name = f"{where}{key}"
+    value = in_range(name, value, limit="must be finite")
+    if positive or nonnegative:
+        in_range(name, value, 0.0, lo_open=positive)
     return value
 
 

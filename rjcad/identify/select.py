@@ -109,19 +109,14 @@ class Selector:
         return [self._lo[n] for n in names], [self._hi[n] for n in names]
 
     def starts(self, effects, start: dict[str, float]) -> list[dict[str, float]]:
-        """Start points: accepted parameters at ``start``; a new effect at its typical sizes (several for T_r)."""
+        """Start points: accepted parameters at ``start``; a new effect at each of its own start points."""
         s = dict(self.base)
         s.update(start)
         out = [s]
         for e in effects:
             eff = EFFECTS[e]
             if any(n not in start for n in eff.param_names):
-                typ = eff.typical(self.design_json)
-                if e == "spring_calibration":
-                    typ = eff.neutral(self.design_json)
-                variants = [typ]
-                if e == "relaxation":
-                    variants = [dict(typ, relaxation_time_s=tr) for tr in (0.6, 1.5, 6.0)]
+                variants = eff.starts(self.design_json)
                 out = [dict(o, **{k: v for k, v in var.items() if k not in start}) for o in out for var in variants]
         return out
 

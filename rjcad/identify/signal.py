@@ -16,6 +16,8 @@ import numpy as np
 from scipy.ndimage import median_filter
 from scipy.signal import savgol_coeffs, savgol_filter
 
+from rjcad.units import DEG
+
 MAD = 1.4826  # σ = MAD·median|x − median| for Gaussian noise
 
 
@@ -76,7 +78,7 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     # σ of the smoothed angle: white noise through the SG kernel (Σh² of its central row)
     sig_s = sig * math.sqrt(float(np.sum(savgol_coeffs(w, 2) ** 2))) if n >= w else sig
     # the range of n Gaussian samples stays below 2·√(2 ln n)·σ: a hold never trips the trigger
-    h = max((2.0 * math.sqrt(2.0 * math.log(max(n, 2))) + 2.0) * sig_s, 0.01 * math.pi / 180)
+    h = max((2.0 * math.sqrt(2.0 * math.log(max(n, 2))) + 2.0) * sig_s, 0.01 * DEG)
 
     start_dir, exts = _schmitt(th, h)
     direction, reversals, valid = _direction_and_mask(th, start_dir, exts, h, w)

@@ -26,14 +26,17 @@ from functools import lru_cache
 import numpy as np
 
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
+from rjcad.paper import FINGER
+from rjcad.params import RANGES, JointParams
 from rjcad.physics.finger import Closure, FingerModel, onset_tendon, simulate_stroke
+from rjcad.units import DEG
+from rjcad.validate import in_range
 
-DEG = math.pi / 180
-PRELOAD_RANGE = (30 * DEG, 120 * DEG)  # the joint builder's limits (rjcad.params.RANGES)
-ROTATION_MAX = 110 * DEG
-STIFFNESS_RANGE = (0.2, 60.0)  # N·mm/rad, the joint builder's limits
+PRELOAD_RANGE = RANGES["preload"][:2]  # the joint builder's limits [rad]
+ROTATION_MAX = RANGES["rotation"][1]  # [rad]
+STIFFNESS_RANGE = RANGES["stiffness"][:2]  # [N·mm/rad]
 LEAD = 0.6  # proximal-first: x_1 = LEAD·x_2 when the preload limits allow it
-DEFAULT_BASE_STIFFNESS = 5.2  # the paper's proximal joint [N·mm/rad]
+DEFAULT_BASE_STIFFNESS = FINGER.designed_stiffness[0]  # the paper's proximal joint [N·mm/rad]
 END_TOLERANCE_DEG = 1.0
 STEPS = 400
 
@@ -76,8 +79,6 @@ class FingerDesign:
 
 def _buildable(k: float, preload: float, rotation: float, arm: float, material: str, printer: str):
     """None if the joint builder accepts this joint, else its error."""
-    from rjcad.params import JointParams  # no CAD kernel: parameters and the spring optimiser only
-
     try:
         JointParams(stiffness=float(k), preload=float(preload), rotation=float(rotation),
                     tendon_moment_arm=float(arm), material=material, printer=printer)
@@ -98,13 +99,15 @@ def printable_stiffness(preload: float, rotation: float, arm: float, material: s
 @lru_cache(maxsize=16)
 def arm_range(material: str, printer: str) -> tuple[float, float]:
     """The moment arms the joint builder accepts [mm] (its pin, clearance and wall limits)."""
-    lo, hi = 0.5, 15.0
-    if _buildable(5.2, 90 * DEG, 90 * DEG, hi, material, printer) is not None:
+    top = RANGES["tendon_moment_arm"][1]
+    lo, hi = 0.5, top
+    k = DEFAULT_BASE_STIFFNESS
+    if _buildable(k, 90 * DEG, 90 * DEG, hi, material, printer) is not None:
         return (math.inf, -math.inf)
     for _ in range(40):  # bisection on the lower bound
         mid = (lo + hi) / 2
-        lo, hi = (lo, mid) if _buildable(5.2, 90 * DEG, 90 * DEG, mid, material, printer) is None else (mid, hi)
-    return (hi, 15.0)
+        lo, hi = (lo, mid) if _buildable(k, 90 * DEG, 90 * DEG, mid, material, printer) is None else (mid, hi)
+    return (hi, top)
 
 
 # ------------------------------------------------------------------ the design
@@ -167,11 +170,10 @@ def design_finger(target_deg: list[float], stroke: float, sequence: str = "simul
     if not np.all(np.isfinite(th)) or np.any(th <= 0) or np.any(th > ROTATION_MAX):
         bad = float(np.degrees(th[np.argmax(~np.isfinite(th) | (th <= 0) | (th > ROTATION_MAX))]))
         raise ParameterError("target", bad, f"each angle must be in (0, {math.degrees(ROTATION_MAX):g}] deg")
-    if not (math.isfinite(stroke) and stroke > 0):
-        raise ParameterError("stroke", stroke, "must be > 0 mm")
-    if base_stiffness is not None and not STIFFNESS_RANGE[0] <= base_stiffness <= STIFFNESS_RANGE[1]:
-        raise ParameterError("base_stiffness", base_stiffness, "must be in [{:g}, {:g}] N·mm/rad".format(
-            *STIFFNESS_RANGE))
+    in_range("stroke", stroke, 0.0, lo_open=True, limit="must be > 0 mm")
+    if base_stiffness is not None:
+        in_range("base_stiffness", base_stiffness, *STIFFNESS_RANGE,
+                 limit="must be in [{:g}, {:g}] N·mm/rad".format(*STIFFNESS_RANGE))
     r = stroke / th.sum()
     a_lo, a_hi = arm_range(material, printer) if check_springs else (0.0, math.inf)
     if not a_lo <= r <= a_hi:

@@ -21,22 +21,23 @@ import numpy as np
 from scipy.signal import lfilter
 
 from rjcad.errors import ParameterError
-
-DEG = math.pi / 180
+from rjcad.paper import JOINT
+from rjcad.units import DEG
+from rjcad.validate import in_range
 
 
 @dataclass(frozen=True)
 class JointModel:
     """Parameters of one joint (N·mm/rad, rad, mm, s)."""
 
-    stiffness: float = 5.2
+    stiffness: float = JOINT.designed_stiffness
     preload: float = 90 * DEG
     mu_j: float = 0.0
     gamma_pos: float = 0.0
     gamma_neg: float = 0.0
     beta_pos: float = 1.0
     beta_neg: float = 1.0
-    pulley_radius: float = 6.0
+    pulley_radius: float = JOINT.pulley_radius
     viscous: float = 0.0
     cubic: float = 0.0
     relaxation_stiffness: float = 0.0
@@ -44,20 +45,14 @@ class JointModel:
 
     def __post_init__(self):
         for f in fields(self):
-            v = getattr(self, f.name)
-            if not math.isfinite(v):
-                raise ParameterError(f.name, v, "must be finite")
-        if self.pulley_radius <= 0:
-            raise ParameterError("pulley_radius", self.pulley_radius, "must be > 0 mm")
-        if self.relaxation_time <= 0:
-            raise ParameterError("relaxation_time", self.relaxation_time, "must be > 0 s")
-        if self.beta_pos < 1:
-            raise ParameterError("beta_pos", self.beta_pos, "must be >= 1 (pulling through the path costs force)")
-        if not 0 < self.beta_neg <= 1:
-            raise ParameterError("beta_neg", self.beta_neg, "must be in (0, 1] (releasing needs less force)")
-        if self.relaxation_stiffness < 0 or self.viscous < 0:
-            name = "viscous" if self.viscous < 0 else "relaxation_stiffness"
-            raise ParameterError(name, getattr(self, name), "must be >= 0")
+            in_range(f.name, getattr(self, f.name), limit="must be finite")
+        in_range("pulley_radius", self.pulley_radius, 0.0, lo_open=True, limit="must be > 0 mm")
+        in_range("relaxation_time", self.relaxation_time, 0.0, lo_open=True, limit="must be > 0 s")
+        in_range("beta_pos", self.beta_pos, 1.0, limit="must be >= 1 (pulling through the path costs force)")
+        in_range("beta_neg", self.beta_neg, 0.0, 1.0, lo_open=True,
+                 limit="must be in (0, 1] (releasing needs less force)")
+        in_range("viscous", self.viscous, 0.0, limit="must be >= 0")
+        in_range("relaxation_stiffness", self.relaxation_stiffness, 0.0, limit="must be >= 0")
 
     def with_(self, **kw) -> "JointModel":
         return replace(self, **kw)
@@ -193,5 +188,7 @@ def cycle(rotation: float, samples: int = 401) -> tuple[np.ndarray, np.ndarray]:
     return th, d
 
 
-PAPER_JOINT = JointModel(stiffness=5.19, preload=70 * DEG, mu_j=6.92, gamma_pos=1.89, gamma_neg=3.15,
-                         beta_pos=1.24, beta_neg=0.67, pulley_radius=6.0)
+#: The paper's measured joint (rjcad.paper.JOINT).
+PAPER_JOINT = JointModel(stiffness=JOINT.stiffness, preload=JOINT.preload, mu_j=JOINT.mu_j,
+                         gamma_pos=JOINT.gamma_pos, gamma_neg=JOINT.gamma_neg, beta_pos=JOINT.beta_pos,
+                         beta_neg=JOINT.beta_neg, pulley_radius=JOINT.pulley_radius)

@@ -9,18 +9,24 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
 
-from rjcad.physics.finger import FingerModel, onset_tendon, simulate_path, simulate_stroke
+from rjcad.config import write_atomic
+from rjcad.errors import ParameterError
+from rjcad.paper import FINGER, JOINT
+from rjcad.params import JointParams
+from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
+from rjcad.plotting import png_bytes, pyplot
+from rjcad.units import DEG
 
-DEG = math.pi / 180
-MEASURED_DEG = np.array([65.0, 50.0, 50.0])
-STROKE = 25.0
-K_DESIGN = (5.2, 7.8, 10.4)
+MEASURED_DEG = np.array(FINGER.measured_end_deg)
+STROKE = FINGER.stroke
+K_DESIGN = FINGER.designed_stiffness
 ANGLE_SIGMA_DEG = 2.0  # assumed 1-σ error of the vision-tracked end angles
-PAPER_MU_FN = 6.92 * 1.5  # N·mm: the paper's joint, μ_j = 6.92 mm under F_n = 1.5 N (for scale only)
+PAPER_MU_FN = JOINT.mu_j * JOINT.normal_load  # N·mm: the paper's joint, μ_j under F_n (for scale only)
 
 
 def design_model(arm: float | list[float] = 6.0, **kw) -> FingerModel:
@@ -154,16 +160,10 @@ def baseline(arm: float = 6.0):
 def builder_arms(manifest: str | None = None) -> tuple[tuple[float, ...], str]:
     """Moment arms of the design model: a finger manifest's measured ones, else the joint builder's design arm."""
     if manifest is not None:
-        from rjcad.physics.finger import load_finger_model
-
         m = load_finger_model(manifest)
         if m.n != 3:
-            from rjcad.errors import ParameterError
-
             raise ParameterError("manifest", m.n, "the paper's finger has 3 joints")
         return tuple(m.moment_arm), f"moment arms measured on the built finger ({manifest})"
-    from rjcad.params import JointParams  # parameters only, no CAD kernel
-
     a = JointParams().moment_arm
     return (a,) * 3, f"equal arms of {a:g} mm (the joint builder's design arm)"
 
@@ -173,27 +173,9 @@ def _fmt_param(e: Explanation, k: str) -> str:
     return f"{k} = {e.params[k]:.3g} ± {sd:.2g}" if math.isfinite(sd) else f"{k} = {e.params[k]:.3g} (not identified)"
 
 
-def write_doc(out_dir, manifest: str | None = None):
-    """docs/paper-finger.md and its plot, every number and every verdict computed here; nothing written on error."""
-    import io
-    from pathlib import Path
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from rjcad.config import write_atomic
-
-    out = Path(out_dir)
-    arms, arm_source = builder_arms(manifest)
-    end0, onset0, c0 = end_and_onset(design_model(list(arms)))
-    exps = explanations()
-    by = {e.name: e for e in exps}
-    fits = [e for e in exps if e.rms_deg < 0.5]
-    ordered = [e for e in fits if e.sequence_ok]
-    best = min(exps, key=lambda e: (not e.sequence_ok, round(e.rms_deg, 1), e.n_params))
-
+def _plot(c0, best: Explanation, arm_source: str) -> bytes:
+    """PNG of the closure curves: the design model (left) and the best explanation (right) against the measurement."""
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
     c1 = simulate_stroke(model_of(best), STROKE, steps=200)
     for ax, c, title in ((axes[0], c0, f"design-time model, frictionless\n({arm_source})"),
@@ -207,11 +189,15 @@ def write_doc(out_dir, manifest: str | None = None):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=100, metadata={"Software": None})
-    plt.close(fig)
+    return png_bytes(fig, dpi=100)
 
-    f = lambda v: ", ".join(f"{x:.1f}" for x in v)  # noqa: E731
+
+def _f(v) -> str:
+    return ", ".join(f"{x:.1f}" for x in v)
+
+
+def _design_section(arms, arm_source: str, end0, onset0) -> list[str]:
+    """The measurement, the design-time model's end angles and why they cannot match (tendon constraint)."""
     sum_meas = math.radians(MEASURED_DEG.sum())
     lines = [
         "# The paper's finger: what the design model gets wrong",
@@ -220,9 +206,9 @@ def write_doc(out_dir, manifest: str | None = None):
         "computed, none typed.",
         "",
         "**Measurement** (paper Sec. V): pulling the tendon 0 → 25 mm closes the finger to "
-        f"θ = ({f(MEASURED_DEG)})°; the proximal joint moves first, joints 2 and 3 start almost together.",
+        f"θ = ({_f(MEASURED_DEG)})°; the proximal joint moves first, joints 2 and 3 start almost together.",
         "",
-        f"**Design-time model**: K = ({f(K_DESIGN)}) N·mm/rad, preload 90°, range 90°, {arm_source}, "
+        f"**Design-time model**: K = ({_f(K_DESIGN)}) N·mm/rad, preload 90°, range 90°, {arm_source}, "
         "no friction (rjcad.physics.finger).",
         "",
         "| joint | measured [deg] | design model [deg] | error [deg] | starts at t_d [mm] |",
@@ -242,6 +228,13 @@ def write_doc(out_dir, manifest: str | None = None):
            else "")
         + f". An inextensible tendon on the measured angles needs a mean arm of {STROKE / sum_meas:.2f} mm, "
         "or the tendon must lose displacement on the way.",
+    ]
+    return lines
+
+
+def _candidates_section(exps: list[Explanation]) -> list[str]:
+    """The table of fitted candidate explanations."""
+    lines = [
         "",
         "## Candidate explanations, fitted to the three end angles",
         "",
@@ -255,16 +248,29 @@ def write_doc(out_dir, manifest: str | None = None):
     ]
     for e in exps:
         ps = "; ".join(_fmt_param(e, k) for k in e.params)
-        lines.append(f"| {e.name} | {e.cause} | {ps} | {f(e.end_deg)} | {e.rms_deg:.2f} | {f(e.onset_mm)} | "
+        lines.append(f"| {e.name} | {e.cause} | {ps} | {_f(e.end_deg)} | {e.rms_deg:.2f} | {_f(e.onset_mm)} | "
                      f"{'yes' if e.sequence_ok else 'no'} |")
+    return lines
+
+
+def _names(es) -> str:
+    return ", ".join(f"*{e.name}*" for e in es) or "none"
+
+
+def _first(e: Explanation) -> int:
+    return int(np.argmin(e.onset_mm)) + 1
+
+
+def _verdict_section(exps: list[Explanation]) -> list[str]:
+    """What the end angles and the order of motion can and cannot tell apart."""
+    by = {e.name: e for e in exps}
+    fits = [e for e in exps if e.rms_deg < 0.5]
+    ordered = [e for e in fits if e.sequence_ok]
     common = by["moment arm (common)"]
-    fric, cap, along = by[FRICTION], by[CAPSTAN_BASE], by[CAPSTAN_ALONG]
+    cap, along = by[CAPSTAN_BASE], by[CAPSTAN_ALONG]
     need = [k * math.radians(m + 90) for k, m in zip(K_DESIGN, MEASURED_DEG)]
-    kth = [k * math.radians(m) for k, m in zip(K_DESIGN, MEASURED_DEG)]
-    names = lambda es: ", ".join(f"*{e.name}*" for e in es) or "none"  # noqa: E731
-    first = lambda e: int(np.argmin(e.onset_mm)) + 1  # noqa: E731
     misfits = [e for e in exps if e.rms_deg >= 0.5]
-    lines += [
+    lines = [
         "",
         "![closure curves](paper-finger.png)",
         "",
@@ -272,7 +278,7 @@ def write_doc(out_dir, manifest: str | None = None):
         "",
         "- With one tension T, each joint sits where r_i·T = K_i·(θ_i + θ0_i) (± its friction). With equal arms "
         "and preloads the measured angles need K_i·(θ_i + θ0_i) equal at the three joints; it is "
-        f"({f(need)}) N·mm: joint 3 would need {need[2] / need[0]:.2f}× joint 1's torque from the same tension. "
+        f"({_f(need)}) N·mm: joint 3 would need {need[2] / need[0]:.2f}× joint 1's torque from the same tension. "
         f"One common arm scales all three alike: its best fit leaves {common.rms_deg:.1f}° RMS, with joint 1 at "
         f"{common.end_deg[0]:.1f}°.",
         "- Do not fit (RMS ≥ 0.5°): " + "; ".join(f"*{e.name}* {e.rms_deg:.1f}°" for e in misfits) + ".",
@@ -286,28 +292,46 @@ def write_doc(out_dir, manifest: str | None = None):
                      f"this measurement: its fit puts μ_t·α at {along.params['mu_alpha']:.2g} "
                      f"({along.rms_deg:.1f}° RMS).")
     lines += [
-        f"- {len(fits)} of the {len(exps)} families fit the three end angles within 0.5° RMS: {names(fits)}, with "
+        f"- {len(fits)} of the {len(exps)} families fit the three end angles within 0.5° RMS: {_names(fits)}, with "
         f"{', '.join(str(e.n_params) for e in fits)} parameters for 3 numbers. The end angles alone cannot tell "
         "them apart.",
         f"- The order of motion separates some: keeping the measured order (proximal first, 2 and 3 together): "
-        f"{names(ordered)}; against it: "
-        + (", ".join(f"*{e.name}* (joint {first(e)} starts first)" for e in fits if not e.sequence_ok) or "none")
+        f"{_names(ordered)}; against it: "
+        + (", ".join(f"*{e.name}* (joint {_first(e)} starts first)" for e in fits if not e.sequence_ok) or "none")
         + ".",
     ]
-    if fric.rms_deg < 0.5:
-        lines.append(f"- Pin friction fits the end angles ({fric.n_params} parameters for 3 numbers, so the bands "
-                     f"trade off; the solution found has f1 = {fric.params['f1_nmm']:.1f} N·mm at joint 1, for "
-                     f"scale: the paper's bar test gives μ_j·F_n = {PAPER_MU_FN:.2f} N·mm under 1.5 N); on a pull a "
-                     "friction band acts like extra preload torque, so it delays the joints it holds back: "
-                     + ("the measured order is kept." if fric.sequence_ok else
-                        f"joint {first(fric)} starts first, against the measurement. This holds for all friction "
-                        "(or preload) values that fit: with equal arms joint i starts K_i·θ_i/r below the end "
-                        f"tension, and K_i·θ_i = ({f(kth)}) N·mm at the measured angles is largest at joint "
-                        f"{int(np.argmax(kth)) + 1}."))
+    if by[FRICTION].rms_deg < 0.5:
+        lines.append(_friction_verdict(by[FRICTION]))
     if len(ordered) > 1:
         lines.append("- What is left cannot be separated by this data: it needs the joint torques (a bench test of "
                      "each printed spring, as in the paper's joint experiments), the tendon force during the "
                      "closure, or a measured moment arm on the printed links.")
-    write_atomic(out / "paper-finger.png", buf.getvalue())
+    return lines
+
+
+def _friction_verdict(fric: Explanation) -> str:
+    """Why pin friction, though it fits the end angles, does or does not keep the measured order."""
+    kth = [k * math.radians(m) for k, m in zip(K_DESIGN, MEASURED_DEG)]
+    return (f"- Pin friction fits the end angles ({fric.n_params} parameters for 3 numbers, so the bands "
+            f"trade off; the solution found has f1 = {fric.params['f1_nmm']:.1f} N·mm at joint 1, for "
+            f"scale: the paper's bar test gives μ_j·F_n = {PAPER_MU_FN:.2f} N·mm under 1.5 N); on a pull a "
+            "friction band acts like extra preload torque, so it delays the joints it holds back: "
+            + ("the measured order is kept." if fric.sequence_ok else
+               f"joint {_first(fric)} starts first, against the measurement. This holds for all friction "
+               "(or preload) values that fit: with equal arms joint i starts K_i·θ_i/r below the end "
+               f"tension, and K_i·θ_i = ({_f(kth)}) N·mm at the measured angles is largest at joint "
+               f"{int(np.argmax(kth)) + 1}."))
+
+
+def write_doc(out_dir, manifest: str | None = None):
+    """docs/paper-finger.md and its plot, every number and every verdict computed here; nothing written on error."""
+    out = Path(out_dir)
+    arms, arm_source = builder_arms(manifest)
+    end0, onset0, c0 = end_and_onset(design_model(list(arms)))
+    exps = explanations()
+    best = min(exps, key=lambda e: (not e.sequence_ok, round(e.rms_deg, 1), e.n_params))
+    png = _plot(c0, best, arm_source)
+    lines = _design_section(arms, arm_source, end0, onset0) + _candidates_section(exps) + _verdict_section(exps)
+    write_atomic(out / "paper-finger.png", png)
     write_atomic(out / "paper-finger.md", "\n".join(lines) + "\n")
     return exps
