@@ -1,31 +1,22 @@
 """Physics benchmark: a 1000-step pull+release stroke of a 3-joint finger (target < 0.5 s) and
 joint-model throughput (target >= 1e6 samples/s), with a plain-numpy ceiling and the optional
-effects measured in the same run. Prints one JSON object (medians).
-Run: .venv/bin/python benchmarks/physics.py [--n 1000000] [--steps 500] [--repeats 5]
+effects measured in the same run. Prints one JSON object (medians after a warm-up).
+Run: .venv/bin/python benchmarks/physics.py [--n 1000000] [--steps 500] [--repeats 5] [--quick]
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import math
-import statistics
-import time
 
 import numpy as np
 
+from _timing import emit, median_time, parse_args, target
+
+from rjcad.paper import FINGER
 from rjcad.physics.finger import FingerModel, simulate_stroke
 from rjcad.physics.inverse import design_finger
 from rjcad.physics.joint import PAPER_JOINT, Setup, motion_direction, simulate
-
-
-def med(fn, repeats):
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+from rjcad.units import DEG
 
 
 def main() -> None:
@@ -33,51 +24,52 @@ def main() -> None:
     ap.add_argument("--n", type=int, default=1_000_000, help="joint-model samples per evaluation")
     ap.add_argument("--steps", type=int, default=500, help="finger steps each way (500: 1001 in all)")
     ap.add_argument("--repeats", type=int, default=5)
-    args = ap.parse_args()
-    d = math.pi / 180
-    # the full finger model: capstan, pin friction with the tendon-induced part, gravity on the links
-    m = FingerModel((5.2, 7.8, 10.4), (90 * d,) * 3, (90 * d,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0), mu_t=0.2,
-                    friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8), gravity=(0.0, -1.0))
-    c = simulate_stroke(m, 25.0, steps=args.steps)
-    t_finger = med(lambda: simulate_stroke(m, 25.0, steps=args.steps), args.repeats)
+    args = parse_args(ap, quick={"n": 2000, "steps": 20, "repeats": 1})
+    # the paper's finger, full model: capstan, pin friction with the tendon-induced part, gravity on the links
+    m = FingerModel(FINGER.designed_stiffness, (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0),
+                    mu_t=0.2, friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8), gravity=(0.0, -1.0))
+    t_finger, c = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
     n = args.n
     t = np.linspace(0, 100, n)
     th = 0.8 + 0.7 * np.sin(t)
     setup = Setup("tendon", 1.5, routed=True)
     s = motion_direction(th)
-    simulate(PAPER_JOINT, setup, th)
-    t_joint = med(lambda: simulate(PAPER_JOINT, setup, th), args.repeats)
-    t_joint_dir = med(lambda: simulate(PAPER_JOINT, setup, th, direction=s), args.repeats)
+    t_joint = median_time(lambda: simulate(PAPER_JOINT, setup, th), args.repeats)[0]
+    t_joint_dir = median_time(lambda: simulate(PAPER_JOINT, setup, th, direction=s), args.repeats)[0]
     # ceiling: the same arithmetic written as bare numpy (no direction finding, no checks)
-    k, th0, f = PAPER_JOINT.stiffness, PAPER_JOINT.preload, PAPER_JOINT.mu_j * 1.5
+    j = PAPER_JOINT
+    k, th0, f = j.stiffness, j.preload, j.mu_j * 1.5
 
     def plain():
         x = th + th0
-        return np.maximum((k * x + s * f + np.where(s > 0, 1.89 * x, -3.15 * x)) * np.where(s > 0, 1.24, 0.67),
-                          0) / 6.0
+        gamma = np.where(s > 0, j.gamma_pos * x, -j.gamma_neg * x)
+        return np.maximum((k * x + s * f + gamma) * np.where(s > 0, j.beta_pos, j.beta_neg), 0) / j.pulley_radius
 
-    t_plain = med(plain, args.repeats)
+    t_plain = median_time(plain, args.repeats)[0]
     # all optional effects on, with non-uniform sample times (measured data)
     rng = np.random.default_rng(0)
     tt = np.cumsum(rng.uniform(0.5, 1.5, n)) * (100.0 / n)
     full = PAPER_JOINT.with_(viscous=0.05, cubic=0.3, relaxation_stiffness=1.0, relaxation_time=2.0)
-    t_full = med(lambda: simulate(full, setup, th, tt), args.repeats)
-    t_design = med(lambda: design_finger([65, 50, 50], 25, "proximal-first"), args.repeats)
+    t_full = median_time(lambda: simulate(full, setup, th, tt), args.repeats)[0]
+    target_deg = list(FINGER.measured_end_deg)
+    t_design = median_time(lambda: design_finger(target_deg, FINGER.stroke, "proximal-first"), args.repeats)[0]
     out = {
         "finger_steps": len(c.tendon_mm),
         "finger_1000_step_stroke_s": t_finger * 1000 / len(c.tendon_mm),
-        "finger_target_s": 0.5,
         "joint_samples_per_s": n / t_joint,
         "joint_given_direction_samples_per_s": n / t_joint_dir,
         "joint_numpy_ceiling_samples_per_s": n / t_plain,
         "joint_vs_numpy_ceiling": t_plain / t_joint,
         "joint_all_effects_nonuniform_t_samples_per_s": n / t_full,
-        "joint_target_samples_per_s": 1e6,
         "inverse_design_s": t_design,
         "n": n,
         "repeats": args.repeats,
     }
-    print(json.dumps(out, indent=2))
+    out["targets"] = {
+        "finger_1000_step_stroke_s": target(out["finger_1000_step_stroke_s"], at_most=0.5),
+        "joint_samples_per_s": target(out["joint_samples_per_s"], at_least=1e6),
+    }
+    emit(out)
 
 
 if __name__ == "__main__":

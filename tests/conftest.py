@@ -1,5 +1,23 @@
-import os
+"""Shared test set-up: Hypothesis profiles, the `root`, `cli` and `cli_process` fixtures, and the `slow` auto-mark.
 
+Slow tests are found, not listed: at collection every test's code is read (with the helpers and fixtures it
+reaches in tests/), and a test is marked `slow` when it builds a joint or a finger in CadQuery, runs a
+subprocess, starts a process pool or a Dask cluster, or looks for PrusaSlicer. `pytest -m 'not slow'` then
+runs the rest, plus the tests marked `fast_lane` (one real joint build, kept on purpose).
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+from typing import NamedTuple
+
+import pytest
 from hypothesis import HealthCheck, settings
 
 # CI (the default): the same examples every run, so that a landing never depends on luck;
@@ -7,3 +25,190 @@ from hypothesis import HealthCheck, settings
 settings.register_profile("ci", deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 settings.register_profile("dev", deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+ROOT = Path(__file__).resolve().parents[1]
+TESTS = Path(__file__).resolve().parent
+
+
+# ---------------------------------------------------------------- fixtures
+
+@pytest.fixture(scope="session")
+def root() -> Path:
+    """The repository's root directory."""
+    return ROOT
+
+
+class CliRun(NamedTuple):
+    """What one in-process `rjcad` run gave: exit code, stdout, stderr."""
+
+    code: int
+    out: str
+    err: str
+
+
+def _argv(args) -> list[str]:
+    """``("spring", "--json")`` or ``(["spring", "--json"],)`` → ``["spring", "--json"]``."""
+    if len(args) == 1 and isinstance(args[0], (list, tuple)):
+        args = args[0]
+    return [str(a) for a in args]
+
+
+@pytest.fixture
+def cli(capsys):
+    """Run `rjcad ARGS…` in this process: ``code, out, err = cli("spring", "--json")`` (or ``cli([...])``).
+
+    The command must exit (click's standalone mode always does); its output is taken from ``capsys``.
+    """
+    from rjcad.cli import main
+
+    def run(*args) -> CliRun:
+        with pytest.raises(SystemExit) as e:
+            main(_argv(args))
+        out, err = capsys.readouterr()
+        return CliRun(e.value.code, out, err)
+
+    return run
+
+
+@pytest.fixture
+def cli_process():
+    """Run `python -m rjcad ARGS…` in a subprocess from the repository root: a text ``CompletedProcess``."""
+
+    def run(*args, timeout: float = 300) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "rjcad", *_argv(args)], capture_output=True, text=True,
+                              timeout=timeout, cwd=ROOT)
+
+    return run
+
+
+# ---------------------------------------------------------------- the slow auto-mark
+
+#: Functions that build a whole joint or finger in CadQuery (by the name they are called with).
+CAD_BUILDERS = {"build", "build_joint", "build_finger", "build_finger_model", "write_joint", "write_finger"}
+#: CLI commands that build CAD when their input is valid.
+CAD_COMMANDS = {"joint", "finger"}
+#: Names through which tests run the CLI.
+CLI_RUNNERS = {"main", "cli", "cli_process"}
+#: Process pools and clusters.
+POOLS = {"LocalCluster", "Client", "ProcessPoolExecutor", "Pool"}
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "fast_lane: builds CAD but stays in `-m 'not slow'` on purpose "
+                                       "(say why in the docstring)")
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.get_closest_marker("fast_lane") or item.get_closest_marker("slow"):
+            continue
+        why = slow_reason(item)
+        if why:
+            item.add_marker(pytest.mark.slow(why=why))
+
+
+def slow_reason(item) -> str | None:
+    """Why ``item`` is slow (its code, the tests/ helpers it calls, its fixtures), or None."""
+    fns = [getattr(item, "function", None)]
+    defs = getattr(getattr(item, "_fixtureinfo", None), "name2fixturedefs", {})
+    for name in item.fixturenames:
+        fns += [d.func for d in defs.get(name, ())]
+    for fn in fns:
+        why = function_slow_reason(fn)
+        if why:
+            return why
+    return None
+
+
+def function_slow_reason(fn) -> str | None:
+    """Why calling ``fn`` (a test, fixture or helper defined in tests/) is slow, or None."""
+    return _reason(fn, set())
+
+
+def _in_tests(fn) -> bool:
+    try:
+        return Path(inspect.getsourcefile(fn)).resolve().parent == TESTS
+    except (TypeError, OSError):
+        return False
+
+
+_CACHE: dict = {}
+
+
+def _reason(fn, seen: set) -> str | None:
+    """Slow reason of a function defined in tests/, following calls to other functions defined there."""
+    if fn is None or not callable(fn):
+        return None
+    fn = inspect.unwrap(getattr(getattr(fn, "hypothesis", None), "inner_test", fn))  # through @given
+    if fn in seen or not _in_tests(fn):
+        return None
+    seen.add(fn)
+    if fn not in _CACHE:
+        try:
+            tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+        except (OSError, TypeError, SyntaxError):
+            tree = None
+        _CACHE[fn] = (own_slow_reason(tree), _called_names(tree)) if tree else (None, set())
+    own, called = _CACHE[fn]
+    if own:
+        return own
+    scope = getattr(fn, "__globals__", {})
+    for name in called:
+        why = _reason(scope.get(name), seen)
+        if why:
+            return f"{why} (in {name})"
+    return None
+
+
+def _called_names(tree) -> set[str]:
+    return {n.func.id for n in ast.walk(tree) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)}
+
+
+def own_slow_reason(tree) -> str | None:
+    """The first slow thing this code does itself (see the module docstring)."""
+    expects_usage_error = any(_is_exit_2_check(n) for n in ast.walk(tree) if isinstance(n, ast.Compare))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and node.value == "prusa-slicer":
+            return "looks for PrusaSlicer"
+        if not isinstance(node, ast.Call):
+            continue
+        name = _func_name(node.func)
+        if name in CAD_BUILDERS:
+            return f"builds CAD ({name})"
+        if isinstance(node.func, ast.Attribute) and _func_name(node.func.value) == "subprocess":
+            return "runs a subprocess"
+        if name in POOLS:
+            return f"starts a process pool ({name})"
+        kw = {k.arg: k.value for k in node.keywords}
+        if isinstance(kw.get("build"), ast.Constant) and kw["build"].value is True:
+            return "builds CAD (build=True)"
+        if name in CLI_RUNNERS and not expects_usage_error:
+            argv = _literal_args(node)
+            if argv[:1] and argv[0] in CAD_COMMANDS:
+                return f"builds CAD (rjcad {argv[0]})"
+            if "--build" in argv:
+                return "builds CAD (--build)"
+    return None
+
+
+def _func_name(f) -> str | None:
+    if isinstance(f, ast.Name):
+        return f.id
+    if isinstance(f, ast.Attribute):
+        return f.attr
+    return None
+
+
+def _literal_args(call: ast.Call) -> list:
+    """The string constants a CLI call passes, in order: ``main(["joint", …])`` or ``cli("joint", …)``."""
+    args = call.args
+    if len(args) >= 1 and isinstance(args[0], (ast.List, ast.Tuple)):
+        args = args[0].elts
+    return [a.value if isinstance(a, ast.Constant) else None for a in args]
+
+
+def _is_exit_2_check(node: ast.Compare) -> bool:
+    """``… code == 2`` or ``… returncode == 2``: the run is expected to stop at a usage error, before any CAD."""
+    sides = [node.left, *node.comparators]
+    has_2 = any(isinstance(s, ast.Constant) and s.value == 2 for s in sides)
+    return has_2 and any(_func_name(s) in ("code", "returncode") for s in sides)

@@ -9,7 +9,6 @@ import pytest
 import trimesh
 
 from rjcad.check import BadInput, run_checks
-from rjcad.cli import main
 
 SEG = 256  # fine facets: a 2 mm pin in a 2.25 mm bore then measures within 0.001 mm of 0.25 mm
 
@@ -174,16 +173,9 @@ def test_slicer_missing_is_skipped_never_passed(monkeypatch):
     assert s.passed is None and "not installed" in s.detail
 
 
-def cli(args, capsys):
-    with pytest.raises(SystemExit) as e:
-        main(["check", *args])
-    out, err = capsys.readouterr()
-    return e.value.code, out, err
-
-
-def test_cli_exit_codes_and_json(tmp_path, capsys):
+def test_cli_exit_codes_and_json(tmp_path, cli):
     path, man = write(tmp_path, hinge())
-    code, out, _ = cli([str(path), "--manifest", str(man), "--json"], capsys)
+    code, out, _ = cli(["check", str(path), "--manifest", str(man), "--json"])
     assert code == 0
     d = json.loads(out)
     assert d["passed"] is True
@@ -192,14 +184,14 @@ def test_cli_exit_codes_and_json(tmp_path, capsys):
     for c in d["checks"]:
         assert set(c) >= {"name", "passed", "value", "limit", "where", "detail"}
     bpath, bman = write(tmp_path, hinge(obstacle=True), "bad")
-    code, out, _ = cli([str(bpath), "--manifest", str(bman)], capsys)
+    code, out, _ = cli(["check", str(bpath), "--manifest", str(bman)])
     assert code == 1 and "FAIL" in out and "motion" in out
-    code, _, _ = cli([str(path), "--bodies", "3"], capsys)
+    code, _, _ = cli(["check", str(path), "--bodies", "3"])
     assert code == 1
 
 
 @pytest.mark.parametrize("case", ["missing", "text", "empty", "manifest"])
-def test_bad_input_exit_2_one_line(case, tmp_path, capsys):
+def test_bad_input_exit_2_one_line(case, tmp_path, cli):
     path, man = write(tmp_path, hinge())
     args = [str(path)]
     if case == "missing":
@@ -217,7 +209,7 @@ def test_bad_input_exit_2_one_line(case, tmp_path, capsys):
         m["bodies"].append({"name": "tendon_guide", "volume_mm3": 1234.0})
         man.write_text(json.dumps(m))
         args = [str(path), "--manifest", str(man)]
-    code, out, err = cli(args, capsys)
+    code, out, err = cli(["check", *args])
     assert code == 2, (out, err)
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
@@ -237,17 +229,3 @@ def test_3mf_names_are_used(tmp_path):
 def test_api_rejects_empty_input():
     with pytest.raises(BadInput):
         run_checks([])
-
-
-def test_check_benchmark_prints_its_json():
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    r = subprocess.run([sys.executable, str(root / "benchmarks" / "check.py"), "--repeats", "1", "--subdivisions", "5"],
-                       capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
-    for k in ("watertight_manifold_tri_per_s", "joint_motion_sweep_s", "joint_clearance_s", "joint_min_feature_s"):
-        assert d[k] > 0

@@ -4,35 +4,32 @@ import re
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
 
-
-def test_ci_runs_the_readme_test_command():
-    ci = (ROOT / ".ci" / "run").read_text()
-    quick = readme_quick_start()
+def test_ci_runs_the_readme_test_command(root):
+    ci = (root / ".ci" / "run").read_text()
+    quick = readme_quick_start(root)
     assert len(quick) == 2, quick
     assert quick[1] in ci
 
 
-def readme_quick_start():
-    text = (ROOT / "README.md").read_text()
+def readme_quick_start(root):
+    text = (root / "README.md").read_text()
     section = re.search(r"^## Quick start\n(.*?)(?=^## )", text, re.S | re.M).group(1)
     blocks = re.findall(r"```(?:sh|bash|console)?\n(.*?)```", section, re.S)
     return [line.strip() for b in blocks for line in b.splitlines()
             if line.strip() and not line.strip().startswith("#")]
 
 
-def test_readme_quick_start_has_exactly_two_commands():
-    cmds = readme_quick_start()
+def test_readme_quick_start_has_exactly_two_commands(root):
+    cmds = readme_quick_start(root)
     assert cmds == ["make demo", "make test"]
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="make not installed")
-def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path):
+def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path, root):
     failing = tmp_path / "failing"
     failing.mkdir()
     (failing / "test_x.py").write_text("def test_fails():\n    assert 1 == 2\n")
@@ -42,7 +39,7 @@ def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path
 
     def make(target_dir):
         return subprocess.run(
-            ["make", "-s", "-C", str(ROOT), "pytest", f"PY={sys.executable}",
+            ["make", "-s", "-C", str(root), "pytest", f"PY={sys.executable}",
              f"PYTEST_ARGS=-p no:cacheprovider --rootdir={target_dir} {target_dir}"],
             capture_output=True, text=True, timeout=300)
 

@@ -1,26 +1,13 @@
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
-from rjcad.cli import main
-
-RJCAD = [sys.executable, "-m", "rjcad"]
 PAPER = ["spring", "--stiffness", "5.2", "--rotation", "90", "--preload", "90"]
 
 
-def run(argv, capsys):
-    with pytest.raises(SystemExit) as e:
-        main(argv)
-    out, err = capsys.readouterr()
-    return e.value.code, out, err
-
-
-def test_json_has_the_pinned_keys(capsys):
-    code, out, err = run(PAPER + ["--json"], capsys)
+def test_json_has_the_pinned_keys(cli):
+    code, out, err = cli(PAPER + ["--json"])
     assert code == 0, err
     d = json.loads(out)
     for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
@@ -33,18 +20,18 @@ def test_json_has_the_pinned_keys(capsys):
     assert d["rotation_deg"] == 90 and d["preload_deg"] == 90
 
 
-def test_degrees_at_the_cli_radians_inside(capsys):
-    _, out, _ = run(PAPER + ["--json"], capsys)
+def test_degrees_at_the_cli_radians_inside(cli):
+    _, out, _ = cli(PAPER + ["--json"])
     a = json.loads(out)
-    _, out, _ = run(["spring", "--stiffness", "5.2", "--rotation", "45", "--preload", "135", "--json"], capsys)
+    _, out, _ = cli(["spring", "--stiffness", "5.2", "--rotation", "45", "--preload", "135", "--json"])
     b = json.loads(out)
     # same total wind-up (180°): same stress and width; the wound-gap target is the same too
     assert a["max_stress_mpa"] == pytest.approx(b["max_stress_mpa"])
     assert a["width_mm"] == b["width_mm"]
 
 
-def test_readable_table(capsys):
-    code, out, _ = run(PAPER, capsys)
+def test_readable_table(cli):
+    code, out, _ = cli(PAPER)
     assert code == 0
     for label in ("width b", "thickness t", "length L", "pitch p", "turns n", "outer radius",
                   "joint stiffness", "peak stress", "allowed stress", "coil gap"):
@@ -52,9 +39,9 @@ def test_readable_table(capsys):
     assert "5.2000" in out
 
 
-def test_options_change_the_design(capsys):
-    _, out, _ = run(PAPER + ["--json", "--end", "clamped", "--printer", "dimension-elite",
-                             "--material", "PETG", "--safety-factor", "2"], capsys)
+def test_options_change_the_design(cli):
+    _, out, _ = cli(PAPER + ["--json", "--end", "clamped", "--printer", "dimension-elite",
+                             "--material", "PETG", "--safety-factor", "2"])
     d = json.loads(out)
     assert d["end"] == "clamped" and d["printer"] == "dimension-elite" and d["material"] == "petg"
     assert d["allowed_stress_mpa"] == pytest.approx(44.0 / 2)
@@ -74,8 +61,8 @@ def test_options_change_the_design(capsys):
         (["--stiffness", "abc"], "stiffness"),
     ],
 )
-def test_bad_input_one_line_exit_2_no_traceback(extra, param, capsys):
-    code, out, err = run(PAPER + extra, capsys)
+def test_bad_input_one_line_exit_2_no_traceback(extra, param, cli):
+    code, out, err = cli(PAPER + extra)
     assert code == 2
     assert out == ""
     lines = err.strip().splitlines()
@@ -84,62 +71,62 @@ def test_bad_input_one_line_exit_2_no_traceback(extra, param, capsys):
     assert "Traceback" not in err
 
 
-def test_unknown_material_lists_the_known_ones(capsys):
-    _, _, err = run(PAPER + ["--material", "unobtainium"], capsys)
+def test_unknown_material_lists_the_known_ones(cli):
+    _, _, err = cli(PAPER + ["--material", "unobtainium"])
     assert "absplus-p430" in err and "ultem-9085" in err
 
 
-def test_infeasible_names_the_binding_constraint(capsys):
-    code, out, err = run(PAPER + ["--max-outer-radius", "6"], capsys)
+def test_infeasible_names_the_binding_constraint(cli):
+    code, out, err = cli(PAPER + ["--max-outer-radius", "6"])
     assert code == 2 and out == ""
     assert err.count("\n") == 1
     assert "outer radius" in err and "--max-outer-radius" in err
 
 
-def test_missing_stiffness(capsys):
-    code, _, err = run(["spring"], capsys)
+def test_missing_stiffness(cli):
+    code, _, err = cli(["spring"])
     assert code == 2 and "--stiffness" in err and err.count("\n") == 1
 
 
-def test_debug_shows_the_traceback(capsys):
-    code, _, err = run(PAPER + ["--stiffness", "-1", "--debug"], capsys)
+def test_debug_shows_the_traceback(cli):
+    code, _, err = cli(PAPER + ["--stiffness", "-1", "--debug"])
     assert code == 2
     assert "Traceback" in err and "stiffness" in err.strip().splitlines()[-1]
 
 
-def test_config_file_and_override(tmp_path, capsys):
+def test_config_file_and_override(tmp_path, cli):
     cfg = tmp_path / "spring.toml"
     cfg.write_text('stiffness_nmm_per_rad = 7.8\nrotation_deg = 90\npreload_deg = 90\nmaterial = "pla"\n')
-    code, out, err = run(["spring", "--config", str(cfg), "--json"], capsys)
+    code, out, err = cli(["spring", "--config", str(cfg), "--json"])
     assert code == 0, err
     d = json.loads(out)
     assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(7.8, rel=0.005) and d["material"] == "pla"
-    _, out, _ = run(["spring", "--config", str(cfg), "--stiffness", "5.2", "--json"], capsys)
+    _, out, _ = cli(["spring", "--config", str(cfg), "--stiffness", "5.2", "--json"])
     assert json.loads(out)["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
 
 
-def test_config_unknown_key_and_missing_file(tmp_path, capsys):
+def test_config_unknown_key_and_missing_file(tmp_path, cli):
     cfg = tmp_path / "spring.toml"
     cfg.write_text("stiffness_nmm_per_rad = 5.2\nstifness = 3\n")
-    code, _, err = run(["spring", "--config", str(cfg)], capsys)
+    code, _, err = cli(["spring", "--config", str(cfg)])
     assert code == 2 and "stifness" in err and "known keys" in err and err.count("\n") == 1
-    code, _, err = run(["spring", "--config", str(tmp_path / "nope.toml")], capsys)
+    code, _, err = cli(["spring", "--config", str(tmp_path / "nope.toml")])
     assert code == 2 and "not found" in err
 
 
-def test_template_is_the_papers_joint(capsys):
-    tpl = Path(__file__).parents[1] / "templates" / "spring.toml"
-    code, out, err = run(["spring", "--config", str(tpl), "--json"], capsys)
+def test_template_is_the_papers_joint(cli, root):
+    tpl = root / "templates" / "spring.toml"
+    code, out, err = cli(["spring", "--config", str(tpl), "--json"])
     assert code == 0, err
     d = json.loads(out)
     assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
     assert d["rotation_deg"] == 90 and d["preload_deg"] == 90 and d["material"] == "absplus-p430"
 
 
-def test_console_script_end_to_end():
-    ok = subprocess.run(RJCAD + PAPER + ["--json"], capture_output=True, text=True, timeout=120)
+def test_console_script_end_to_end(cli_process):
+    ok = cli_process(PAPER + ["--json"], timeout=120)
     assert ok.returncode == 0, ok.stderr
     assert math.isclose(json.loads(ok.stdout)["joint_stiffness_nmm_per_rad"], 5.2, rel_tol=0.005)
-    bad = subprocess.run(RJCAD + PAPER + ["--rotation", "400"], capture_output=True, text=True, timeout=120)
+    bad = cli_process(PAPER + ["--rotation", "400"], timeout=120)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and "rotation" in bad.stderr and "Traceback" not in bad.stderr

@@ -20,10 +20,14 @@ from rjcad.identify.data import load_campaign
 from rjcad.identify.result import to_json
 from rjcad.identify.select import Selector, identify
 
-ROOT = Path(__file__).resolve().parents[1]
-PAPER = ROOT / "examples" / "paper_campaign" / "campaign.toml"
 PAPER_VALUES = {"mu_j_mm": 6.92, "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 3.15,
                 "beta_pos": 1.24, "beta_neg": 0.67}
+
+
+@pytest.fixture
+def paper(root):
+    """The shipped (synthetic) paper campaign."""
+    return root / "examples" / "paper_campaign" / "campaign.toml"
 
 
 def _run(tmp_path, effects, seed=3, **kw):
@@ -87,8 +91,8 @@ def test_null_case_other_seeds_and_louder_noise(tmp_path):
         assert js["effects"] == [], (seed, js["candidates"])
 
 
-def test_paper_campaign_recovers_the_papers_values():
-    camp = load_campaign(PAPER)
+def test_paper_campaign_recovers_the_papers_values(paper):
+    camp = load_campaign(paper)
     js = to_json(identify(camp))
     assert js["effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
     for name, want in PAPER_VALUES.items():
@@ -177,10 +181,10 @@ def test_masking_at_reversals_is_small_and_reported(tmp_path):
 # ------------------------------------------------------------------ CLI
 
 
-def test_cli_identify_json_and_summary(tmp_path, capsys):
+def test_cli_identify_json_and_summary(tmp_path, capsys, paper):
     out = tmp_path / "r.json"
     with pytest.raises(SystemExit) as e:
-        main(["identify", str(PAPER), "--json", str(out)])
+        main(["identify", str(paper), "--json", str(out)])
     assert e.value.code == 0
     text = capsys.readouterr().out
     assert "found: coulomb_pin, tendon_pin_friction, capstan_path" in text
@@ -195,9 +199,9 @@ def test_cli_identify_json_and_summary(tmp_path, capsys):
     assert js["gain"] == pytest.approx(math.exp(np.mean(np.log(ratios))), rel=1e-3)
 
 
-def test_cli_identify_json_to_stdout(capsys):
+def test_cli_identify_json_to_stdout(capsys, paper):
     with pytest.raises(SystemExit) as e:
-        main(["identify", str(PAPER), "--json", "-"])
+        main(["identify", str(paper), "--json", "-"])
     assert e.value.code == 0
     assert json.loads(capsys.readouterr().out)["effects"][0] == "coulomb_pin"
 

@@ -8,12 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rjcad.cli import main
 from rjcad.errors import RjcadError
 from rjcad.identify.bench import DEFAULT_NOISE, SEGMENTS, trajectory, write_campaign
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "paper_campaign"
 DESIGN = JointModel(stiffness=5.2, preload=math.radians(70), pulley_radius=6.0)
 PAPER_FILES = ["A_bar_Fn1.5.csv", "B_tendon_Fn1.5.csv", "C_tendon_routed_Fn1.5.csv", "D_tendon_Fn0.csv",
                "E_tendon_routed_Fn0.csv"]
@@ -25,11 +23,10 @@ def load(path):
     return header, np.loadtxt(path, delimiter=",", skiprows=1)
 
 
-def run(argv, capsys):
-    with pytest.raises(SystemExit) as e:
-        main(argv)
-    out, err = capsys.readouterr()
-    return e.value.code, out, err
+@pytest.fixture
+def example(root):
+    """The shipped (synthetic) paper campaign's directory."""
+    return root / "examples" / "paper_campaign"
 
 
 def residuals(out, truth, model):
@@ -171,10 +168,10 @@ def test_bad_input_writes_nothing(tmp_path, kwargs, needle):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_cli_writes_and_prints_one_line_per_file(tmp_path, capsys):
+def test_cli_writes_and_prints_one_line_per_file(tmp_path, cli):
     out = tmp_path / "c"
-    code, stdout, err = run(["bench", "--effects", "coulomb_pin,viscous", "--param", "mu_j_mm=5",
-                             "--noise", "torque_nmm=0.2", "--seed", "3", "--samples", "500", "--out", str(out)], capsys)
+    code, stdout, err = cli(["bench", "--effects", "coulomb_pin,viscous", "--param", "mu_j_mm=5",
+                             "--noise", "torque_nmm=0.2", "--seed", "3", "--samples", "500", "--out", str(out)])
     assert code == 0, err
     lines = stdout.strip().splitlines()
     assert len(lines) == 8 and all(line.startswith("wrote ") for line in lines)
@@ -183,14 +180,14 @@ def test_cli_writes_and_prints_one_line_per_file(tmp_path, capsys):
     assert truth["samples"] == 500
     # the README's regeneration command reproduces the files
     cmd = (out / "README.md").read_text().split("```\n")[1].split("\n")[0].split()
-    code, _, err = run(cmd[1:-1] + [str(tmp_path / "again")], capsys)
+    code, _, err = cli(cmd[1:-1] + [str(tmp_path / "again")])
     assert code == 0, err
     for f in PAPER_FILES + ["truth.json"]:
         assert (out / f).read_bytes() == (tmp_path / "again" / f).read_bytes(), f
 
 
-def test_cli_null_case(tmp_path, capsys):
-    code, _, err = run(["bench", "--effects", "", "--out", str(tmp_path / "c"), "--samples", "200"], capsys)
+def test_cli_null_case(tmp_path, cli):
+    code, _, err = cli(["bench", "--effects", "", "--out", str(tmp_path / "c"), "--samples", "200"])
     assert code == 0, err
     assert json.loads((tmp_path / "c" / "truth.json").read_text())["effects"] == []
 
@@ -207,8 +204,8 @@ def test_cli_null_case(tmp_path, capsys):
     ["--paper", "--effects", "coulomb_pin"],
     ["--rotation", "400"],
 ])
-def test_cli_bad_input_is_one_line_exit_2(tmp_path, capsys, argv):
-    code, out, err = run(["bench", "--out", str(tmp_path / "c")] + argv, capsys)
+def test_cli_bad_input_is_one_line_exit_2(tmp_path, cli, argv):
+    code, out, err = cli(["bench", "--out", str(tmp_path / "c")] + argv)
     assert code == 2
     assert err.startswith("rjcad: error:") and err.count("\n") == 1, err
     assert not (tmp_path / "c").exists()
@@ -226,30 +223,30 @@ def test_writing_into_an_existing_directory_replaces_the_campaign(tmp_path):
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
 
 
-def test_shipped_paper_campaign_is_synthetic_and_regenerates(tmp_path, capsys):
-    code, _, err = run(["bench", "--paper", "--out", str(tmp_path / "c"), "--seed", "7"], capsys)
+def test_shipped_paper_campaign_is_synthetic_and_regenerates(tmp_path, cli, example):
+    code, _, err = cli(["bench", "--paper", "--out", str(tmp_path / "c"), "--seed", "7"])
     assert code == 0, err
-    names = sorted(p.name for p in EXAMPLE.iterdir())
+    names = sorted(p.name for p in example.iterdir())
     assert names == sorted(p.name for p in (tmp_path / "c").iterdir())
     for name in names:
-        assert (EXAMPLE / name).read_bytes() == (tmp_path / "c" / name).read_bytes(), \
+        assert (example / name).read_bytes() == (tmp_path / "c" / name).read_bytes(), \
             f"{name} is stale: run `make paper-campaign`"
-    assert sum((EXAMPLE / n).stat().st_size for n in names) < 1_000_000
-    readme = (EXAMPLE / "README.md").read_text()
+    assert sum((example / n).stat().st_size for n in names) < 1_000_000
+    readme = (example / "README.md").read_text()
     assert readme.startswith("# SYNTHETIC") and "not measured" in readme and "slack tendon" in readme.lower()
-    assert (EXAMPLE / "campaign.toml").read_text().startswith("# SYNTHETIC")
-    truth = json.loads((EXAMPLE / "truth.json").read_text())
+    assert (example / "campaign.toml").read_text().startswith("# SYNTHETIC")
+    truth = json.loads((example / "truth.json").read_text())
     assert truth["synthetic"] is True and truth["seed"] == 7 and truth["samples"] == 3000
     assert truth["params"] == {"stiffness_nmm_per_rad": 5.19, "preload_deg": 70.0, "mu_j_mm": 6.92,
                                "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 3.15, "beta_pos": 1.24,
                                "beta_neg": 0.67}
 
 
-def test_the_loader_reads_the_shipped_campaign():
+def test_the_loader_reads_the_shipped_campaign(example):
     from rjcad.identify.data import load_campaign
 
     try:
-        camp = load_campaign(EXAMPLE / "campaign.toml")
+        camp = load_campaign(example / "campaign.toml")
     except NotImplementedError:
         pytest.skip("rjcad.identify.data.load_campaign is not written yet")
     assert camp.design.stiffness == pytest.approx(5.2) and camp.design.pulley_radius == pytest.approx(6.0)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
 
 import pytest
 
@@ -13,13 +12,9 @@ from rjcad.identify.report import fmt
 from rjcad.identify.result import to_json
 from rjcad.identify.select import identify
 
-ROOT = Path(__file__).resolve().parents[1]
-DOC = ROOT / "docs" / "identify.md"
-
-
 @pytest.fixture(scope="module")
-def js():
-    return to_json(identify(load_campaign(ROOT / "examples" / "paper_campaign" / "campaign.toml")))
+def js(root):
+    return to_json(identify(load_campaign(root / "examples" / "paper_campaign" / "campaign.toml")))
 
 
 def _has(text: str, value, sig: int = 4):
@@ -28,8 +23,8 @@ def _has(text: str, value, sig: int = 4):
     assert s in text or alt in text, f"{s} not quoted in docs/identify.md"
 
 
-def test_doc_quotes_the_current_numbers(js):
-    text = DOC.read_text(encoding="utf-8")
+def test_doc_quotes_the_current_numbers(js, root):
+    text = (root / "docs" / "identify.md").read_text(encoding="utf-8")
     assert js["effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
     for e in js["effects"]:
         assert f"`{e}`" in text
@@ -51,8 +46,8 @@ def test_doc_quotes_the_current_numbers(js):
     assert re.search(r"only 0\.10 % of", text) and "0.10%" in rejected["spring_calibration"]["verdict"]
 
 
-def test_committed_report_matches_a_fresh_run(js):
-    saved = json.loads((ROOT / "docs" / "identify" / "result.json").read_text())
+def test_committed_report_matches_a_fresh_run(js, root):
+    saved = json.loads((root / "docs" / "identify" / "result.json").read_text())
     assert saved["effects"] == js["effects"]
     for k, v in js["params"].items():
         assert saved["params"][k] == pytest.approx(v, rel=1e-3), k

@@ -2,8 +2,6 @@
 
 import json
 import math
-import subprocess
-import sys
 
 import pytest
 from mesh_tools import load_bodies, manifold, reimport_step, rotate_about, sweep_collisions
@@ -200,19 +198,6 @@ def test_infeasible_spring_is_a_clear_error(tmp_path, capsys):
     err = capsys.readouterr().err
     assert e.value.code == 2 and err.count("\n") == 1 and not out.exists()
     assert "MPa" in err or "radius" in err or "turns" in err
-
-
-def test_joint_benchmark_prints_its_json():
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    r = subprocess.run([sys.executable, str(root / "benchmarks" / "joint.py"), "--repeats", "1"],
-                       capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
-    for key in ("median_total_s", "median_cad_build_s", "median_step_export_s", "median_stl_3mf_export_s",
-                "triangles", "stl_bytes"):
-        assert d[key] > 0, key
 
 
 def test_spring_strips_volume_measured_on_the_stl(default_joint):

@@ -2,8 +2,6 @@
 JSON shapes, the paper's numbers through the default flags, and one-line errors with no partial output."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -11,12 +9,8 @@ import pytest
 from test_physics_finger import small_manifest
 
 
-def run(*args):
-    return subprocess.run([sys.executable, "-m", "rjcad", *args], capture_output=True, text=True, timeout=300)
-
-
-def test_simulate_joint_bar_defaults_are_the_papers_joint():
-    r = run("simulate", "joint", "--drive", "bar", "--rotation", "90", "--json")
+def test_simulate_joint_bar_defaults_are_the_papers_joint(cli_process):
+    r = cli_process("simulate", "joint", "--drive", "bar", "--rotation", "90", "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d) == {"theta_deg", "direction", "torque_nmm"}
@@ -27,19 +21,19 @@ def test_simulate_joint_bar_defaults_are_the_papers_joint():
     assert np.mean(tau[up] - width) / 2 == pytest.approx(10.39, rel=0.01)  # μ_j·F_n from 6.92 mm × 1.5 N
 
 
-def test_simulate_joint_flags_change_the_loop():
-    a = json.loads(run("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json").stdout)
-    b = json.loads(run("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json", "--routed",
-                       "--normal-load", "0", "--pulley-radius", "8").stdout)
+def test_simulate_joint_flags_change_the_loop(cli_process):
+    a = json.loads(cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json").stdout)
+    b = json.loads(cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json", "--routed",
+                               "--normal-load", "0", "--pulley-radius", "8").stdout)
     assert len(a["tendon_force_n"]) == len(b["tendon_force_n"]) and a["tendon_force_n"] != b["tendon_force_n"]
 
 
-def test_simulate_finger_from_a_manifest(tmp_path):
+def test_simulate_finger_from_a_manifest(tmp_path, cli_process):
     p = tmp_path / "finger.json"
     p.write_text(json.dumps(small_manifest()))
     png = tmp_path / "closure.png"
-    r = run("simulate", "finger", str(p), "--stroke", "15", "--steps", "50", "--mu-t", "0.3", "--json",
-            "--plot", str(png))
+    r = cli_process("simulate", "finger", str(p), "--stroke", "15", "--steps", "50", "--mu-t", "0.3", "--json",
+                    "--plot", str(png))
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"}
@@ -52,25 +46,25 @@ def test_simulate_finger_from_a_manifest(tmp_path):
     ('{"joints": [{"preload_deg": 90}]}', "joints[1].joint_stiffness_nmm_per_rad"),
     ("{not json", "not valid JSON"),
 ])
-def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words):
+def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words, cli_process):
     p = tmp_path / "finger.json"
     p.write_text(content)
     png = tmp_path / "x.png"
-    r = run("simulate", "finger", str(p), "--plot", str(png))
+    r = cli_process("simulate", "finger", str(p), "--plot", str(png))
     assert r.returncode == 2 and words in r.stderr and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
     assert not png.exists()
 
 
-def test_finger_design_cli_writes_a_template_and_reports(tmp_path):
+def test_finger_design_cli_writes_a_template_and_reports(tmp_path, cli_process):
     out = tmp_path / "my.toml"
-    r = run("finger-design", "--target", "90,20,20", "--stroke", "12", "--sequence", "proximal-first",
-            "--out", str(out), "--json")
+    r = cli_process("finger-design", "--target", "90,20,20", "--stroke", "12", "--sequence", "proximal-first",
+                    "--out", str(out), "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert max(abs(e) for e in d["end_error_deg"]) < 1.0 and len(d["closure"]["theta_deg"]) == 3
     assert "[[joint]]" in out.read_text()
     bad = tmp_path / "bad.toml"
-    r = run("finger-design", "--target", "90,20,20", "--stroke", "12", "--out", str(bad))
+    r = cli_process("finger-design", "--target", "90,20,20", "--stroke", "12", "--out", str(bad))
     assert r.returncode == 2 and "proximal-first" in r.stderr and r.stderr.count("\n") == 1
     assert not bad.exists()
 
@@ -88,21 +82,6 @@ def test_paper_finger_arms_from_a_manifest(tmp_path):
     assert arms == (6.0, 6.0, 6.0) and "builder" in source
 
 
-def test_physics_benchmark_smoke_all_keys():
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parents[1]
-    r = subprocess.run([sys.executable, str(root / "benchmarks" / "physics.py"), "--n", "2000", "--steps", "20",
-                        "--repeats", "1"], capture_output=True, text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
-    for key in ("finger_1000_step_stroke_s", "joint_samples_per_s", "joint_given_direction_samples_per_s",
-                "joint_numpy_ceiling_samples_per_s", "joint_vs_numpy_ceiling",
-                "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s"):
-        assert d[key] > 0, key
-    assert d["finger_steps"] == 41 and d["n"] == 2000
-
-
 def test_usage_error_in_a_subcommand_points_to_its_own_help(capsys):
     from rjcad.cli import main
 
@@ -111,3 +90,29 @@ def test_usage_error_in_a_subcommand_points_to_its_own_help(capsys):
     assert e.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "(see 'rjcad simulate joint --help')" in err[0]
+
+
+# ---------------------------------------------------------------- more of the same commands (from test_physics.py)
+
+def test_cli_simulate_joint_json(tmp_path, cli_process):
+    r = cli_process("simulate", "joint", "--drive", "tendon", "--routed", "--rotation", "90", "--json",
+                    "--plot", str(tmp_path / "loop.png"))
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d) == {"theta_deg", "direction", "tendon_force_n"}
+    assert len(d["theta_deg"]) == len(d["direction"]) == len(d["tendon_force_n"])
+    assert (tmp_path / "loop.png").stat().st_size > 1000
+
+
+def test_cli_simulate_finger_and_design(tmp_path, cli_process, root):
+    r = cli_process("simulate", "finger", str(root / "templates" / "finger.toml"), "--stroke", "25", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"} and len(d["theta_deg"]) == 3
+    out = tmp_path / "my.toml"
+    r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "25", "--sequence", "proximal-first",
+                    "--out", str(out))
+    assert r.returncode == 0, r.stderr and out.exists()
+    r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "90", "--out", str(tmp_path / "x.toml"))
+    assert r.returncode == 2 and "moment arm" in r.stderr and r.stderr.count("\n") == 1
+    assert not (tmp_path / "x.toml").exists()

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.optimize import minimize
 
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.physics import finger as fm
@@ -212,3 +213,112 @@ def test_paper_finger_capstan_and_friction_verdicts():
     assert base.rms_deg == pytest.approx(common.rms_deg, abs=0.01) and np.isnan(base.std["mu_alpha"])
     assert fric.rms_deg < 0.5 and not fric.sequence_ok and np.argmin(fric.onset_mm) == 2
     assert np.isfinite(fric.std["r_mm"]) and np.isnan(fric.std["f1_nmm"])
+
+
+# ---------------------------------------------------------------- the paper's three-joint finger (from test_physics.py)
+
+def paper_model(**kw):
+    return fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, **kw)
+
+
+@pytest.mark.parametrize("t_d", [1.0, 5.0, 12.0, 20.0, 25.0])
+def test_frictionless_equals_the_energy_minimum(t_d):
+    m = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG, 80 * DEG, 100 * DEG),
+                       (6.0, 7.0, 8.0))
+    c = fm.simulate_path(m, np.linspace(0, t_d, 60))
+    K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
+    res = minimize(lambda x: 0.5 * np.sum(K * (x + th0) ** 2), np.full(3, 0.1), method="SLSQP",
+                   bounds=list(zip([0] * 3, thmax)), constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}],
+                   options={"ftol": 1e-14, "maxiter": 500})
+    assert res.success
+    assert c.theta[-1] == pytest.approx(res.x, abs=1e-4)
+    assert fm.frictionless_optimum(m, t_d) == pytest.approx(res.x, abs=1e-4)
+
+
+def test_capstan_makes_the_proximal_joint_start_first():
+    equal = fm.FingerModel((5.0,) * 3, (60 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3,
+                           wrap=(0.3, 0.3, 0.3), mu_t=0.3)
+    onset = fm.onset_tendon(fm.simulate_stroke(equal, 15, 300))
+    assert onset[0] < onset[1] < onset[2]
+
+
+def test_stick_slip_and_release_hysteresis():
+    m = fm.FingerModel((5.2,), (60 * DEG,), (90 * DEG,), (6.0,), friction=(2.0,), gamma=(0.5,), tendon_stiffness=2.0)
+    c = fm.simulate_stroke(m, 8.0, 200)
+    pull = c.theta[:201, 0]
+    release = c.theta[201:, 0][::-1]  # same t_d as pull[:-1]
+    p = pull[:-1]
+    assert np.all(release >= p - 1e-12)  # at a fixed t_d the release angle is never smaller ...
+    moving = (p > 0.05) & (p < p.max() - 0.05)
+    assert moving.sum() > 50 and np.all(release[moving] > p[moving] + 1e-3)  # ... and larger while it moves
+    # stick: right after the reversal the joint holds while the tension drops across the friction band
+    assert np.any(c.state[201:210, 0] == 0)
+    assert np.all(c.tension >= 0)
+
+
+def test_three_joint_release_is_more_closed_and_stuck_joints_slacken_the_tendon():
+    # a compliant tendon: at the same t_d the release closes the finger more (Σ r·θ larger)
+    m = paper_model(friction=(3.0,) * 3, gamma=(1.0,) * 3, tendon_stiffness=3.0)
+    c = fm.simulate_stroke(m, 20, 400)
+    r = np.array(m.moment_arm)
+    for k in (150, 250, 350):
+        assert r @ c.theta[800 - k] >= r @ c.theta[k] - 1e-9
+    # friction above the preload torque (the paper's own numbers): the spring cannot reopen the joint
+    stuck = fm.FingerModel((5.19,), (70 * DEG,), (90 * DEG,), (6.0,), friction=(10.39,))
+    s = fm.simulate_stroke(stuck, 6.0, 100)
+    assert s.theta[-1, 0] > 0.1 and s.slack[-1] and s.tension[-1] == 0.0
+
+
+def test_joint_limits_respected_and_tension_never_negative():
+    c = fm.simulate_stroke(paper_model(wrap=(0.5, 0.2, 0.2), mu_t=0.2, friction=(1.0,) * 3), 30, 300)
+    assert np.all(c.theta >= -1e-12) and np.all(c.theta <= 90 * DEG + 1e-12)
+    assert np.all(c.tension >= 0) and np.all(c.joint_tension >= 0)
+    # the tension reaching a joint is the actuator's times the capstan factor
+    pull = np.array([p == "pull" for p in c.phase])
+    f = np.exp(-0.2 * np.cumsum([0.5, 0.2, 0.2]))
+    assert c.joint_tension[pull] == pytest.approx(c.tension[pull, None] * f)
+
+
+def test_gravity_holds_a_joint_back():
+    flat = paper_model()
+    heavy = paper_model(link_mass=(50.0, 50.0, 50.0), gravity=(0.0, -1.0))
+    a = fm.simulate_stroke(flat, 10, 100).theta[100]
+    b = fm.simulate_stroke(heavy, 10, 100).theta[100]
+    assert not np.allclose(a, b)
+    # with gravity along −y, lifting the links (flexing towards +y) costs torque: the tension rises
+    assert fm.simulate_stroke(heavy, 10, 100).tension[100] > fm.simulate_stroke(flat, 10, 100).tension[100]
+
+
+def test_paper_finger_design_model_is_far_from_the_measurement():
+    from rjcad.physics.paper_finger import MEASURED_DEG, baseline
+
+    end, onset, _ = baseline(6.0)
+    assert end[0] == pytest.approx(90.0)  # the soft proximal joint hits its stop
+    assert np.max(np.abs(end - MEASURED_DEG)) > 8
+    assert onset[0] < onset[1] < onset[2]
+
+
+def test_paper_finger_explanations():
+    from rjcad.physics import paper_finger as pf
+
+    common = pf._fit("moment arm (common)", *pf.FAMILIES["moment arm (common)"])
+    arms = pf._fit("moment arms per joint", *pf.FAMILIES["moment arms per joint"])
+    pre = pf._fit("moment arm + distal preloads lower", *pf.FAMILIES["moment arm + distal preloads lower"])
+    assert common.rms_deg > 10  # one arm cannot explain it
+    assert arms.rms_deg < 0.5 and arms.sequence_ok  # longer distal arms: exact, order kept
+    assert arms.params["r1_mm"] < arms.params["r2_mm"] < arms.params["r3_mm"]
+    assert pre.rms_deg < 0.5 and not pre.sequence_ok  # lower distal preloads fit the angles, not the order
+
+
+def test_paper_finger_doc_is_generated_and_current(tmp_path, root):
+    doc = (root / "docs" / "paper-finger.md").read_text()
+    assert (root / "docs" / "paper-finger.png").stat().st_size > 10_000
+    assert "Generated by `rjcad paper-finger`" in doc
+
+
+@pytest.mark.slow
+def test_paper_finger_doc_regenerates_identically(tmp_path, root):
+    from rjcad.physics.paper_finger import write_doc
+
+    write_doc(tmp_path)
+    assert (tmp_path / "paper-finger.md").read_text() == (root / "docs" / "paper-finger.md").read_text()

@@ -2,12 +2,13 @@
 accepts; unreachable ones say why, and the numbers in the message are true."""
 
 import math
+import tomllib
 
 import numpy as np
 import pytest
 
 from rjcad.params import JointParams
-from rjcad.errors import InfeasibleDesign, RjcadError
+from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics import finger as fm
 from rjcad.physics.inverse import _printable_scale, arm_range, design_finger
 
@@ -96,3 +97,38 @@ def test_the_written_template_is_accepted_by_the_finger_builder(tmp_path):
     fp = FingerParams.from_toml(p)
     assert [j.stiffness for j in fp.joints] == pytest.approx(d.stiffness, abs=1e-4)
     assert [j.moment_arm for j in fp.joints] == pytest.approx(d.moment_arm, abs=1e-4)
+
+
+# ---------------------------------------------------------------- the paper's finger as a target (from test_physics.py)
+
+@pytest.mark.parametrize("sequence", ["simultaneous", "proximal-first"])
+def test_inverse_design_reaches_the_target(sequence, tmp_path):
+    from rjcad.cad.finger import FingerParams
+    from rjcad.physics.inverse import design_finger
+
+    d = design_finger([65, 50, 50], 25, sequence)
+    assert max(abs(e) for e in d.end_error_deg) < 1.0
+    on = d.onset_mm
+    if sequence == "proximal-first":
+        assert on[0] < on[1] - 1.0 and abs(on[1] - on[2]) < 0.5
+    else:
+        assert max(on) - min(on) < 0.5
+    # the template it writes is a valid finger for the builder, and re-simulates to the target
+    path = tmp_path / "f.toml"
+    path.write_text(d.template())
+    fp = FingerParams.from_toml(path)
+    assert [round(p.stiffness, 3) for p in fp.joints] == [round(k, 3) for k in d.stiffness]
+    m = fm.model_from_template(tomllib.loads(path.read_text()))
+    c = fm.simulate_stroke(m, 25, 400)
+    assert np.degrees(c.theta[400]) == pytest.approx([65, 50, 50], abs=1.0)
+
+
+def test_inverse_design_unreachable_targets_say_why():
+    from rjcad.physics.inverse import design_finger
+
+    with pytest.raises(InfeasibleDesign, match="moment arm"):
+        design_finger([65, 50, 50], 80)
+    with pytest.raises(InfeasibleDesign, match="no printable spring"):
+        design_finger([65, 50, 50], 25, base_stiffness=40)
+    with pytest.raises(ParameterError):
+        design_finger([65, 150, 50], 25)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from rjcad.errors import ParameterError
-from rjcad.physics.joint import (PAPER_JOINT, PARAM_NAMES, JointModel, Setup, motion_direction,
+from rjcad.physics.joint import (PAPER_JOINT, PARAM_NAMES, JointModel, Setup, cycle, motion_direction,
                                  relaxation_torque, simulate)
 
 DEG = math.pi / 180
@@ -139,3 +139,61 @@ def test_optional_effects_all_act_in_the_tendon_drive():
     assert visc - f0 == pytest.approx(np.full_like(t, 1.24 * 0.5 * 0.6 / R), rel=1e-6)
     relax = simulate(base.with_(relaxation_stiffness=1.0, relaxation_time=0.5), setup, th, t)
     assert np.all(np.diff(relax - f0) >= -1e-12) and (relax - f0)[-1] > 0
+
+
+# ---------------------------------------------------------------- one full cycle (from test_physics.py)
+
+def loop(setup, model=PAPER_JOINT, rot=90):
+    th, d = cycle(rot * DEG)
+    return th, d, simulate(model, setup, th, direction=d)
+
+
+def test_bar_test_mean_friction_level_is_10_39():
+    th, d, tau = loop(Setup("bar", 1.5))
+    up, dn = d > 0, d < 0
+    # half the gap between the flexing and extending branches at the same angle = μ_j·F_n = 6.92·1.5
+    width = np.interp(th[up], th[dn][::-1], tau[dn][::-1])
+    level = np.mean(tau[up] - width) / 2
+    assert level == pytest.approx(10.39, rel=0.01)
+    # the mid line passes through zero torque at zero spring deformation, slope K_s = 5.19
+    mid = (tau[up] + width) / 2
+    slope, icpt = np.polyfit(th[up] + PAPER_JOINT.preload, mid, 1)
+    assert slope == pytest.approx(5.19, rel=0.01) and abs(icpt) < 0.01  # N·mm (interpolation error)
+
+
+def test_tendon_test_slopes_are_K_plus_minus_gamma():
+    th, d, F = loop(Setup("tendon", 0.0))
+    up, dn = d > 0, d < 0
+    assert np.polyfit(th[up], 6.0 * F[up], 1)[0] == pytest.approx(5.19 + 1.89, rel=0.01)
+    assert np.polyfit(th[dn], 6.0 * F[dn], 1)[0] == pytest.approx(5.19 - 3.15, rel=0.01)
+
+
+def test_direction_holds_through_holds():
+    assert motion_direction([0, 1, 2, 2, 2, 1, 1, 3]).tolist() == [1, 1, 1, 1, 1, -1, -1, 1]
+
+
+def test_relaxation_decays_during_a_hold_and_matches_the_ode():
+    t = np.linspace(0, 10, 2001)
+    th = np.clip(t, 0, 1.0)  # ramp for 1 s, then hold
+    tau = relaxation_torque(th, t, k_m=2.0, t_r=1.5)
+    # during the ramp (θ̇ = 1): τ = K_M·T_r·(1 − e^{−t/T_r}); then decays as e^{−(t−1)/T_r}
+    peak = 2.0 * 1.5 * (1 - math.exp(-1 / 1.5))
+    assert tau[np.searchsorted(t, 1.0)] == pytest.approx(peak, rel=1e-3)
+    assert tau[-1] == pytest.approx(peak * math.exp(-9 / 1.5), rel=1e-2)
+
+
+def test_viscous_and_cubic_terms():
+    t = np.linspace(0, 1, 101)
+    th = 0.5 * t
+    base = simulate(JointModel(), Setup("bar"), th, t)
+    visc = simulate(JointModel(viscous=0.4), Setup("bar"), th, t)
+    cub = simulate(JointModel(cubic=0.3), Setup("bar"), th, t)
+    assert np.allclose(visc - base, 0.4 * 0.5)
+    assert np.allclose(cub - base, 0.3 * (th + JointModel().preload) ** 3)
+
+
+def test_bad_joint_parameters():
+    with pytest.raises(ParameterError):
+        JointModel(pulley_radius=0)
+    with pytest.raises(ParameterError):
+        Setup("rope")

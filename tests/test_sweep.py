@@ -1,34 +1,28 @@
 import io
 import json
 import math
-from pathlib import Path
 
 import pytest
 
 from rjcad import sweep as sw
 from rjcad.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+
+def spring_json(row, cli):
+    return cli(["spring", "--stiffness", str(row["stiffness_nmm_per_rad"]), "--rotation", str(row["rotation_deg"]),
+                "--preload", str(row["preload_deg"]), "--material", row["material"], "--printer", row["printer"],
+                "--safety-factor", str(row["safety_factor"]), "--end", row["end"], "--json"])
 
 
-def spring_json(row, capsys):
-    with pytest.raises(SystemExit) as e:
-        main(["spring", "--stiffness", str(row["stiffness_nmm_per_rad"]), "--rotation", str(row["rotation_deg"]),
-              "--preload", str(row["preload_deg"]), "--material", row["material"], "--printer", row["printer"],
-              "--safety-factor", str(row["safety_factor"]), "--end", row["end"], "--json"])
-    out, err = capsys.readouterr()
-    return e.value.code, out, err
-
-
-def test_example_sweep_matches_rjcad_spring(tmp_path, capsys):
-    spec = sw.SweepSpec.from_toml(ROOT / "templates" / "sweep_stiffness.toml")
+def test_example_sweep_matches_rjcad_spring(tmp_path, cli, root):
+    spec = sw.SweepSpec.from_toml(root / "templates" / "sweep_stiffness.toml")
     res = sw.run_sweep(spec, tmp_path, stream=io.StringIO())
     assert len(res.rows) == 21 * 13 * 3
     assert {r["material"] for r in res.rows} == {"absplus-p430", "pla", "petg"}
     assert (tmp_path / "results.csv").exists() and (tmp_path / "pareto.png").exists()
     assert "Sweep summary" in (tmp_path / "summary.md").read_text()
     for row in res.rows[::37]:
-        code, out, err = spring_json(row, capsys)
+        code, out, err = spring_json(row, cli)
         if row["feasible"]:
             assert code == 0, err
             d = json.loads(out)
@@ -157,14 +151,3 @@ def test_dask_cluster_gives_the_same_results_as_the_local_run(tmp_path):
     strip = lambda rows: [{k: v for k, v in r.items() if k not in volatile} for r in rows]  # noqa: E731
     assert strip(remote) == strip(local)
     assert all(r["status"] == "ok" for r in local)
-
-
-def test_sweep_benchmark_prints_its_json():
-    import subprocess
-    import sys
-
-    r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "sweep.py"), "--analytic-n", "2000",
-                        "--build-n", "2"], capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
-    assert d["analytic_designs_per_s"] > 0 and d["build_wall_s_1_worker"] > 0 and d["parallel_efficiency_2_workers"] > 0
