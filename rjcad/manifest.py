@@ -131,25 +131,32 @@ def _write(obj) -> dict:
 # --------------------------------------------------------------------------
 
 
+class _Entry:
+    """A typed JSON object: ``to_json`` writes its set fields then ``extra``; ``from_json`` checks types."""
+
+    _PATH = ""
+
+    def to_json(self) -> dict:
+        return _write(self)
+
+    @classmethod
+    def from_json(cls, data, path: str | None = None):
+        return _read(cls, data, cls._PATH if path is None else path)
+
+
 @dataclass
-class BodyEntry:
+class BodyEntry(_Entry):
     """One printed body: its name (as in the 3MF and STEP), volume [mm³] and mass [g]."""
 
     name: str
     volume_mm3: float | None = None
     mass_g: float | None = None
     extra: dict = field(default_factory=dict)
-
-    def to_json(self) -> dict:
-        return _write(self)
-
-    @classmethod
-    def from_json(cls, data, path: str = "body.") -> "BodyEntry":
-        return _read(cls, data, path)
+    _PATH = "body."
 
 
 @dataclass
-class JointEntry:
+class JointEntry(_Entry):
     """One joint: parent and child bodies, the axis at rest (point, direction), the spring and its angles,
     and the tendon's measured moment arm and wrap angle (in the channel that feeds the joint)."""
 
@@ -168,13 +175,7 @@ class JointEntry:
     tendon_moment_arm_mm: float | None = None
     tendon_wrap_angle_rad: float | None = None
     extra: dict = field(default_factory=dict)
-
-    def to_json(self) -> dict:
-        return _write(self)
-
-    @classmethod
-    def from_json(cls, data, path: str = "joint.") -> "JointEntry":
-        return _read(cls, data, path)
+    _PATH = "joint."
 
 
 @dataclass

@@ -15,7 +15,6 @@ import pytest
 
 MAX_MODULE_LINES = 500
 MAX_FUNCTION_LINES = 80
-UNTIL_13 = pytest.mark.xfail(strict=False, reason="until #13 lands")
 
 
 def modules(package_dir: Path) -> dict[str, Path]:
@@ -175,20 +174,17 @@ def test_the_walker_reads_rjcad(rjcad_dir):
 
 # ---------------------------------------------------------------- the rules (#13)
 
-@UNTIL_13
 def test_no_import_cycle_in_rjcad(rjcad_dir):
     cycle = find_cycle(import_graph(rjcad_dir))
     assert cycle is None, "import cycle: " + " -> ".join(cycle)
 
 
-@UNTIL_13
 def test_no_module_over_500_lines(rjcad_dir):
     big = [f"{p.relative_to(rjcad_dir.parent)} ({n} lines)" for p in sorted(rjcad_dir.rglob("*.py"))
            if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES]
     assert not big, big
 
 
-@UNTIL_13
 def test_no_function_over_80_lines(rjcad_dir):
     long = [f for p in sorted(rjcad_dir.rglob("*.py")) for f in long_functions(p, str(p.relative_to(rjcad_dir.parent)))]
     assert not long, long

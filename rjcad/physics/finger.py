@@ -25,8 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rjcad.errors import ParameterError
-
-DEG = math.pi / 180
+from rjcad.units import DEG
 G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
 
 

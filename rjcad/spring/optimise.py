@@ -214,32 +214,33 @@ def optimise_arrays(
     })
 
 
+#: One line per binding constraint: its value and limit at thickness t, width b, and what to change.
+_INFEASIBLE = {
+    "stress": "stress {value:.1f} MPa > {limit:.1f} MPa allowed at t = {t:g} mm (width b = {b:g} mm, its maximum "
+              "--width-max): lower the stiffness or the rotation, or choose a stronger material",
+    "turns": "turns {value:.2f} < {limit:g} minimum at t = {t:g} mm (width b = {b:g} mm, its maximum): the strip is "
+             "too short to coil; lower the stiffness or allow a wider spring (--width-max)",
+    "outer_radius": "outer radius {value:.1f} mm > {limit:g} mm allowed (smallest spring: t = {t:g} mm, b = {b:g} mm): "
+                    "raise the limit (--max-outer-radius), lower the stiffness or the rotation, or choose a material "
+                    "with a higher yield/E ratio",
+    "inner_radius": "inner radius {value:.2f} mm > {limit:g} mm allowed at t = {t:g} mm (thin-strip theory needs "
+                    "r_in >= {r_to_t:g}·t): raise --inner-radius-max",
+    "life": "predicted life {value:.3g} cycles (lower 90 % bound at backlash {backlash:g} mm, t = {t:g} mm) < "
+            "--min-cycles {limit:.3g}: {remedy}",
+    "width": "width {value:g} mm needed (>= width_min and >= {b_to_t:g}·t at t = {t:g} mm, in whole layers) > "
+             "--width-max {limit:g} mm: raise --width-max",
+    "coil_gap": "coil gap {value:.3f} mm < {limit:g} mm printer minimum at t = {t:g} mm: lower the rotation or the "
+                "preload",
+}
+
+
 def infeasible_message(constraint: str, value: float, limit: float, t: float, b: float,
                        backlash: float = 0.25) -> str:
     """One line: which constraint binds (its value and limit at thickness t, width b) and what to change."""
-    if constraint == "stress":
-        return (f"stress {value:.1f} MPa > {limit:.1f} MPa allowed at t = {t:g} mm "
-                f"(width b = {b:g} mm, its maximum --width-max): lower the stiffness or the rotation, "
-                f"or choose a stronger material")
-    if constraint == "turns":
-        return (f"turns {value:.2f} < {limit:g} minimum at t = {t:g} mm (width b = {b:g} mm, its maximum): "
-                f"the strip is too short to coil; lower the stiffness or allow a wider spring (--width-max)")
-    if constraint == "outer_radius":
-        return (f"outer radius {value:.1f} mm > {limit:g} mm allowed (smallest spring: t = {t:g} mm, "
-                f"b = {b:g} mm): raise the limit (--max-outer-radius), lower the stiffness or the rotation, "
-                f"or choose a material with a higher yield/E ratio")
-    if constraint == "inner_radius":
-        return (f"inner radius {value:.2f} mm > {limit:g} mm allowed at t = {t:g} mm "
-                f"(thin-strip theory needs r_in >= {MIN_RADIUS_TO_THICKNESS:g}·t): "
-                f"raise --inner-radius-max")
-    if constraint == "life":
-        return (f"predicted life {value:.3g} cycles (lower 90 % bound at backlash {backlash:g} mm, "
-                f"t = {t:g} mm) < --min-cycles {limit:.3g}: {remedy()}")
-    if constraint == "width":
-        return (f"width {value:g} mm needed (>= width_min and >= {MIN_WIDTH_TO_THICKNESS:g}·t at "
-                f"t = {t:g} mm, in whole layers) > --width-max {limit:g} mm: raise --width-max")
-    return (f"coil gap {value:.3f} mm < {limit:g} mm printer minimum at t = {t:g} mm: "
-            f"lower the rotation or the preload")
+    template = _INFEASIBLE.get(constraint, _INFEASIBLE["coil_gap"])
+    return template.format(value=value, limit=limit, t=t, b=b, backlash=backlash,
+                           r_to_t=MIN_RADIUS_TO_THICKNESS, b_to_t=MIN_WIDTH_TO_THICKNESS,
+                           remedy=remedy() if constraint == "life" else "")
 
 
 def design_spring(req: SpringRequirement) -> SpringDesign:
