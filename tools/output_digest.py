@@ -8,6 +8,9 @@ campaign, `rjcad life --json`) into a temporary folder and prints one JSON objec
     python tools/output_digest.py > after.json    # on the new one
     diff before.json after.json                   # no output: byte-identical
 
+``--v0-manifests`` digests manifests as schema version 0 wrote them (see ``_as_v0``), to compare
+across the change that introduced ``rjcad.manifest`` (version 1).
+
 The temporary folder's path is replaced by `{tmp}` in what the commands print. Where
 OpenCASCADE's parallel booleans and meshing are not deterministic from run to run (the same
 triangles in another order, coordinates that differ by 1e-17 mm), the digest compares what is:
@@ -58,8 +61,23 @@ def _round(m: re.Match) -> bytes:
     return b"%.9g" % (round(float(m.group()), 9) + 0.0)
 
 
-def digest(data: bytes, name: str) -> str:
+def _as_v0(data: bytes) -> bytes:
+    """A manifest as schema version 0 wrote it: without ``schema_version`` (and, for a joint, its
+    ``joints`` list), the measured gap to 1e-6 mm (float32 → float64 meshes moved it by 1e-7)."""
+    m = json.loads(data)
+    if not isinstance(m, dict) or "bodies" not in m:
+        return data
+    if m.pop("schema_version", None) is not None and "moving_body" in m:
+        m.pop("joints", None)
+    if "measured_min_gap_mm" in m:
+        m["measured_min_gap_mm"] = round(m["measured_min_gap_mm"], 6)
+    return (json.dumps(m, indent=2) + "\n").encode()
+
+
+def digest(data: bytes, name: str, v0: bool = False) -> str:
     """sha256 of a file's bytes, after the normalisations above."""
+    if v0 and name.endswith(".json"):
+        data = _as_v0(data)
     if name.endswith(".step"):
         data = _STEP_HEADER.sub(b"FILE_NAME();", data)
         data = _FLOAT.sub(_round, data)
@@ -77,6 +95,7 @@ def digest(data: bytes, name: str) -> str:
 
 
 def main() -> None:
+    v0 = "--v0-manifests" in sys.argv[1:]
     out: dict[str, str] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for key, args in COMMANDS.items():
@@ -85,7 +104,7 @@ def main() -> None:
             out[f"{key}:stdout"] = digest(run.stdout.replace(tmp.encode(), b"{tmp}"), "")
         for f in sorted(Path(tmp).rglob("*")):
             if f.is_file():
-                out[str(f.relative_to(tmp))] = digest(f.read_bytes(), f.name)
+                out[str(f.relative_to(tmp))] = digest(f.read_bytes(), f.name, v0)
     json.dump(out, sys.stdout, indent=1, sort_keys=True)
     print()
 
