@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import io
 import math
 import os
 import tempfile
+import zipfile
 from pathlib import Path
+from xml.sax.saxutils import escape
 
 import cadquery as cq
 import numpy as np
@@ -92,12 +95,66 @@ def stl_bytes(meshes: list[trimesh.Trimesh]) -> bytes:
     return trimesh.util.concatenate(meshes).export(file_type="stl")
 
 
-def threemf_bytes(meshes: dict[str, trimesh.Trimesh]) -> bytes:
-    """A 3MF with one named object per body."""
-    scene = trimesh.Scene()
-    for name, m in meshes.items():
-        scene.add_geometry(m, node_name=name, geom_name=name)
-    return scene.export(file_type="3mf")
+#: The 3MF part names PrusaSlicer reads (its own per-object config: one volume per triangle range).
+THREEMF_PARTS_CONFIG = "Metadata/Slic3r_PE_model.config"
+
+
+def _zip_entry(name: str) -> zipfile.ZipInfo:
+    """A zip entry with a fixed date, so that the same meshes give the same bytes."""
+    info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+    info.compress_type = zipfile.ZIP_DEFLATED
+    return info
+
+
+def _q(text) -> str:
+    """Text escaped for an XML attribute value."""
+    return escape(str(text), {'"': "&quot;"})
+
+
+def threemf_bytes(meshes: dict[str, trimesh.Trimesh], name: str = "assembly") -> bytes:
+    """A 3MF holding ONE object whose parts are the bodies, at their modelled positions.
+
+    The object's mesh is every body's triangles in turn; ``Metadata/Slic3r_PE_model.config`` names
+    each body's triangle range as a part (PrusaSlicer and its forks read it), so a slicer keeps the
+    assembly together instead of arranging the bodies apart. Readers that ignore the config see one
+    mesh of several shells; ``rjcad.check.load.load_bodies`` splits it by the config again.
+    """
+    verts, tris, parts, nv, nf = [], [], [], 0, 0
+    for part, m in meshes.items():
+        v = np.asarray(m.vertices, dtype=float)
+        f = np.asarray(m.faces, dtype=np.int64)
+        verts.append("".join(f'<vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in v))
+        tris.append("".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in (f + nv).tolist()))
+        parts.append((part, nf, nf + len(f) - 1))
+        nv, nf = nv + len(v), nf + len(f)
+    model = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+             '<model unit="millimeter" xml:lang="en-US" '
+             'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
+             f'<resources><object id="1" name="{_q(name)}" type="model"><mesh>'
+             f'<vertices>{"".join(verts)}</vertices><triangles>{"".join(tris)}</triangles>'
+             '</mesh></object></resources>\n<build><item objectid="1"/></build>\n</model>\n')
+    config = ['<?xml version="1.0" encoding="UTF-8"?>', "<config>", ' <object id="1" instances_count="1">',
+              f'  <metadata type="object" key="name" value="{_q(name)}"/>']
+    for part, first, last in parts:
+        config += [f'  <volume firstid="{first}" lastid="{last}">',
+                   f'   <metadata type="volume" key="name" value="{_q(part)}"/>',
+                   '   <metadata type="volume" key="volume_type" value="ModelPart"/>', "  </volume>"]
+    config += [" </object>", "</config>", ""]
+    types = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+             '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+             '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+             '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+             '<Default Extension="config" ContentType="text/xml"/></Types>\n')
+    rels = ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+            '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+            'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>\n')
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        for entry, text in (("[Content_Types].xml", types), ("_rels/.rels", rels), ("3D/3dmodel.model", model),
+                            (THREEMF_PARTS_CONFIG, "\n".join(config))):
+            z.writestr(_zip_entry(entry), text)
+    return buf.getvalue()
 
 
 def step_bytes(solids: dict[str, cq.Shape], name: str) -> bytes:

@@ -2,13 +2,16 @@
 
 Checks, each with a measured value, a limit and, on failure, a location in mm:
 ``watertight``, ``manifold``, ``bodies``, ``clearance``, ``motion`` (needs a
-manifest), ``min_feature``, ``bed`` and ``slicer`` (PrusaSlicer, on request).
+manifest), ``min_feature``, ``bed``, ``overhang`` (prints without support?) and ``slicer``
+(PrusaSlicer with supports off, on request).
 
-A body is a connected component of the mesh (STL) or a named object (3MF).
+A body is a connected component of the mesh (STL) or a named part (3MF; else a named object).
 STL bodies are matched to a manifest's bodies by volume.
 
 Modules: ``load`` (mesh file, manifest, body names), ``mesh_checks`` (the bodies at rest),
-``motion`` (the joints' sweep), ``feature`` (walls, gaps, bed), ``slicer``, ``report``.
+``motion`` (the joints' sweep), ``feature`` (walls, gaps, bed), ``overhang`` (downward surfaces),
+``slicer`` (PrusaSlicer, supports off) with ``gcode`` (G-code reader) and ``toolpath`` (its analysis),
+``report``.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from rjcad.check.feature import CONE_HALF_ANGLE, FEATURE_SAMPLES, check_bed, che
 from rjcad.check.load import load_bodies, load_manifest, name_bodies
 from rjcad.check.mesh_checks import check_bodies, check_clearance, check_manifold, check_watertight
 from rjcad.check.motion import check_motion, motion_joints, subtree
+from rjcad.check.overhang import check_overhang
 from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
 from rjcad.check.slicer import check_slicer, prusa_config
 from rjcad.manifest import Manifest
@@ -27,7 +31,7 @@ from rjcad.materials import get_printer
 __all__ = [
     "BadInput", "CheckResult", "Report", "run_checks", "format_table", "load_bodies", "load_manifest", "name_bodies",
     "check_watertight", "check_manifold", "check_bodies", "check_clearance", "check_motion", "check_min_feature",
-    "check_bed", "check_slicer", "feature_sizes", "motion_joints", "subtree", "prusa_config",
+    "check_bed", "check_overhang", "check_slicer", "feature_sizes", "motion_joints", "subtree", "prusa_config",
     "DEFAULT_ALLOWANCE", "FEATURE_SAMPLES", "CONE_HALF_ANGLE",
 ]
 
@@ -77,5 +81,6 @@ def run_checks(source, manifest: Manifest | dict | str | Path | None = None, cle
     rep.checks.append(check_min_feature(meshes, names, prn, allowance) if rep.checks[0].passed else
                       skipped("min_feature", "skipped: needs watertight bodies"))
     rep.checks.append(check_bed(meshes, prn))
-    rep.checks.append(check_slicer(meshes, prn, slicer))
+    rep.checks.append(check_overhang(meshes, names, prn))
+    rep.checks.append(check_slicer(meshes, names, prn, slicer, allowance))
     return rep

@@ -1,33 +1,82 @@
-"""Reading the input: a mesh file's bodies, the manifest, and which body is which."""
+"""Reading the input: a mesh file's bodies (an STL's shells, a 3MF's named parts), the manifest, and which body is which."""
 
 from __future__ import annotations
 
 import json
+import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
+import numpy as np
 import trimesh
 
 from rjcad.check.report import BadInput
 from rjcad.manifest import Manifest, ManifestError
 
 
+#: Where a 3MF names the parts of an object (PrusaSlicer's per-object config; rjcad writes it).
+PARTS_CONFIG = "Metadata/Slic3r_PE_model.config"
+
+
+def _parts_config(path: Path) -> dict[str, list[tuple[str, int, int]]]:
+    """{object name: [(part name, first triangle, last triangle)]} from a 3MF's parts config ({} if none)."""
+    try:
+        with zipfile.ZipFile(path) as z:
+            if PARTS_CONFIG not in z.namelist():
+                return {}
+            root = ElementTree.fromstring(z.read(PARTS_CONFIG))
+    except (zipfile.BadZipFile, ElementTree.ParseError, OSError):
+        return {}
+    out: dict[str, list[tuple[str, int, int]]] = {}
+    for obj in root.iter("object"):
+        meta = {m.get("key"): m.get("value") for m in obj.findall("metadata") if m.get("type") == "object"}
+        vols = []
+        for k, vol in enumerate(obj.findall("volume"), 1):
+            vmeta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
+            if vmeta.get("volume_type", "ModelPart") == "ModelPart":
+                vols.append((vmeta.get("name") or f"part{k}", int(vol.get("firstid")), int(vol.get("lastid"))))
+        out[meta.get("name", obj.get("id"))] = vols
+    return out
+
+
+def _scene_bodies(scene: trimesh.Scene, parts: dict) -> tuple[list[trimesh.Trimesh], list[str]]:
+    """Every object of a 3MF scene placed by its build transform, split into its named parts if listed."""
+    names, bodies = [], []
+    for node in scene.graph.nodes_geometry:
+        transform, geom_name = scene.graph[node]
+        geom = scene.geometry[geom_name]
+        if not isinstance(geom, trimesh.Trimesh) or not len(geom.faces):
+            continue
+        verts = trimesh.transform_points(geom.vertices, transform)
+        ranges = parts.get(geom_name) or parts.get(str(geom.metadata.get("name", ""))) or []
+        if not ranges:
+            names.append(str(geom_name))
+            bodies.append(trimesh.Trimesh(verts, geom.faces, process=True))
+            continue
+        for part, first, last in ranges:
+            faces = geom.faces[first:last + 1]
+            used = np.unique(faces)
+            remap = np.full(len(verts), -1, dtype=np.int64)
+            remap[used] = np.arange(len(used))
+            names.append(part)
+            bodies.append(trimesh.Trimesh(verts[used], remap[faces], process=True))
+    return bodies, names
+
+
 def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | None]:
-    """Bodies of an STL (connected components) or a 3MF (named objects), and the names if any."""
+    """Bodies of an STL (connected components) or a 3MF (named parts, else named objects), and the names if any."""
     p = Path(path)
     if not p.exists():
         raise BadInput(f"{p}: file not found")
     if p.suffix.lower() not in (".stl", ".3mf"):
         raise BadInput(f"{p}: not an .stl or .3mf file")
+    is_3mf = p.suffix.lower() == ".3mf"
     try:
-        loaded = trimesh.load(str(p), process=True, force=None)
+        loaded = trimesh.load(str(p), process=not is_3mf, force=None)
     except Exception as e:  # trimesh raises many kinds on garbage
         raise BadInput(f"{p}: not a readable mesh ({type(e).__name__}: {e})".splitlines()[0]) from None
     if isinstance(loaded, trimesh.Scene):
-        names, bodies = [], []
-        for name, geom in loaded.geometry.items():
-            if isinstance(geom, trimesh.Trimesh) and len(geom.faces):
-                names.append(str(name))
-                bodies.append(geom)
+        bodies, names = _scene_bodies(loaded, _parts_config(p) if is_3mf else {})
         if not bodies:
             raise BadInput(f"{p}: the file holds no triangles")
         return bodies, names

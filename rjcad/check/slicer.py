@@ -1,35 +1,124 @@
-"""The slicer check: PrusaSlicer turns the mesh into G-code without an error (when installed)."""
+"""The slicer check: PrusaSlicer slices the bodies with supports OFF; the G-code must print without them.
+
+Each body is sliced as its own labelled object (``gcode_label_objects``), all merged on one bed with
+their modelled positions kept (``--merge --dont-arrange``, the assembly centred on the bed), with a
+desktop profile built from the printer (nozzle, layer, road width) and: supports off, thick bridges
+off, 100 % infill (each layer's roads then cover the body's whole section, so "over the previous
+layer" does not depend on an infill pattern), no skirt or brim. The G-code is read back
+(``rjcad.check.gcode``) and analysed layer by layer (``rjcad.check.toolpath``): it fails when any
+road rests on neither the bed nor its body's previous layer (bridges ≤ 10 mm anchored at both ends
+and 45° overhangs excepted), or when two bodies' roads come closer than the printer's minimum gap.
+A body that does not reach the bed fails before slicing: a slicer would drop it onto the bed.
+"""
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
-import trimesh
+import numpy as np
 
-from rjcad.check.report import BadInput, CheckResult
+from rjcad.check.gcode import parse_gcode
+from rjcad.check.overhang import BED_TOL_MM
+from rjcad.check.report import BadInput, CheckResult, point
+from rjcad.check.toolpath import Analysis, analyse
 from rjcad.materials import Printer
+
+#: How far a body's roads may sit from its modelled outline before we say the slicer moved it [mm].
+POSITION_TOL_MM = 1.0
 
 
 def prusa_config(printer: Printer) -> str:
-    """A PrusaSlicer print/printer config for the profile (nozzle, layers, bed, height)."""
+    """PrusaSlicer settings for the check: the printer's nozzle, layers and roads; supports off (see module)."""
     x, y, z = printer.build_volume_mm
+    w = printer.extrusion_width_mm
     return "\n".join([
         f"nozzle_diameter = {printer.nozzle_mm}",
         f"layer_height = {printer.layer_height_mm}",
         f"first_layer_height = {printer.layer_height_mm}",
-        f"extrusion_width = {printer.extrusion_width_mm}",
+        f"extrusion_width = {w}",
+        f"first_layer_extrusion_width = {w}",
         f"bed_shape = 0x0,{x:g}x0,{x:g}x{y:g},0x{y:g}",
         f"max_print_height = {z:g}",
         "support_material = 0",
+        "thick_bridges = 0",
+        "fill_density = 100%",
+        "fill_pattern = rectilinear",
+        "skirts = 0",
+        "brim_width = 0",
+        "gcode_label_objects = 1",
+        "seam_position = rear",  # the default seam placer costs seconds and changes no road's support
+        "resolution = 0.01",  # contour simplification [mm]: within the meshes' own tessellation error
         "",
     ])
 
 
-def check_slicer(bodies, printer: Printer, slicer: str | None, timeout: float = 600) -> CheckResult:
-    """PrusaSlicer slices the mesh to G-code without error (skipped, with the reason, when absent)."""
+def _run_prusa(exe: str, bodies, printer: Printer, offset: np.ndarray, timeout: float):
+    """Slice every body as its own object; returns (G-code text or None, error message, seconds)."""
+    with tempfile.TemporaryDirectory() as d:
+        files = []
+        for k, b in enumerate(bodies):
+            m = b.copy()
+            m.apply_translation(offset)
+            files.append(str(Path(d, f"body{k}.stl")))
+            m.export(files[-1])
+        ini, gcode = Path(d, "check.ini"), Path(d, "check.gcode")
+        ini.write_text(prusa_config(printer))
+        t0 = time.perf_counter()
+        try:
+            r = subprocess.run([exe, "--export-gcode", "--merge", "--dont-arrange", "--load", str(ini),
+                                "--output", str(gcode), *files], capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None, f"PrusaSlicer did not finish within {timeout:g} s", timeout
+        secs = time.perf_counter() - t0
+        errors = [ln for ln in (r.stderr + r.stdout).splitlines()
+                  if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln]
+        if r.returncode != 0 or not gcode.exists() or gcode.stat().st_size == 0 or errors:
+            return None, "PrusaSlicer failed: " + (errors[-1].strip() if errors else f"exit code {r.returncode}"), secs
+        return gcode.read_text(), "", secs
+
+
+def _moved(tp, bodies, names, offset) -> str | None:
+    """A body with no roads, or whose roads' XY extent is more than POSITION_TOL_MM off its modelled one."""
+    for k, (b, name) in enumerate(zip(bodies, names)):
+        label = f"body{k}.stl"
+        sel = tp.obj == tp.objects.index(label) if label in tp.objects else np.zeros(len(tp.obj), dtype=bool)
+        if not sel.any():
+            return f"PrusaSlicer printed nothing of {name}"
+        xs, ys = np.r_[tp.x0[sel], tp.x1[sel]] - offset[0], np.r_[tp.y0[sel], tp.y1[sel]] - offset[1]
+        off = np.abs(np.array([xs.min(), ys.min(), xs.max(), ys.max()]) - np.r_[b.bounds[0][:2], b.bounds[1][:2]])
+        if off.max() > POSITION_TOL_MM:
+            return (f"PrusaSlicer moved {name}: its roads' extent is {off.max():.2f} mm off its modelled one "
+                    "(the check needs the bodies where they were modelled)")
+    return None
+
+
+def _describe(a: Analysis, offset: np.ndarray) -> tuple[str, list[float] | None]:
+    """The failures in words, and the worst place in model coordinates."""
+    def back(p):
+        return point(np.asarray(p) - offset)
+
+    parts, where = [], None
+    if a.failures:
+        first = min(a.failures, key=lambda r: (r.layer, -r.length))
+        worst = max(a.failures, key=lambda r: r.length)
+        where = back(worst.where)
+        n_layers = len({r.layer for r in a.failures})
+        parts.append(f"{len(a.failures)} stretches of filament on nothing in {n_layers} layers; first failing layer "
+                     f"{first.layer} (z = {first.z:.2f}): {first.body}, {first.length:.1f} mm anchored at "
+                     f"{first.anchors} end(s), at {back(first.where)}, under it {first.under}; worst (where): "
+                     f"{worst.body} in layer {worst.layer}, {worst.length:.1f} mm anchored at {worst.anchors} end(s), "
+                     f"under it {worst.under}")
+    return "; ".join(parts), where
+
+
+def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance: float = 0.02,
+                 timeout: float = 600) -> CheckResult:
+    """Slice with supports off and read the G-code back (skipped, with the reason, without PrusaSlicer)."""
     if slicer is None:
         return CheckResult("slicer", None, None, None, None, "skipped: no --slicer given")
     if slicer != "prusa":
@@ -38,19 +127,39 @@ def check_slicer(bodies, printer: Printer, slicer: str | None, timeout: float = 
     if exe is None:
         return CheckResult("slicer", None, None, None, None,
                            "skipped: prusa-slicer is not installed (Debian: apt-get install prusa-slicer)")
-    with tempfile.TemporaryDirectory() as d:
-        stl, ini, gcode = Path(d, "mesh.stl"), Path(d, "printer.ini"), Path(d, "mesh.gcode")
-        trimesh.util.concatenate(bodies).export(str(stl))
-        ini.write_text(prusa_config(printer))
-        try:
-            r = subprocess.run([exe, "--export-gcode", "--load", str(ini), "--output", str(gcode), str(stl)],
-                               capture_output=True, text=True, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return CheckResult("slicer", False, "timeout", f"{timeout:g} s", None, "PrusaSlicer did not finish")
-        size = gcode.stat().st_size if gcode.exists() else 0
-        errors = [ln for ln in (r.stderr + r.stdout).splitlines()
-                  if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln]
-        ok = r.returncode == 0 and size > 0 and not errors
-        msg = errors[-1].strip() if errors else f"exit code {r.returncode}"
-        return CheckResult("slicer", ok, size, "> 0 bytes of G-code", None,
-                           f"PrusaSlicer wrote {size} bytes of G-code" if ok else f"PrusaSlicer failed: {msg}")
+    lo = np.min([b.bounds[0] for b in bodies], axis=0)
+    hi = np.max([b.bounds[1] for b in bodies], axis=0)
+    for b, name in zip(bodies, names):
+        if b.bounds[0][2] - lo[2] > BED_TOL_MM:
+            return CheckResult("slicer", False, "mid-air", "on the bed", point(b.vertices[np.argmin(b.vertices[:, 2])]),
+                               f"{name} starts at z = {b.bounds[0][2] - lo[2]:.2f} mm above the bed: it would start "
+                               "in mid-air (a slicer drops each object onto the bed, so no slice can show it)")
+    bed = np.asarray(printer.build_volume_mm[:2])
+    offset = np.r_[bed / 2 - (lo[:2] + hi[:2]) / 2, -lo[2]]
+    text, error, t_slice = _run_prusa(exe, bodies, printer, offset, timeout)
+    if text is None:
+        return CheckResult("slicer", False, "no G-code", "G-code", None, error)
+    t0 = time.perf_counter()
+    tp = parse_gcode(text)
+    version = re.search(r"generated by (PrusaSlicer \S+)", text[:2000])
+    moved = _moved(tp, bodies, names, offset)
+    if moved:
+        return CheckResult("slicer", False, "moved", "modelled positions", None, moved)
+    by_obj = [names[int(o[4:-4])] for o in tp.objects]
+    a = analyse(tp, by_obj, printer.min_gap_mm)
+    t_read = time.perf_counter() - t0
+    text, where = _describe(a, offset)
+    gap_ok = a.min_gap >= printer.min_gap_mm - allowance
+    gap = (f"closest bodies {a.gap_pair[0]}–{a.gap_pair[1]}: {a.min_gap:.3f} mm in layer {a.gap_layer} at "
+           f"{point(np.asarray(a.gap_where) - offset)} (minimum {printer.min_gap_mm} mm, allowance {allowance} mm)"
+           if a.gap_pair else "no two bodies' roads within reach of each other")
+    if not gap_ok and where is None:
+        where = point(np.asarray(a.gap_where) - offset)
+    how = (f"{version.group(1) if version else 'PrusaSlicer'}, supports off, {printer.nozzle_mm} mm nozzle, "
+           f"{printer.layer_height_mm} mm layers, thick bridges off, 100 % infill; {a.layers} layers; "
+           f"sliced in {t_slice:.1f} s, G-code read in {t_read:.1f} s")
+    bridges = f"{a.bridges} bridges excused (longest {a.longest_bridge:.1f} mm)"
+    passed = not a.failures and gap_ok
+    fail_layers = len({r.layer for r in a.failures})
+    return CheckResult("slicer", passed, fail_layers, 0, where,
+                       "; ".join(x for x in (text, gap, bridges, how) if x))
