@@ -53,17 +53,20 @@ def hinge(obstacle=False):
     return {"ground": ground, "moving": moving}
 
 
-def manifest_for(bodies, rotation=90.0):
-    return {"bodies": [{"name": n, "volume_mm3": float(m.volume)} for n, m in bodies.items()],
-            "moving_body": "moving", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1],
-            "rotation_deg": rotation, "clearance_mm": 0.25, "printer": "generic-0.4"}
+def manifest_for(bodies, rotation=90.0, joint=True):
+    man = {"bodies": [{"name": n, "volume_mm3": float(m.volume)} for n, m in bodies.items()],
+           "clearance_mm": 0.25, "printer": "generic-0.4"}
+    if joint:
+        man.update({"moving_body": "moving", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1],
+                    "rotation_deg": rotation})
+    return man
 
 
-def write(tmp_path, bodies, name="mesh"):
+def write(tmp_path, bodies, name="mesh", joint=True):
     path = tmp_path / f"{name}.stl"
     trimesh.util.concatenate(list(bodies.values())).export(str(path))
     man = tmp_path / f"{name}.json"
-    man.write_text(json.dumps(manifest_for(bodies)))
+    man.write_text(json.dumps(manifest_for(bodies, joint=joint)))
     return path, man
 
 
@@ -71,14 +74,28 @@ def failed(rep):
     return [c.name for c in rep.checks if c.passed is False]
 
 
-def test_good_print_in_place_mesh_passes_everything(tmp_path):
+def test_stacked_hinge_passes_every_check_but_overhang(tmp_path):
     path, man = write(tmp_path, hinge())
     rep = run_checks(path, manifest=man)
-    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    assert failed(rep) == ["overhang"], [(c.name, c.detail) for c in rep.checks if c.passed is False]
     assert rep.get("clearance").value == pytest.approx(0.25, abs=0.005)
     assert rep.get("motion").passed is True and "poses" in rep.get("motion").detail
     assert rep.get("bodies").value == 2 and "matched to the manifest's bodies by volume" in rep.get("bodies").detail
     assert rep.get("slicer").passed is None and "skipped" in rep.get("slicer").detail
+    # the tube and its arm start 0.4 mm above the plate: they would print onto it
+    o = rep.get("overhang")
+    assert "moving, other body" in o.detail and "ground 0.40 mm below" in o.detail
+    assert o.where[2] == pytest.approx(2.4) and np.hypot(*o.where[:2]) <= 12 * math.sqrt(2)
+
+
+def test_printable_pair_passes_everything(tmp_path):
+    from test_check_print import printable_pair
+
+    parts = printable_pair()
+    path, man = write(tmp_path, parts, joint=False)
+    rep = run_checks(path, manifest=man)
+    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    assert rep.get("overhang").passed is True
 
 
 def test_hole_fails_watertight_with_its_location(tmp_path):
@@ -156,9 +173,12 @@ def test_bed_accepts_swapped_xy_and_reports_lift():
 
 
 @pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer not installed")
-def test_slicer_passes_on_a_good_mesh_and_fails_on_one_it_cannot_slice(tmp_path):
-    good = run_checks(hinge(), slicer="prusa")
-    assert good.get("slicer").passed is True and good.get("slicer").value > 1000
+def test_slicer_passes_a_printable_mesh_and_fails_one_it_cannot_slice():
+    from test_check_print import printable_pair
+
+    good = run_checks(printable_pair(), slicer="prusa")
+    s = good.get("slicer")
+    assert s.passed is True and s.value == 0 and "PrusaSlicer" in s.detail and "supports off" in s.detail
     bad = run_checks({"slab": box((0, 0, 0), (300, 300, 5))}, slicer="prusa")
     s = bad.get("slicer")
     assert s.passed is False and "fit" in s.detail.lower()
@@ -174,13 +194,15 @@ def test_slicer_missing_is_skipped_never_passed(monkeypatch):
 
 
 def test_cli_exit_codes_and_json(tmp_path, cli):
-    path, man = write(tmp_path, hinge())
+    from test_check_print import printable_pair
+
+    path, man = write(tmp_path, printable_pair(), joint=False)
     code, out, _ = cli(["check", str(path), "--manifest", str(man), "--json"])
-    assert code == 0
+    assert code == 0, out
     d = json.loads(out)
     assert d["passed"] is True
     assert {c["name"] for c in d["checks"]} == {"watertight", "manifold", "bodies", "clearance", "motion",
-                                                  "min_feature", "bed", "slicer"}
+                                                  "min_feature", "bed", "overhang", "slicer"}
     for c in d["checks"]:
         assert set(c) >= {"name", "passed", "value", "limit", "where", "detail"}
     bpath, bman = write(tmp_path, hinge(obstacle=True), "bad")
@@ -222,7 +244,7 @@ def test_3mf_names_are_used(tmp_path):
     p = tmp_path / "h.3mf"
     p.write_bytes(scene.export(file_type="3mf"))
     rep = run_checks(p, manifest=manifest_for(b))
-    assert sorted(rep.body_names) == ["ground", "moving"] and rep.passed
+    assert sorted(rep.body_names) == ["ground", "moving"] and failed(rep) == ["overhang"]
     assert "3MF" in rep.get("bodies").detail
 
 

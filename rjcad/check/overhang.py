@@ -166,7 +166,8 @@ def _regions(grid: _Grid, cell: float):
 
 
 def _anchors(mesh: trimesh.Trimesh, grid: _Grid, region: np.ndarray, cell: float, depth: float):
-    """Border cells of each region where the body has material ``depth`` below; and which samples touch one."""
+    """Which samples touch an anchor (their body's material ``depth`` below a neighbouring cell outside
+    the region), which lie on their region's border, and each region's anchor cells."""
     pts, owner, cells = [], [], []
     for di, dj in _STEPS8:
         nb = grid.neighbour(di, dj, cell * math.sqrt(2) + 1e-3)
@@ -179,10 +180,12 @@ def _anchors(mesh: trimesh.Trimesh, grid: _Grid, region: np.ndarray, cell: float
     inside = _inside(mesh, pts)
     anchored = np.zeros(len(grid.z), dtype=bool)
     anchored[owner[inside]] = True
+    border = np.zeros(len(grid.z), dtype=bool)
+    border[owner] = True
     by_region: dict[int, set] = {}
     for r, (ci, cj) in zip(region[owner[inside]], cells[inside]):
         by_region.setdefault(int(r), set()).add((int(ci), int(cj)))
-    return anchored, by_region
+    return anchored, border, by_region
 
 
 def _chords(ci: np.ndarray, cj: np.ndarray, anchor_keys: np.ndarray, span: int, angle: float):
@@ -248,24 +251,33 @@ def _analyse_body(mesh: trimesh.Trimesh, cell: float, depth: float, lip: float) 
         empty = np.zeros(0)
         return _Body(gi, gj, z, empty.astype(int), {}, empty, empty.astype(bool)), bed_area
     region, graph = _regions(grid, cell)
-    anchored, anchor_cells = _anchors(mesh, grid, region, cell, depth)
+    anchored, border, anchor_cells = _anchors(mesh, grid, region, cell, depth)
     n = len(z)
-    src = np.nonzero(anchored)[0]
-    g = coo_matrix((np.concatenate([graph.data, np.full(len(src), cell / 2)]),
-                    (np.concatenate([graph.row, np.full(len(src), n)]), np.concatenate([graph.col, src]))),
-                   shape=(n + 1, n + 1)).tocsr()
-    reach = dijkstra(g, directed=False, indices=n)[:n]
+    # reach: distance along the region from the nearest anchor; a region with no anchor at all starts
+    # from its whole extent at its border, so that its deepest point is its worst
+    held = np.zeros(region.max() + 1, dtype=bool)
+    held[region[anchored]] = True
+    lo_i = np.full(len(held), np.inf)
+    hi_i, lo_j, hi_j = -lo_i.copy(), lo_i.copy(), -lo_i.copy()
+    np.minimum.at(lo_i, region, gi)
+    np.maximum.at(hi_i, region, gi)
+    np.minimum.at(lo_j, region, gj)
+    np.maximum.at(hi_j, region, gj)
+    extent = np.hypot(hi_i - lo_i + 1, hi_j - lo_j + 1) * cell
+    src = np.nonzero(anchored | (border & ~held[region]))[0]
+    start = np.where(anchored[src], cell / 2, extent[region[src]])
+    g = coo_matrix((np.concatenate([graph.data, graph.data, start]),
+                    (np.concatenate([graph.row, graph.col, np.full(len(src), n)]),
+                     np.concatenate([graph.col, graph.row, src]))), shape=(n + 1, n + 1)).tocsr()
+    reach = dijkstra(g, directed=True, indices=n)[:n]
     bridged = np.zeros(n, dtype=bool)
     # a sample on an anchored chord ≤ MAX_BRIDGE_MM lies within half of it from an anchor (octile metric: +8 %)
-    test = (reach > lip) & (reach <= 0.55 * MAX_BRIDGE_MM + cell)
+    test = held[region] & (reach > lip) & (reach <= 0.55 * MAX_BRIDGE_MM + cell)
     order = np.argsort(region, kind="stable")
     bounds = np.searchsorted(region[order], np.arange(region.max() + 2))
-    for r in range(region.max() + 1):
+    for r in np.nonzero(held)[0]:
         idx = order[bounds[r]:bounds[r + 1]]
         bridged[idx] = _bridged_region(gi[idx], gj[idx], anchor_cells.get(r, set()), cell, test[idx])
-        if not np.isfinite(reach[idx]).any():  # nothing holds it: its whole extent is unsupported
-            ext = np.array([np.ptp(gi[idx]), np.ptp(gj[idx])]) * cell + cell
-            reach[idx] = float(np.hypot(*ext))
     return _Body(gi, gj, z, region, anchor_cells, reach, bridged), bed_area
 
 
@@ -348,6 +360,9 @@ def check_overhang(bodies, names, printer: Printer) -> CheckResult:
     if not fails:
         return CheckResult("overhang", True, 0.0, 0.0, None, f"areas [mm²] {summary}; {rules}")
     w = max(fails, key=lambda f: f.reach)
-    return CheckResult("overhang", False, round(bad_area, 1), 0.0, point(w.where),
-                       f"worst: {w.body}, {w.category}, {w.reach:.1f} mm from its body's nearest support; under it: "
-                       f"{w.under}; {len(fails)} failing places; areas [mm²] {summary}; {rules}")
+    text = (f"worst: {w.body}, {w.category}, {w.reach:.1f} mm from its body's nearest support; under it: "
+            f"{w.under}; {len(fails)} failing places; areas [mm²] {summary}; {rules}")
+    if printer.soluble_support:
+        return CheckResult("overhang", None, round(bad_area, 1), 0.0, point(w.where),
+                           f"skipped: {printer.key} prints soluble support under these; without it: {text}")
+    return CheckResult("overhang", False, round(bad_area, 1), 0.0, point(w.where), text)

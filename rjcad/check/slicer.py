@@ -135,6 +135,13 @@ def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance:
                                f"{name} starts at z = {b.bounds[0][2] - lo[2]:.2f} mm above the bed: it would start "
                                "in mid-air (a slicer drops each object onto the bed, so no slice can show it)")
     bed = np.asarray(printer.build_volume_mm[:2])
+    ext = hi - lo
+    if np.any(ext > np.asarray(printer.build_volume_mm)):
+        turn = " (turned 90° it would: turn it)" if ext[1] <= bed[0] and ext[0] <= bed[1] and ext[2] <= \
+            printer.build_volume_mm[2] else ""
+        return CheckResult("slicer", False, "does not fit", [float(v) for v in printer.build_volume_mm], None,
+                           f"the bodies ({ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm) do not fit the "
+                           f"{printer.key} build volume as placed{turn}; not sliced")
     offset = np.r_[bed / 2 - (lo[:2] + hi[:2]) / 2, -lo[2]]
     text, error, t_slice = _run_prusa(exe, bodies, printer, offset, timeout)
     if text is None:
@@ -150,7 +157,8 @@ def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance:
     t_read = time.perf_counter() - t0
     text, where = _describe(a, offset)
     gap_ok = a.min_gap >= printer.min_gap_mm - allowance
-    gap = (f"closest bodies {a.gap_pair[0]}–{a.gap_pair[1]}: {a.min_gap:.3f} mm in layer {a.gap_layer} at "
+    pair = sorted(a.gap_pair or (), key=names.index)
+    gap = (f"closest bodies {'–'.join(pair)}: {a.min_gap:.3f} mm in layer {a.gap_layer} at "
            f"{point(np.asarray(a.gap_where) - offset)} (minimum {printer.min_gap_mm} mm, allowance {allowance} mm)"
            if a.gap_pair else "no two bodies' roads within reach of each other")
     if not gap_ok and where is None:

@@ -108,17 +108,21 @@ def _supported(cur: _Layer, prev: _Layer | None, h: float) -> np.ndarray:
 
 
 def _below(pts: np.ndarray, w: float, z: float, h: float, history, me: int) -> tuple[int, float]:
-    """The nearest layer below with a road under the points, within OPEN_BELOW_MM of open space:
-    (its body, preferring another body to this one; the open space) or (−1, inf)."""
+    """What lies under the points within OPEN_BELOW_MM of open space: the nearest other body's roads if
+    any (a road of it overlaps them in plan), else the nearest of this body's; (body, open space) or (−1, inf)."""
+    own = None
     for lz, layer in reversed(history):
         gap = z - h - lz
         if gap > OPEN_BELOW_MM + 1e-6:
             break
-        hits = [o for o, lay in layer.items()
-                if np.isfinite(lay.tree.query(pts, distance_upper_bound=w / 2 + lay.w_max / 2)[0]).any()]
-        if hits:
-            return next((o for o in hits if o != me), hits[0]), max(gap, 0.0)
-    return -1, math.inf
+        for o, lay in layer.items():
+            if (o == me and own is not None) or not len(pts):
+                continue
+            if np.isfinite(lay.tree.query(pts, distance_upper_bound=w / 2 + lay.w_max / 2)[0]).any():
+                if o != me:
+                    return o, max(gap, 0.0)
+                own = (o, max(gap, 0.0))
+    return own if own is not None else (-1, math.inf)
 
 
 def _runs(cur: _Layer, ok: np.ndarray):
@@ -143,7 +147,8 @@ def _judge_runs(a: Analysis, cur: _Layer, ok, k, z, h, history, names, lz) -> No
         lo, hi = (s0 - 1 if bef else s0), (s1 + 1 if aft else s1)
         pts = np.stack([cur.x[lo:hi + 1], cur.y[lo:hi + 1]], axis=1)
         chord = pts[-1] - pts[0]
-        dev = np.abs(np.cross(chord, pts - pts[0])) / max(float(np.hypot(*chord)), 1e-9)
+        rel = pts - pts[0]
+        dev = np.abs(chord[0] * rel[:, 1] - chord[1] * rel[:, 0]) / max(float(np.hypot(*chord)), 1e-9)
         other, _ = _below(pts[int(bef):len(pts) - int(aft)], w, z, h, history, k)
         straight = dev.max() <= w / 2 or length <= SHORT_SPAN_MM
         if bef and aft and length <= MAX_BRIDGE_MM and straight and (other < 0 or other == k):
