@@ -1,7 +1,11 @@
-"""Check benchmark: watertight + manifold throughput, motion sweep and clearance times.
+"""Check benchmark: watertight + manifold throughput, motion sweep and clearance times, and the two
+printing checks (overhang; slicer with supports off, PrusaSlicer included) on the default finger.
 
 Prints one JSON object (medians of --repeats after a warm-up). Targets: watertight + manifold
->= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion sweep <= 2 s.
+>= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion sweep <= 2 s; the overhang
+check on the default finger <= 1 s (first call on fresh meshes: ray structures built inside); the
+slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with --quick, nor
+without prusa-slicer).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
 """
 
@@ -9,6 +13,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -17,9 +23,32 @@ import trimesh
 from _timing import emit, median_time, parse_args, target
 
 from rjcad import check as chk
-from rjcad.cad.build import write_joint
+from rjcad.cad.build import build_finger_model, write_joint
 from rjcad.params import JointParams
 from rjcad.materials import get_printer
+
+
+def print_checks(quick: bool, repeats: int) -> dict:
+    """The overhang and slicer checks on the default finger (templates/finger.toml)."""
+    from rjcad.cad.finger import FingerParams
+
+    template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
+    meshes = build_finger_model(FingerParams.from_toml(str(template))).meshes
+    names, prn = list(meshes), get_printer("generic-0.4")
+
+    def fresh():
+        return [m.copy() for m in meshes.values()]
+
+    t_over, over = median_time(lambda b: chk.check_overhang(b, names, prn), repeats, setup=fresh)
+    out = {"finger_triangles": int(sum(len(m.faces) for m in meshes.values())), "finger_overhang_s": t_over,
+           "finger_overhang_failing_mm2": over.value, "finger_slicer_s": None, "finger_prusaslicer_s": None,
+           "finger_gcode_read_s": None}
+    if not quick and shutil.which("prusa-slicer"):
+        t_slice, res = median_time(lambda: chk.check_slicer(list(meshes.values()), names, prn, "prusa"), 1, warmup=0)
+        m = re.search(r"sliced in ([\d.]+) s, G-code read in ([\d.]+) s", res.detail)
+        out.update({"finger_slicer_s": t_slice, "finger_prusaslicer_s": float(m.group(1)) if m else None,
+                    "finger_gcode_read_s": float(m.group(2)) if m else None})
+    return out
 
 
 def main() -> None:
@@ -47,6 +76,7 @@ def main() -> None:
     t_motion, motion = median_time(lambda: chk.check_motion(bodies, names, mans, manifest, 0.25, prn), args.repeats)
     t_clear, _ = median_time(lambda: chk.check_clearance(bodies, names, mans, 0.25, 0.02), args.repeats)
     t_feat, _ = median_time(lambda: chk.check_min_feature(bodies, names, prn, 0.02), args.repeats)
+    prints = print_checks(args.quick, args.repeats)
     out = {
         "solid_mesh_triangles": tris,
         "watertight_manifold_s": t_solid,
@@ -56,10 +86,13 @@ def main() -> None:
         "joint_motion_poses": int(motion.detail.split(" poses")[0].split()[-1]),
         "joint_clearance_s": t_clear,
         "joint_min_feature_s": t_feat,
+        **prints,
         "repeats": args.repeats,
         "targets": {
             "watertight_manifold_tri_per_s": target(tris / t_solid if tris >= 1_000_000 else None, at_least=1e6),
             "joint_motion_sweep_s": target(t_motion, at_most=2.0),
+            "finger_overhang_s": target(prints["finger_overhang_s"], at_most=1.0),
+            "finger_slicer_s": target(prints["finger_slicer_s"], at_most=30.0),
         },
     }
     emit(out)

@@ -14,8 +14,9 @@ import pytest
 #: benchmark → (keys its JSON must hold, the targets it must report)
 BENCHMARKS = {
     "check": ({"solid_mesh_triangles", "watertight_manifold_s", "watertight_manifold_tri_per_s", "joint_triangles",
-               "joint_motion_sweep_s", "joint_motion_poses", "joint_clearance_s", "joint_min_feature_s", "repeats"},
-              {"watertight_manifold_tri_per_s", "joint_motion_sweep_s"}),
+               "joint_motion_sweep_s", "joint_motion_poses", "joint_clearance_s", "joint_min_feature_s", "repeats",
+               "finger_triangles", "finger_overhang_s", "finger_slicer_s"},
+              {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s"}),
     "finger": ({"median_build_s", "median_build_tessellate_measure_s", "ratio_time_n_over_n_time_1",
                 "ratio_full_n_over_n_full_1", "repeats"},
                {"worst_ratio_time_n_over_n_time_1"}),
@@ -91,6 +92,7 @@ def check_finger(d):
 def check_check(d):
     assert d["joint_motion_poses"] > 0
     assert d["targets"]["watertight_manifold_tri_per_s"]["value"] is None  # quick: far below the 1M-triangle mesh
+    assert d["targets"]["finger_slicer_s"]["value"] is None  # quick: no slicing
 
 
 EXTRA = {"identify": check_identify, "physics": check_physics, "finger": check_finger, "check": check_check}

@@ -149,12 +149,13 @@ def _judge_runs(a: Analysis, cur: _Layer, ok, k, z, h, history, names, lz) -> No
         chord = pts[-1] - pts[0]
         rel = pts - pts[0]
         dev = np.abs(chord[0] * rel[:, 1] - chord[1] * rel[:, 0]) / max(float(np.hypot(*chord)), 1e-9)
-        other, _ = _below(pts[int(bef):len(pts) - int(aft)], w, z, h, history, k)
         straight = dev.max() <= w / 2 or length <= SHORT_SPAN_MM
-        if bef and aft and length <= MAX_BRIDGE_MM and straight and (other < 0 or other == k):
-            a.bridges += 1
-            a.longest_bridge = max(a.longest_bridge, length)
-            continue
+        if bef and aft and length <= MAX_BRIDGE_MM and straight:
+            other, _ = _below(pts[1:-1], w, z, h, history, k)
+            if other < 0 or other == k:
+                a.bridges += 1
+                a.longest_bridge = max(a.longest_bridge, length)
+                continue
         far = (s0 + s1) // 2 if (bef and aft) else (s1 if bef else s0)
         under_body, open_gap = _below(np.array([[cur.x[far], cur.y[far]]]), w, z, h, history, k)
         under = (f"{'its own body' if under_body == k else names[under_body]} {open_gap:.2f} mm below"
