@@ -43,7 +43,7 @@ def _bodies_of(source) -> tuple[list, list[str] | None, str | None]:
     """Meshes and names (if known) of a mesh file, a list or a {name: mesh} dict; and how they are named."""
     if isinstance(source, (str, Path)):
         meshes, names = load_bodies(source)
-        return meshes, names, "body names from the 3MF's objects"
+        return meshes, names, "body names from the 3MF's parts (else its objects)"
     meshes, names = list(source), None
     if isinstance(source, dict):
         names, meshes = list(source.keys()), list(source.values())
