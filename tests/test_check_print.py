@@ -164,6 +164,13 @@ def test_bridge_over_another_body_fails_the_slicer_check_there():
 
 
 @needs_prusa
+def test_roads_on_nothing_do_not_fail_on_a_printer_with_soluble_support():
+    parts = over_other_pair()
+    s = run_checks(parts, slicer="prusa", printer="dimension-elite").get("slicer")
+    assert s.passed is True and s.value >= 1 and "not failing: dimension-elite prints soluble support" in s.detail
+
+
+@needs_prusa
 def test_bodies_too_close_in_the_toolpaths_fail_the_slicer_check():
     parts = {"a": box((0, 0, 0), (10, 10, 3)), "b": box((10.15, 0, 0), (20, 10, 3))}
     s = run_checks(parts, slicer="prusa", printer="generic-0.4").get("slicer")

@@ -129,13 +129,12 @@ def _inside(mesh: trimesh.Trimesh, pts: np.ndarray) -> np.ndarray:
 
 @dataclass
 class _Body:
-    """One body's downward samples: grid cells, heights, region, anchor flags, reach and class."""
+    """One body's downward samples: grid cells, heights, region, reach from support, and if bridged."""
 
     gi: np.ndarray
     gj: np.ndarray
     z: np.ndarray
     region: np.ndarray
-    anchor_cells: dict
     reach: np.ndarray
     bridged: np.ndarray
 
@@ -249,7 +248,7 @@ def _analyse_body(mesh: trimesh.Trimesh, cell: float, depth: float, lip: float) 
     grid = _Grid(gi, gj, z)
     if not len(z):
         empty = np.zeros(0)
-        return _Body(gi, gj, z, empty.astype(int), {}, empty, empty.astype(bool)), bed_area
+        return _Body(gi, gj, z, empty.astype(int), empty, empty.astype(bool)), bed_area
     region, graph = _regions(grid, cell)
     anchored, border, anchor_cells = _anchors(mesh, grid, region, cell, depth)
     n = len(z)
@@ -278,7 +277,7 @@ def _analyse_body(mesh: trimesh.Trimesh, cell: float, depth: float, lip: float) 
     for r in np.nonzero(held)[0]:
         idx = order[bounds[r]:bounds[r + 1]]
         bridged[idx] = _bridged_region(gi[idx], gj[idx], anchor_cells.get(r, set()), cell, test[idx])
-    return _Body(gi, gj, z, region, anchor_cells, reach, bridged), bed_area
+    return _Body(gi, gj, z, region, reach, bridged), bed_area
 
 
 def _lowest_points(mesh: trimesh.Trimesh) -> np.ndarray:
