@@ -162,6 +162,12 @@ def test_comments_words_and_lowercase_are_read():
     assert len(tp.x0) == 1 and tp.length[0] == pytest.approx(5.0)
 
 
+def test_malformed_width_falls_back_to_the_filament_pushed():
+    e = ROAD * 10 / FIL
+    tp = parse_gcode(f"G90\nM82\n;HEIGHT:0.2\n;WIDTH:wide\nG1 Z0.2\nG1 X0 Y0\nG1 X10 Y0 E{e:.6f}\n")
+    assert tp.width[0] == pytest.approx(0.45, abs=1e-4)
+
+
 def test_empty_or_travel_only_gcode_has_no_rows():
     tp = parse_gcode("G90\nG1 X1 Y1\nG1 X2 Y2 F100\n")
     assert len(tp.x0) == 0 and tp.objects == [] and len(tp.layers()) == 0

@@ -126,10 +126,12 @@ class _Reader:
         st = self.st
         if text.startswith(";TYPE:"):
             st.kind = text[6:].strip()
-        elif text.startswith(";WIDTH:"):
-            st.width = float(text[7:])
-        elif text.startswith(";HEIGHT:"):
-            st.height = float(text[8:])
+        elif text.startswith((";WIDTH:", ";HEIGHT:")):
+            key, _, value = text[1:].partition(":")
+            try:
+                setattr(st, key.lower(), float(value))
+            except ValueError:  # a malformed tag: the width then comes from the filament pushed
+                setattr(st, key.lower(), math.nan)
         elif "stop printing object" in text:
             self.set_object(-1)
         elif "printing object" in text:
