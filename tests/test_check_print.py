@@ -21,8 +21,6 @@ from rjcad.materials import get_printer
 from rjcad.mesh import to_manifold
 
 PRUSA = shutil.which("prusa-slicer")
-needs_prusa = pytest.mark.skipif(PRUSA is None, reason="prusa-slicer is not installed (Debian: apt-get install "
-                                                       "prusa-slicer)")
 PRINTER = get_printer("generic-0.4")
 
 
@@ -141,7 +139,7 @@ def test_overhang_is_skipped_for_a_printer_with_soluble_support():
 
 # ---------------------------------------------------------------- slicer (PrusaSlicer, supports off)
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_printable_pair_passes_the_slicer_check():
     parts = printable_pair()
     rep = run_checks(parts, slicer="prusa", printer="generic-0.4")
@@ -153,7 +151,7 @@ def test_printable_pair_passes_the_slicer_check():
     assert rep.get("overhang").passed is True
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_bridge_over_another_body_fails_the_slicer_check_there():
     parts = over_other_pair()
     s = run_checks(parts, slicer="prusa", printer="generic-0.4").get("slicer")
@@ -163,14 +161,14 @@ def test_bridge_over_another_body_fails_the_slicer_check_there():
     assert -0.5 <= x <= 8.5 and 0 <= y <= 6 and 4.4 <= z <= 4.6
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_roads_on_nothing_do_not_fail_on_a_printer_with_soluble_support():
     parts = over_other_pair()
     s = run_checks(parts, slicer="prusa", printer="dimension-elite").get("slicer")
     assert s.passed is True and s.value >= 1 and "not failing: dimension-elite prints soluble support" in s.detail
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_bodies_too_close_in_the_toolpaths_fail_the_slicer_check():
     parts = {"a": box((0, 0, 0), (10, 10, 3)), "b": box((10.15, 0, 0), (20, 10, 3))}
     s = run_checks(parts, slicer="prusa", printer="generic-0.4").get("slicer")
@@ -179,13 +177,13 @@ def test_bodies_too_close_in_the_toolpaths_fail_the_slicer_check():
     assert gap < PRINTER.min_gap_mm - 0.02 and 9.5 <= s.where[0] <= 10.6
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_slicer_fails_a_body_above_the_bed_before_slicing():
     s = run_checks({"a": box((0, 0, 0), (5, 5, 5)), "b": box((10, 0, 1), (15, 5, 5))}, slicer="prusa").get("slicer")
     assert s.passed is False and "mid-air" in s.detail and s.where[2] == pytest.approx(1)
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
     meshes, (z0, z1) = stacked_joint()
     rep = run_checks(meshes, slicer="prusa", printer="generic-0.4")
@@ -249,7 +247,7 @@ def _prusa_info(path) -> str:
     return r.stdout
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_prusaslicer_loads_the_3mf_as_one_object_with_its_parts_in_place(tmp_path):
     parts = printable_pair()
     path = tmp_path / "pair.3mf"
@@ -270,7 +268,7 @@ def test_prusaslicer_loads_the_3mf_as_one_object_with_its_parts_in_place(tmp_pat
     assert re.findall(r'type="volume" key="name" value="(\w+)"', config) == ["block", "bridge"]
 
 
-@needs_prusa
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_prusaslicer_slices_the_default_joint_3mf_as_one_object_at_its_modelled_place(tmp_path):
     from rjcad.cad.build import render_files, build
     from rjcad.params import JointParams
@@ -293,3 +291,24 @@ def test_prusaslicer_slices_the_default_joint_3mf_as_one_object_at_its_modelled_
     hi = np.max([m.bounds[1] for m in b.meshes.values()], axis=0)
     assert xy.min(axis=0) == pytest.approx(lo[:2], abs=0.6)  # roads lie half a road inside the outline
     assert xy.max(axis=0) == pytest.approx(hi[:2], abs=0.6)
+
+
+def test_a_body_the_slicer_moved_or_dropped_is_caught():
+    from rjcad.check.gcode import Toolpaths
+    from rjcad.check.slicer import POSITION_TOL_MM, _moved
+
+    body = box((0, 0, 0), (10, 10, 3))
+    offset = np.array([100.0, 100.0, 0.0])
+
+    def roads(shift):  # one square loop, half a road inside the outline, moved by ``shift`` in x
+        x = np.array([0.2, 9.8, 9.8, 0.2]) + offset[0] + shift
+        y = np.array([0.2, 0.2, 9.8, 9.8]) + offset[1]
+        n = len(x)
+        return Toolpaths(x, y, np.roll(x, -1), np.roll(y, -1), np.full(n, 0.2), np.full(n, 0.4), np.full(n, 0.2),
+                         np.zeros(n, int), np.zeros(n, int), np.ones(n, int), ["body0.stl"], ["External perimeter"])
+
+    assert _moved(roads(0.0), [body], ["block"], offset) is None
+    assert "moved block" in _moved(roads(POSITION_TOL_MM + 1.0), [body], ["block"], offset)
+    empty = roads(0.0)
+    empty.objects = ["body7.stl"]
+    assert _moved(empty, [body], ["block"], offset) == "PrusaSlicer printed nothing of block"
