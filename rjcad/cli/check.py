@@ -16,7 +16,8 @@ from rjcad.materials import PRINTERS
 @click.option("--allowance", type=float, default=0.02, show_default=True, help="Tessellation allowance [mm].")
 @click.option("--printer", type=str, help=f"One of: {', '.join(PRINTERS)} (default: the manifest's, or generic-0.4).")
 @click.option("--bodies", "n_bodies", type=click.IntRange(1, 1000), help="Expected number of bodies.")
-@click.option("--slicer", type=click.Choice(["prusa"]), help="Also slice with this slicer.")
+@click.option("--slicer", type=click.Choice(["prusa"]),
+              help="Also slice every body with supports off and read the G-code back (PrusaSlicer 2.5).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_json):
     """Check a mesh for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
