@@ -185,11 +185,14 @@ def test_per_joint_overrides_and_one_joint_finger(tmp_path):
     assert 0.28 <= g.min_gap(d, 1.0) <= 0.35
 
 
-def test_default_finger_passes_every_check(default_finger):
+def test_default_finger_passes_every_check_but_printing_without_support(default_finger):
+    """As for the joint: the stacked layout needs support on generic-0.4 (issue #15), which `overhang` reports;
+    every other check passes."""
     from rjcad.check import run_checks
 
     out = default_finger[0]
     rep = run_checks(out / "finger.stl", manifest=out / "finger.json")
-    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    failed = {c.name for c in rep.checks if c.passed is False}
+    assert failed == {"overhang"}, [(c.name, c.detail) for c in rep.checks if c.passed is False]
     assert {c.name for c in rep.checks if c.passed is True} >= {
         "watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed"}

@@ -218,7 +218,14 @@ def test_spring_strips_volume_measured_on_the_stl(default_joint):
     assert total == pytest.approx(nominal, rel=0.02)
 
 
-def test_default_joint_passes_every_check(default_joint):
+#: The checks the stacked layout fails on a printer without soluble support (issue #15: it needs support).
+NEEDS_SUPPORT = {"overhang", "slicer"}
+
+
+def test_default_joint_passes_every_check_but_printing_without_support(default_joint):
+    """Every check passes on the default joint except the two that ask whether it prints without support:
+    today's stacked layout does not (issue #15), and `overhang` (and the supports-off `slicer` check) must say
+    so. When the support-free layout lands, NEEDS_SUPPORT becomes empty and this is 'passes every check'."""
     import shutil
 
     from rjcad.check import run_checks
@@ -226,8 +233,9 @@ def test_default_joint_passes_every_check(default_joint):
     out, _, _ = default_joint
     slicer = "prusa" if shutil.which("prusa-slicer") else None
     rep = run_checks(out / "joint.stl", manifest=out / "joint.json", slicer=slicer)
-    assert rep.passed, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    failed = {c.name for c in rep.checks if c.passed is False}
+    assert "overhang" in failed and failed <= NEEDS_SUPPORT, [(c.name, c.detail) for c in rep.checks if not c.passed]
     ran = {c.name for c in rep.checks if c.passed is True}
     assert ran >= {"watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed"}
     if slicer:
-        assert "slicer" in ran
+        assert "slicer" in ran | failed

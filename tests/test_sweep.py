@@ -99,7 +99,9 @@ def test_build_mode_failed_design_is_a_row(tmp_path, monkeypatch):
     assert by_k[4.0]["status"] == "failed" and "OCC says no" in by_k[4.0]["error"]
     assert by_k[500.0]["status"] == "infeasible" and "stiffness" in by_k[500.0]["error"]
     ok = by_k[5.2]
-    assert ok["status"] == "ok" and ok["checks_passed"] and ok["triangles"] > 1000 and ok["build_s"] > 0
+    # built and checked: every check passes but `overhang` (the stacked layout needs support on generic-0.4, #15)
+    assert ok["status"] == "check_failed" and ok["checks_failed"] == "overhang"
+    assert ok["triangles"] > 1000 and ok["build_s"] > 0
     assert (tmp_path / "meshes" / f"{ok['id']}.stl").exists()
     assert not (tmp_path / "results.partial.jsonl").exists()
 
@@ -150,4 +152,4 @@ def test_dask_cluster_gives_the_same_results_as_the_local_run(tmp_path):
     volatile = {"build_s"}
     strip = lambda rows: [{k: v for k, v in r.items() if k not in volatile} for r in rows]  # noqa: E731
     assert strip(remote) == strip(local)
-    assert all(r["status"] == "ok" for r in local)
+    assert all(r["checks_failed"] == "overhang" for r in local)  # the stacked layout needs support (#15)
