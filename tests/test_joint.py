@@ -194,7 +194,7 @@ def test_bad_joint_input_exit_2_and_no_files(args, param, tmp_path, capsys):
 def test_infeasible_spring_is_a_clear_error(tmp_path, capsys):
     out = tmp_path / "j"
     with pytest.raises(SystemExit) as e:
-        main(["joint", "--stiffness", "55", "--out", str(out)])
+        main(["joint", "--stiffness", "55", "--rotation", "110", "--preload", "120", "--out", str(out)])
     err = capsys.readouterr().err
     assert e.value.code == 2 and err.count("\n") == 1 and not out.exists()
     assert "MPa" in err or "radius" in err or "turns" in err
