@@ -106,6 +106,9 @@ class JointParams:
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
         lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
+        in_range("preload", self.preload, self.min_preload, deg=True, tol=1e-12,
+                 limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
+                       "end must clear its socket (or post) by the clearance")
 
     # --- printer, spring -------------------------------------------------------
     @property
@@ -294,6 +297,32 @@ class JointParams:
         a, wt = self.socket_tilt, self.tine_width
         reach = KEY_ENGAGEMENT + self.socket_base_depth / 2
         return (-self.key_width - wt / math.cos(a), reach * math.tan(a) + wt / math.cos(a))
+
+    def socket_corners(self) -> list[tuple[float, float]]:
+        """Corners (u, v) of the clamped socket's tines and its base's face, at rest (u along +X) [mm]."""
+        a, wt, L = self.socket_tilt, self.tine_width, KEY_ENGAGEMENT
+        R0, Rk, depth = self.socket_inner_radius, self.key_tip_radius, self.socket_base_depth
+        ca, sa = math.cos(a), math.sin(a)
+
+        def box(u0, v0, s, q):
+            return [(u0 + si * ca - qi * sa, v0 + si * sa + qi * ca) for si in s for qi in q]
+
+        v_lo, v_hi = self.socket_span
+        return (box(R0, 0.0, (0.0, (Rk + depth / 2 - R0) / ca), (0.0, wt))
+                + box(Rk, -self.key_width, (-L / ca, depth / 2 / ca), (-wt, 0.0)) + [(Rk, v_lo), (Rk, v_hi)])
+
+    @property
+    def min_preload(self) -> float:
+        """Smallest preload whose printed key (or ring) clears its socket (or post) by the clearance + 0.05 [rad].
+
+        Clamped: the key lies clockwise of the ray at −preload; a socket corner at radius r and polar
+        angle ψ is r·sin(preload + ψ) from that ray. Pinned: ring and post centres 2·R_h·sin(preload/2) apart.
+        """
+        c = self.clearance + 0.05
+        if self.end_condition == "clamped":
+            return max(math.asin(min(1.0, c / math.hypot(u, v))) - math.atan2(v, u) for u, v in self.socket_corners())
+        reach = 2 * self.post_radius + self.clearance + self.hook_wall + c
+        return 2 * math.asin(min(1.0, reach / (2 * self.post_ring_radius)))
 
     @property
     def post_ring_radius(self) -> float:
