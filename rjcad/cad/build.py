@@ -181,9 +181,9 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
             lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
             sections=[
-                (f"section z = {p.spring.width - p.seat_height / 2:.2f}: bottom spring (clockwise outwards), its "
-                 f"{'key' if p.end_condition == 'clamped' else 'ring'} printed preload clockwise of its "
-                 f"{'socket' if p.end_condition == 'clamped' else 'post'}",
+                (f"z = {p.spring.width - p.seat_height / 2:.2f}: bottom spring (clockwise out), its "
+                 f"{'key' if p.end_condition == 'clamped' else 'ring'} printed {math.degrees(p.preload):g}° "
+                 f"clockwise of its {'socket' if p.end_condition == 'clamped' else 'post'}",
                  (0, 0, p.spring.width - p.seat_height / 2), (0, 0, 1)),
                 ("section through the eye band: eye, tendon groove, support pin, channels",
                  (0, 0, p.z_mid), (0, 0, 1)),
