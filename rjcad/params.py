@@ -373,10 +373,10 @@ class JointParams:
     def ground_block_start(self) -> float:
         """|x| where the ground link's full-height block begins, X_g [mm].
 
-        It must clear: the wound springs (r_wound + g); the keys or rings in print, at
-        −preload; the posts swept to rotation + stop angle and the sockets to the
-        rotation; the eye-band beam of the moving
-        link, whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
+        It must clear: the wound springs (their leftmost reach over the whole wind-up,
+        plus g); the keys or rings in print, at −preload; the posts swept to rotation +
+        stop angle and the sockets to the rotation; the eye-band beam of the moving link,
+        whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
         X_g·sin θ + (W/2)·cos θ ≥ R_e + c for θ up to the rotation.
         """
         g, c = self.gap_internal, self.clearance
