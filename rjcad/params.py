@@ -6,6 +6,15 @@ The module prints with Z up, springs flat, in this stack (bottom to top):
 
     spring 1 | gap | cheek 1 | gap | eye | gap | cheek 2 | gap | spring 2
 
+Each spring is printed winding CLOCKWISE outwards (seen from +Z), its outer end ``preload``
+clockwise of where the moving link holds it: the user turns that end counter-clockwise (the
+flexion sense) by the preload and seats it, and flexion turns it further the same way, so the
+joint UNWINDS its springs. The end fitting follows the spring design's ``end``: ``clamped`` (a
+rigid key seated in a socket of two tines and a base, which holds the end's position and angle)
+or ``pinned`` (a closed ring around a round post, free to turn). Both seat axially: the socket and
+the post reach only ``seat_height`` into the spring's layer from the joint's middle, and the user
+pushes the key (or ring) out of the spring's plane by ``seat_height + clearance`` to pass them.
+
 All lengths in mm, angles in rad.
 """
 
@@ -17,7 +26,8 @@ from functools import cached_property
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
-from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
+from rjcad.envelope import WoundEnvelope, wound_envelope
+from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 from rjcad.units import DEG
 from rjcad.validate import in_range
@@ -34,6 +44,18 @@ RANGES = {
     "pin_radius": (1.25, 5.0, "mm"),
     "safety_factor": (1.0, 5.0, ""),
 }
+
+
+#: The joint's default outer end: clamped (issue #14: the paper's measured stiffness says its hooks behaved
+#: clamped). The spring designer's own default (rjcad.spring.DEFAULT_END) follows in its branch.
+JOINT_DEFAULT_END = "clamped"
+#: Radial length over which a clamped end's key engages the tines of its socket [mm].
+KEY_ENGAGEMENT = 3.5
+#: Strip length buried in each end fitting (tab at the pin, key or stub outside), so that the free
+#: strip between the fittings has the design's length [mm].
+STRIP_OVERLAP = 0.3
+#: Margin on the wound strip's extent for the rod model's discretisation and sampling [mm].
+WOUND_MARGIN = 0.1
 
 
 def _check(name: str, value, lo, hi, unit: str) -> None:
@@ -61,7 +83,7 @@ class JointParams:
     tendon_moment_arm: float | None = None
     pin_radius: float = 2.0
     safety_factor: float = 1.5
-    end: str = DEFAULT_END
+    end: str = JOINT_DEFAULT_END
     # fixed proportions (not user inputs, but kept here so that everything derives from one object)
     cheek_thickness: float = field(default=2.0, repr=False)
     post_radius: float = field(default=1.2, repr=False)
@@ -84,6 +106,9 @@ class JointParams:
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
         lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
+        in_range("preload", self.preload, self.min_preload, deg=True, tol=1e-12,
+                 limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
+                       "end must clear its socket (or post) by the clearance")
 
     # --- printer, spring -------------------------------------------------------
     @property
@@ -183,17 +208,148 @@ class JointParams:
 
     @property
     def hook_wall(self) -> float:
+        """Wall of the pinned end's ring [mm]."""
         return max(self.spring.thickness, self.printer_spec.min_wall_mm)
+
+    # --- the springs' outer ends (see the module docstring) ----------------------
+    @property
+    def end_condition(self) -> str:
+        """The outer end the spring was designed for, which the builder realises: clamped or pinned."""
+        return self.spring.end
+
+    @cached_property
+    def wound(self) -> WoundEnvelope:
+        """The strip's centreline over the wind-up 0..preload + rotation, ground and moving frames (rod model)."""
+        d = self.spring
+        return wound_envelope(d.inner_radius, d.pitch, d.turns, d.thickness, self.preload, self.rotation,
+                              self.end_condition)
+
+    @property
+    def wound_radius(self) -> float:
+        """Outer radius of a spring's strip over the whole wind-up, any direction [mm]."""
+        d = self.spring
+        return max(self.wound.r_max + WOUND_MARGIN, d.centreline_outer_radius) + d.thickness / 2
+
+    @property
+    def fitting_clear_radius(self) -> float:
+        """Radius the socket (or ring) must stay outside of: the wound strip's surface near the end's ray,
+        over ±(socket's half-span + 1 mm) in the moving frame, plus the internal gap [mm]."""
+        d = self.spring
+        reach = max(map(abs, self.socket_span)) + 1.0
+        window = math.atan2(reach, d.outer_radius)
+        r = max(self.wound.radius_within(-window, window) + WOUND_MARGIN, d.centreline_outer_radius)
+        return r + d.thickness / 2 + self.gap_internal
+
+    @property
+    def seat_height(self) -> float:
+        """How far the socket (or post) reaches into a spring's layer from the joint's middle, h_s [mm]."""
+        b = self.spring.width
+        return min(b, max(1.5, 0.5 * b))
+
+    @property
+    def key_root_radius(self) -> float:
+        """Inner face of the clamped key (or the pinned stub): 0.25·t inside the strip's outer-end centreline [mm]."""
+        return self.spring.centreline_outer_radius - 0.25 * self.spring.thickness
+
+    @property
+    def key_width(self) -> float:
+        """Tangential width of the clamped key, w_k; it lies clockwise of the strip's end ray [mm]."""
+        return 2.0 * max(self.spring.thickness, self.printer_spec.min_wall_mm)
+
+    @property
+    def tine_width(self) -> float:
+        """Thickness of each tine of the clamped end's socket, w_t [mm]."""
+        return max(2.0, 2.0 * self.printer_spec.min_wall_mm)
+
+    @property
+    def socket_tilt(self) -> float:
+        """Tilt α of the socket's tines, counter-clockwise, from ℓ·sin α + w_k·cos α = w_k + 2c [rad].
+
+        The slot is w_k + 2c wide; the spring's moment turns the seated key clockwise in it by α
+        (its rotational play, ≈ 2c/ℓ) until it bears on both tines. Tilting the tines by α puts the
+        bearing key exactly at its modelled pose: the printed pose turned by the preload.
+        """
+        w, c, L = self.key_width, self.clearance, KEY_ENGAGEMENT
+        h = math.hypot(L, w)
+        return math.asin((w + 2 * c) / h) - math.atan2(w, L)
+
+    @property
+    def socket_inner_radius(self) -> float:
+        """Where the tines begin, R_s0: clear of the wound strip, with the tine's slant [mm]."""
+        return self.fitting_clear_radius + self.tine_width * math.sin(self.socket_tilt)
+
+    @property
+    def key_tip_radius(self) -> float:
+        """Outer end of the clamped key, R_k = R_s0 + ℓ; it bears on the socket's base there [mm]."""
+        return self.socket_inner_radius + KEY_ENGAGEMENT
+
+    @property
+    def socket_base_depth(self) -> float:
+        """Radial depth of the socket's base, which holds the post clear of its faces [mm]."""
+        return 2 * self.post_radius + 0.4
+
+    @property
+    def socket_span(self) -> tuple[float, float]:
+        """(v_lo, v_hi): tangential extent of the socket's base (the ring, pinned) around its post's ray [mm]."""
+        if self.end_condition != "clamped":
+            hw = self.post_radius + self.clearance + self.hook_wall
+            return (-hw, hw)
+        a, wt = self.socket_tilt, self.tine_width
+        reach = KEY_ENGAGEMENT + self.socket_base_depth / 2
+        return (-self.key_width - wt / math.cos(a), reach * math.tan(a) + wt / math.cos(a))
+
+    def socket_corners(self) -> list[tuple[float, float]]:
+        """Corners (u, v) of the clamped socket's tines and its base's face, at rest (u along +X) [mm]."""
+        a, wt, L = self.socket_tilt, self.tine_width, KEY_ENGAGEMENT
+        R0, Rk, depth = self.socket_inner_radius, self.key_tip_radius, self.socket_base_depth
+        ca, sa = math.cos(a), math.sin(a)
+
+        def box(u0, v0, s, q):
+            return [(u0 + si * ca - qi * sa, v0 + si * sa + qi * ca) for si in s for qi in q]
+
+        v_lo, v_hi = self.socket_span
+        return (box(R0, 0.0, (0.0, (Rk + depth / 2 - R0) / ca), (0.0, wt))
+                + box(Rk, -self.key_width, (-L / ca, depth / 2 / ca), (-wt, 0.0)) + [(Rk, v_lo), (Rk, v_hi)])
+
+    @property
+    def min_preload(self) -> float:
+        """Smallest preload whose printed key (or ring) clears its socket (or post) by the clearance + 0.05 [rad].
+
+        Clamped: the key lies clockwise of the ray at −preload; a socket corner at radius r and polar
+        angle ψ is r·sin(preload + ψ) from that ray. Pinned: ring and post centres 2·R_h·sin(preload/2) apart.
+        """
+        c = self.clearance + 0.05
+        if self.end_condition == "clamped":
+            return max(math.asin(min(1.0, c / math.hypot(u, v))) - math.atan2(v, u) for u, v in self.socket_corners())
+        reach = 2 * self.post_radius + self.clearance + self.hook_wall + c
+        return 2 * math.asin(min(1.0, reach / (2 * self.post_ring_radius)))
 
     @property
     def post_ring_radius(self) -> float:
-        """Radius of the hook posts (and hook centres), R_h [mm]."""
-        return (self.spring.outer_radius + self.gap_internal + self.hook_wall
-                + self.clearance + self.post_radius)
+        """Radius of the posts, R_h [mm]: behind the key's tip (clamped) or inside the ring (pinned)."""
+        rho = self.post_radius
+        if self.end_condition == "clamped":
+            return self.key_tip_radius + rho + 0.2
+        return self.fitting_clear_radius + self.hook_wall + self.clearance + rho
 
     @property
     def hook_outer_radius(self) -> float:
+        """Outermost radius of the end fittings and sockets around the axis [mm]."""
+        if self.end_condition == "clamped":
+            return math.hypot(self.key_tip_radius + self.socket_base_depth, max(map(abs, self.socket_span)))
         return self.post_ring_radius + self.post_radius + self.clearance + self.hook_wall
+
+    @property
+    def fitting_half_width(self) -> float:
+        """Largest tangential distance of the printed key or ring from its ray [mm]."""
+        if self.end_condition == "clamped":
+            return self.key_width
+        return self.post_radius + self.clearance + self.hook_wall
+
+    @property
+    def fitting_outer_radius(self) -> float:
+        """Outer radius of the printed key (clamped) or ring (pinned) [mm]."""
+        return self.key_tip_radius if self.end_condition == "clamped" else self.hook_outer_radius
 
     @property
     def cheek_radius(self) -> float:
@@ -217,17 +373,19 @@ class JointParams:
     def ground_block_start(self) -> float:
         """|x| where the ground link's full-height block begins, X_g [mm].
 
-        It must clear: the springs (r_env + g); the hooks in print, at −preload;
-        the posts swept to rotation + stop angle; the eye-band beam of the moving
-        link, whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
+        It must clear: the wound springs (their leftmost reach over the whole wind-up,
+        plus g); the keys or rings in print, at −preload; the posts swept to rotation +
+        stop angle and the sockets to the rotation; the eye-band beam of the moving link,
+        whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
         X_g·sin θ + (W/2)·cos θ ≥ R_e + c for θ up to the rotation.
         """
         g, c = self.gap_internal, self.clearance
-        R_h, rho, w = self.post_ring_radius, self.post_radius, self.hook_wall
+        R_h, rho = self.post_ring_radius, self.post_radius
         bounds = [
-            self.spring.outer_radius + g,
-            -R_h * math.cos(self.preload) + rho + c + w + g,
+            -self.wound.ground_x_min + self.spring.thickness / 2 + WOUND_MARGIN + g,
+            -self.fitting_outer_radius * math.cos(self.preload) + self.fitting_half_width + g,
             -R_h * math.cos(self.rotation + self.stop_angle) + rho + c + 0.3,
+            -self.hook_outer_radius * math.cos(self.rotation) + max(map(abs, self.socket_span)) + c + 0.3,
             self.eye_radius + 0.6 + c + 0.3,
         ]
         if self.rotation > math.pi / 2:
@@ -239,12 +397,14 @@ class JointParams:
     def block_start(self) -> float:
         """|x| where the moving link's full-height block begins, X_m [mm].
 
-        Outside the hooked hooks, and far enough out that the ground block's corner
-        (−X_g, W/2) never enters it: −X_g·cos θ + (W/2)·sin θ ≤ X_m − c − 0.5 up to the rotation.
+        Outside the seated keys (or rings) and their sockets and the wound strip, and far enough out that
+        the ground block's corner (−X_g, W/2) never enters it: −X_g·cos θ + (W/2)·sin θ ≤ X_m − c − 0.5
+        up to the rotation.
         """
         corner = (-self.ground_block_start * math.cos(self.rotation)
                   + self.link_width / 2 * math.sin(self.rotation) + self.clearance + 0.5)
-        return max(self.hook_outer_radius + self.clearance + 0.3, corner)
+        wound = self.wound.moving_x_max + self.spring.thickness / 2 + WOUND_MARGIN + self.gap_internal
+        return max(self.hook_outer_radius + self.clearance + 0.3, corner, wound)
 
     @property
     def link_width(self) -> float:

@@ -1,12 +1,13 @@
-"""rjcad.cad.spiral: the strip's arcs lie on the Archimedean spiral, its volume is b·t·L, and the boxes and
-hooks it is assembled from have the sizes asked for. Small solids only (no joint build)."""
+"""rjcad.cad.spiral: the strip's arcs lie on the Archimedean spiral, clockwise outwards by default, its volume
+is b·t·L, and the boxes and rings it is assembled from have the sizes asked for. Small solids only (no joint
+build)."""
 
 import math
 
 import cadquery as cq
 import pytest
 
-from rjcad.cad.spiral import radial_box, ring_hook, spiral_side, strip_solid
+from rjcad.cad.spiral import COUNTER_CLOCKWISE, line_box, radial_box, ring, spiral_side, strip_solid
 from rjcad.params import JointParams
 
 
@@ -22,7 +23,7 @@ def radius(v: cq.Vector) -> float:
 
 def test_arcs_follow_the_spiral_from_start_to_end():
     r_in, pitch, turns, phi0 = 3.0, 1.2, 2.5, 0.3
-    edges = spiral_side(r_in, pitch, turns, phi0, offset=0.4, arcs_per_turn=6)
+    edges = spiral_side(r_in, pitch, turns, phi0, offset=0.4, arcs_per_turn=6, hand=COUNTER_CLOCKWISE)
     assert len(edges) == math.ceil(turns * 6)
     a, b = edges[0].startPoint(), edges[-1].endPoint()
     assert radius(a) == pytest.approx(r_in + 0.4) and math.atan2(a.y, a.x) == pytest.approx(phi0)
@@ -34,7 +35,7 @@ def test_arcs_follow_the_spiral_from_start_to_end():
         assert min(abs(radius(m) - r) for r in on_spiral) < 0.01
     for e1, e2 in zip(edges, edges[1:]):
         assert (e1.endPoint() - e2.startPoint()).Length < 1e-9
-    back = spiral_side(r_in, pitch, turns, phi0, offset=0.4, backwards=True)
+    back = spiral_side(r_in, pitch, turns, phi0, offset=0.4, backwards=True, hand=COUNTER_CLOCKWISE)
     assert (back[0].startPoint() - b).Length < 1e-9 and (back[-1].endPoint() - a).Length < 1e-9
 
 
@@ -56,12 +57,48 @@ def test_radial_box_sits_on_its_ray():
     assert (bb.zmin, bb.zmax) == pytest.approx((1.0, 4.0))
 
 
-def test_ring_hook_keeps_the_clockwise_half_and_a_bit():
-    r_in, r_out, h, keep = 1.0, 2.0, 3.0, 0.5
-    hook = ring_hook(10.0, 0.0, r_in, r_out, z0=0.0, height=h, keep_past_centre=keep)
-    annulus = math.pi * (r_out**2 - r_in**2) * h
-    assert annulus / 2 < hook.Volume() < annulus
-    # the counter-clockwise side (+y at φ = 0) is open beyond `keep`, the clockwise side is closed
-    assert hook.isInside(cq.Vector(10.0, -1.5, 1.0))
-    assert not hook.isInside(cq.Vector(10.0, 1.5, 1.0))
-    assert hook.isInside(cq.Vector(11.5, 0.25, 1.0))
+def test_the_default_hand_is_clockwise_outwards():
+    """Walking the strip outwards turns clockwise: r grows as the polar angle falls (seen from +Z)."""
+    r_in, pitch, turns, phi0 = 3.0, 1.2, 2.0, 0.0
+    edges = spiral_side(r_in, pitch, turns, phi0, offset=0.0)
+    pts = [e.positionAt(f) for e in edges for f in (0.0, 0.5)] + [edges[-1].endPoint()]
+    unwrapped, prev = [], None
+    for v in pts:
+        a = math.atan2(v.y, v.x)
+        if prev is not None:
+            a = prev + (a - prev + math.pi) % (2 * math.pi) - math.pi
+        unwrapped.append(a)
+        prev = a
+    assert all(b < a for a, b in zip(unwrapped, unwrapped[1:]))  # clockwise all the way
+    assert unwrapped[-1] == pytest.approx(phi0 - 2 * math.pi * turns, abs=1e-9)
+    for v, a in zip(pts, unwrapped):  # and r = r_in + p·(φ0 − φ)/2π
+        assert radius(v) == pytest.approx(r_in + pitch * (phi0 - a) / (2 * math.pi), abs=0.01)
+
+
+def test_extended_strip_runs_past_both_rays(design):
+    """``extend`` adds that much strip beyond each end ray (buried in the fittings); the rest is unchanged."""
+    plain = strip_solid(design, phi0=0.0, z0=0.0)
+    longer = strip_solid(design, phi0=0.0, z0=0.0, extend=0.3)
+    assert longer.Volume() - plain.Volume() == pytest.approx(2 * 0.3 * design.thickness * design.width, rel=0.05)
+    r_in, r_out, k = design.inner_radius, design.centreline_outer_radius, design.pitch / (2 * math.pi)
+    z = design.width / 2
+    for a in (-0.15 / r_in, 2 * math.pi * design.turns + 0.15 / r_out):  # 0.15 mm past each end, clockwise hand
+        v = cq.Vector((r_in + k * a) * math.cos(-a), (r_in + k * a) * math.sin(-a), z)
+        assert longer.isInside(v) and not plain.isInside(v)
+
+
+def test_line_box_follows_its_frame():
+    box = line_box(10.0, 1.0, math.radians(90), (0.0, 4.0), (-1.0, 0.0), z0=0.0, height=2.0)
+    bb = box.BoundingBox()  # along +y from (10, 1), 1 mm to its right (+x)
+    assert (bb.xmin, bb.xmax, bb.ymin, bb.ymax) == pytest.approx((10.0, 11.0, 1.0, 5.0))
+    assert box.Volume() == pytest.approx(8.0)
+
+
+def test_ring_is_closed_all_round():
+    r_in, r_out, h = 1.0, 2.0, 3.0
+    rg = ring(10.0, math.radians(90), r_in, r_out, z0=0.0, height=h)
+    assert rg.Volume() == pytest.approx(math.pi * (r_out**2 - r_in**2) * h, rel=1e-6)
+    for a in range(0, 360, 30):  # centred at (0, 10): closed on every side
+        c, s = math.cos(math.radians(a)), math.sin(math.radians(a))
+        assert rg.isInside(cq.Vector(1.5 * c, 10.0 + 1.5 * s, 1.0))
+        assert not rg.isInside(cq.Vector(0.5 * c, 10.0 + 0.5 * s, 1.0))

@@ -1,5 +1,5 @@
 """Every joint that validation accepts builds into two valid, watertight bodies with their clearance,
-free over the whole range of motion."""
+free over the whole range of motion, and its wound springs (rod model) clear the other parts."""
 
 import math
 
@@ -7,6 +7,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from mesh_tools import manifold, sweep_collisions
+from wound_tools import wound_strip_clearance
 
 from rjcad.cad.build import build
 from rjcad.params import JointParams
@@ -23,6 +24,7 @@ designs = st.builds(
     link_length=st.floats(32.0, 70.0),
     printer=st.sampled_from(["generic-0.4", "dimension-elite"]),
     material=st.sampled_from(["absplus-p430", "petg", "pla"]),
+    end=st.sampled_from(["clamped", "pinned"]),
 )
 
 
@@ -41,6 +43,7 @@ def check_joint(p: JointParams):
     step = min(1.0 * DEG, p.clearance / (p.link_length + p.link_width))
     poses = sweep_collisions(g, m, (0, 0, 0), (0, 0, 1), 0.0, p.rotation, step=max(step, 0.25 * DEG))
     assert all(vol < 1e-9 for _, vol, _ in poses), [a / DEG for a, vol, _ in poses if vol > 0][:5]
+    assert wound_strip_clearance(p, b.meshes, step_deg=15.0) >= p.gap_internal - 0.05, p
     s = b.manifest["spring"]
     assert b.manifest["spring_strip_volume_mm3"] == pytest.approx(2 * s["width_mm"] * s["thickness_mm"] * s["length_mm"], rel=0.02)
 
@@ -67,9 +70,10 @@ def test_accepted_designs_build_valid_joints(data):
     check_joint(_build_or_skip(data))
 
 
-@pytest.mark.parametrize("rotation_deg, preload_deg, clearance", [(110, 30, 0.15), (15, 120, 0.6), (110, 120, 0.6)])
-def test_range_corners_build(rotation_deg, preload_deg, clearance):
-    check_joint(JointParams(rotation=rotation_deg * DEG, preload=preload_deg * DEG, clearance=clearance))
+@pytest.mark.parametrize("rotation_deg, preload_deg, clearance, end", [
+    (110, 30, 0.15, "clamped"), (15, 120, 0.6, "clamped"), (110, 120, 0.6, "clamped"), (110, 30, 0.15, "pinned")])
+def test_range_corners_build(rotation_deg, preload_deg, clearance, end):
+    check_joint(JointParams(rotation=rotation_deg * DEG, preload=preload_deg * DEG, clearance=clearance, end=end))
 
 
 @pytest.mark.parametrize(

@@ -21,7 +21,7 @@ from rjcad.cad.joint import (
 )
 from rjcad.manifest import BodyEntry, JointEntry, Manifest
 from rjcad.mesh import to_manifold
-from rjcad.params import JointParams
+from rjcad.params import KEY_ENGAGEMENT, JointParams
 
 GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
              "max(clearance, the printer's vertical minimum)")
@@ -37,7 +37,49 @@ def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float]
         requested_stiffness_nmm_per_rad=p.stiffness, spring=spring,
         preload_deg=math.degrees(p.preload), rotation_deg=math.degrees(p.rotation),
         link_length_mm=p.link_length, z_mid_mm=p.z_mid, height_mm=p.height,
+        extra={"spring_end": end_fitting_entry(p)},
     )
+
+
+def end_fitting_entry(p: JointParams) -> dict:
+    """Manifest keys of the springs' outer-end fitting that the builder made for ``p.end_condition``."""
+    h_s, c = p.seat_height, p.clearance
+    common = {
+        "end": p.end_condition,
+        "spiral": "printed winding clockwise outwards (seen from +Z); preload and flexion unwind it",
+        "seat_height_mm": h_s,
+        "push_out_mm": h_s + c,
+        "wound_radius_mm": p.wound_radius,
+    }
+    if p.end_condition == "clamped":
+        a = math.degrees(p.socket_tilt)
+        return {**common,
+                "fitting": "key in a socket: a rigid key on the strip's outer end (clockwise of its ray) between "
+                           "two tines and against a base on the moving link, holding the end's position and angle",
+                "key_width_mm": p.key_width, "key_root_radius_mm": p.key_root_radius,
+                "key_tip_radius_mm": p.key_tip_radius, "engagement_mm": KEY_ENGAGEMENT,
+                "slot_width_mm": p.key_width + 2 * c, "rotational_play_deg": a, "tine_tilt_deg": a,
+                "bearing": "the spring's moment on the key (about T, one sense over the whole range) turns it "
+                           f"clockwise in its slot by the play ({a:.1f} deg, about 2c/l): its tip corner bears on the "
+                           "clockwise tine, its counter-clockwise face on the counter-clockwise tine's inner end; the "
+                           "tines are tilted by the play, so the bearing key sits at its modelled pose; the end's "
+                           "small outward force puts its tip on the base"}
+    return {**common,
+            "fitting": "closed ring around the post, free to turn",
+            "ring_inner_radius_mm": p.post_radius + c, "ring_wall_mm": p.hook_wall,
+            "pin_offset_mm": p.post_ring_radius - p.spring.centreline_outer_radius,
+            "bearing": "the post pulls the ring counter-clockwise; the pin sits pin_offset_mm radially outside the "
+                       "strip's end, on a rigid stub (the rod model's pin is at the strip's end)"}
+
+
+def seating_text(p: JointParams) -> str:
+    """What the user does after printing, one sentence."""
+    what, where = ("key", "between the tines of its socket") if p.end_condition == "clamped" else \
+        ("ring", "around its post")
+    return (f"for each spring, push its {what} out of the spring's plane (away from the joint's middle) by "
+            f"{p.seat_height + p.clearance:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
+            f"(seen from +Z, the flexion sense: this unwinds the spiral) and let it spring back {where} "
+            "on the moving link")
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
@@ -89,7 +131,7 @@ def build(p: JointParams) -> JointBuild:
         "tendon_moment_arm_mm_requested": p.tendon_moment_arm,
         "pin_radius_mm": p.pin_radius,
         "safety_factor": p.safety_factor,
-        "end": p.end,
+        "end": p.end_condition,
         "gaps_mm": {
             "radial_pin_eye": p.gap_xy,
             "axial_stack": p.gap_z,
@@ -112,8 +154,7 @@ def build(p: JointParams) -> JointBuild:
         "mesh": _mesh_summary(meshes),
         "print": {
             "orientation": "as exported: joint axis vertical (Z), bottom spring on the bed",
-            "post_print": f"wind each spring's hook {math.degrees(p.preload):g} deg counter-clockwise "
-                          "(in the flexion direction) and drop it over its post on the moving link",
+            "post_print": seating_text(p),
         },
     }
     manifest = Manifest("joint", [entry], _bodies({"ground": solids.ground, "moving": solids.moving}, p),
@@ -140,8 +181,10 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
             lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
             sections=[
-                ("section z = b/2: bottom spring, hook (printed, preload clockwise of its post), posts",
-                 (0, 0, p.spring.width / 2), (0, 0, 1)),
+                (f"z = {p.spring.width - p.seat_height / 2:.2f}: bottom spring (clockwise out), its "
+                 f"{'key' if p.end_condition == 'clamped' else 'ring'} printed {math.degrees(p.preload):g}° "
+                 f"clockwise of its {'socket' if p.end_condition == 'clamped' else 'post'}",
+                 (0, 0, p.spring.width - p.seat_height / 2), (0, 0, 1)),
                 ("section through the eye band: eye, tendon groove, support pin, channels",
                  (0, 0, p.z_mid), (0, 0, 1)),
                 ("section y = 0: the stack spring | cheek | eye | cheek | spring", (0, 0, 0), (0, 1, 0)),
@@ -200,7 +243,8 @@ def build_finger_model(fp) -> FingerBuild:
         "n_joints": fp.n,
         "tendon_diameter_mm": p0.tendon_diameter,
         "safety_factor": p0.safety_factor,
-        "end": p0.end,
+        "end": p0.end_condition,
+        "print": {"post_print": seating_text(p0)},
         "base_length_mm": fp.base_length,
         "tendon_length_mm": float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()),
         "tendon_path_mm": path.tolist(),
@@ -233,7 +277,9 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
             b.meshes, f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
             lines=[np.array(b.manifest.extra["tendon_path_mm"])],
             sections=[
-                ("section z = b/2 of joint 1: bottom springs, hooks, posts", (0, 0, p0.spring.width / 2), (0, 0, 1)),
+                (f"section z = {p0.spring.width - p0.seat_height / 2:.2f}: joint 1's bottom spring, its "
+                 f"{'key and socket' if p0.end_condition == 'clamped' else 'ring and post'}",
+                 (0, 0, p0.spring.width - p0.seat_height / 2), (0, 0, 1)),
                 ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
                 ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0)),
             ])

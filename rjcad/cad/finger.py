@@ -30,7 +30,7 @@ from rjcad.cad.joint import (
     support_pin,
     tube_path,
 )
-from rjcad.params import JointParams
+from rjcad.params import JOINT_DEFAULT_END, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
 from rjcad.errors import ParameterError, RjcadError
@@ -75,7 +75,7 @@ class FingerParams:
             material=data.get("material", "absplus-p430"), printer=data.get("printer", "generic-0.4"),
             clearance=float(data.get("clearance_mm", 0.25)),
             tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
-            safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", "pinned"),
+            safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", JOINT_DEFAULT_END),
         )
         built, requested = [], []
         for i, j in enumerate(joints, start=1):

@@ -8,11 +8,16 @@ full-height block at x ≤ −X_b, the two stop lugs on each cheek, and the two
 springs, whose inner ends are fused to the pin through radial tabs.
 Moving body: the eye around the pin (bore = pin + clearance) with the tendon
 groove, a beam in the eye band, the full-height block at x ≥ X_b with the
-tendon slot and support pin, and two hook posts at radius R_h on the +X ray.
+tendon slot and support pin, and the post at radius R_h on the +X ray, which
+reaches ``seat_height`` into each spring's layer; a clamped spring's socket
+(two tines and a base) hangs from it there.
 
-In print each spring's outer end (a C-hook) sits ``preload`` clockwise of its
-post; the user winds it counter-clockwise by the preload and drops it over
-the post. The posts then rest on the extension-stop lugs at θ = 0.
+The springs wind clockwise outwards. In print each spring's outer end (a key,
+or a ring when pinned) sits ``preload`` clockwise of its socket (or post); the
+user pushes it out of the spring's plane (away from the joint's middle) by
+seat_height + clearance, turns it counter-clockwise by the preload, which
+unwinds the spiral, and lets it spring back into the socket. The post then
+rests on the extension-stop lugs at θ = 0.
 """
 
 from __future__ import annotations
@@ -22,8 +27,8 @@ from dataclasses import dataclass
 
 import cadquery as cq
 
-from rjcad.params import JointParams
-from rjcad.cad.spiral import radial_box, ring_hook, strip_solid
+from rjcad.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
+from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, ring, strip_solid
 
 Z = cq.Vector(0, 0, 1)
 ORIGIN = cq.Vector(0, 0, 0)
@@ -64,31 +69,51 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
 
 
 def spring_phi0(p: JointParams) -> float:
-    """Start angle of the spiral so that its outer end lies at −preload (clockwise of the post)."""
-    return -p.preload - 2 * math.pi * p.spring.turns
+    """Start angle of the clockwise-outward spiral, so that its outer end lies at −preload [rad]."""
+    return -p.preload + 2 * math.pi * p.spring.turns
 
 
 def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
-    """The strip alone, and its fused attachments (inner tab, end stub, C-hook), for z ∈ [z0, z0+b]."""
+    """The strip alone, and its fused end fittings (inner tab, outer key or stub + ring), for z ∈ [z0, z0+b].
+
+    The strip runs STRIP_OVERLAP mm past both end rays into the fittings, which lie beyond the rays
+    (the tab counter-clockwise of the start, the key or stub clockwise of the end): the free strip
+    between them is the designed one.
+    """
     d = p.spring
     b, t = d.width, d.thickness
-    phi0 = spring_phi0(p)
-    phi1 = -p.preload
-    strip = strip_solid(d, phi0, z0)
-    # inner tab: radial, overlapping the pin by 0.4 mm and the strip's start transversally
+    phi0, phi1 = spring_phi0(p), -p.preload
+    strip = strip_solid(d, phi0, z0, hand=CLOCKWISE, extend=STRIP_OVERLAP)
+    # inner tab: radial, overlapping the pin by 0.4 mm, covering the strip's start
     w_tab = 1.5 * max(t, p.printer_spec.min_wall_mm)
-    tab = radial_box(p.pin_radius - 0.4, d.inner_radius, w_tab, phi0, z0, b, side=w_tab / 2 - t / 2)
-    # outer end: radial stub from the strip's centreline into the C-hook ring
-    r_end = d.centreline_outer_radius
-    R_h = p.post_ring_radius
-    r_hook_in = p.post_radius + p.clearance
-    r_hook_out = r_hook_in + p.hook_wall
-    # the hook is the clockwise half of a ring, cut on its radial centre line (square ends, no knife
-    # edges); the stub straddles that line by 0.3 mm so that no face of the union is coplanar
+    tab = radial_box(p.pin_radius - 0.4, d.inner_radius + 0.25 * t, w_tab, phi0, z0, b, side=w_tab / 2)
+    r0 = p.key_root_radius
+    if p.end_condition == "clamped":
+        return strip, [tab, radial_box(r0, p.key_tip_radius, p.key_width, phi1, z0, b, side=-p.key_width / 2)]
+    # pinned: a radial stub into a closed ring around the post's place
+    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance
     w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
-    stub = radial_box(r_end, R_h - r_hook_in - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2 + 0.3)
-    hook = ring_hook(R_h, phi1, r_hook_in, r_hook_out, z0, b, keep_past_centre=0.0)
-    return strip, [tab, stub, hook]
+    stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
+    return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]
+
+
+def socket_solids(p: JointParams, z0: float, height: float) -> list[cq.Solid]:
+    """A clamped spring's socket on the moving link at rest (its key's ray is +X), z ∈ [z0, z0 + height].
+
+    Key seated: u ∈ [key root, R_k], v ∈ [−w_k, 0]. The clockwise tine's face passes through the key's
+    tip corner (R_k, −w_k), the counter-clockwise tine's through (R_s0, 0), both tilted by α
+    counter-clockwise (``socket_tilt``); the base's face is at u = R_k, and it runs on into the link
+    block. Loaded, the key bears on exactly these three places.
+    """
+    a, wt, wk = p.socket_tilt, p.tine_width, p.key_width
+    R0, Rk, depth = p.socket_inner_radius, p.key_tip_radius, p.socket_base_depth
+    end = (Rk + depth / 2 - R0) / math.cos(a)  # the tines end inside the base
+    ccw = line_box(R0, 0.0, a, (0.0, end), (0.0, wt), z0, height)
+    cw = line_box(Rk, -wk, a, (-KEY_ENGAGEMENT / math.cos(a), depth / 2 / math.cos(a)), (-wt, 0.0), z0, height)
+    v_lo, v_hi = p.socket_span
+    # the base, bridged out to the link block (so that the block, not only the post, holds it)
+    base = cq.Solid.makeBox(p.block_start + 0.5 - Rk, v_hi - v_lo, height, cq.Vector(Rk, v_lo, z0))
+    return [ccw, cw, base]
 
 
 # --------------------------------------------------------------------------
@@ -116,17 +141,22 @@ def fork_parts(p: JointParams) -> list[cq.Shape]:
 
 
 def eye_parts(p: JointParams) -> list[cq.Shape]:
-    """Moving-side parts around the axis: eye with groove flanges, eye-band beam to the block, posts."""
-    H, xm = p.height, p.block_start
+    """Moving-side parts around the axis: eye with groove flanges, eye-band beam to the block, post, sockets."""
+    xm = p.block_start
     ze0, ze1 = p.z_eye
     he = ze1 - ze0
     R_e, flange = p.eye_radius, 1.0
-    return [
+    h_s = p.seat_height
+    z_post0, z_post1 = p.z_spring1[1] - h_s, p.z_spring2[0] + h_s
+    sockets = []
+    if p.end_condition == "clamped":
+        sockets = socket_solids(p, z_post0, h_s) + socket_solids(p, p.z_spring2[0], h_s)
+    return sockets + [
         cq.Solid.makeCylinder(R_e, he, cq.Vector(0, 0, ze0), Z),
         cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze0), Z),
         cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze1 - flange), Z),
         cq.Solid.makeBox(xm + 1.0, 2 * R_e, he, cq.Vector(0, -R_e, ze0)),
-        cq.Solid.makeCylinder(p.post_radius, H, cq.Vector(p.post_ring_radius, 0, 0), Z),
+        cq.Solid.makeCylinder(p.post_radius, z_post1 - z_post0, cq.Vector(p.post_ring_radius, 0, z_post0), Z),
     ]
 
 
@@ -214,5 +244,5 @@ def build_joint(p: JointParams) -> JointSolids:
 
 
 def strip_volume(p: JointParams) -> float:
-    """B-rep volume of the two spring strips (tabs and hooks excluded) [mm³]."""
-    return sum(strip_solid(p.spring, spring_phi0(p), z0).Volume() for z0 in (p.z_spring1[0], p.z_spring2[0]))
+    """B-rep volume of the two free spring strips (the parts buried in the fittings excluded) [mm³]."""
+    return 2 * strip_solid(p.spring, spring_phi0(p), 0.0, hand=CLOCKWISE).Volume()

@@ -1,9 +1,12 @@
-"""Spiral strip solids built from 3-point arcs (analytic faces, fast booleans).
+"""Spiral strip solids built from 3-point arcs (analytic faces, fast booleans), and the boxes and rings
+its end fittings are made of.
 
-The centreline is r(φ) = r_in + p·(φ − φ0)/(2π), φ ∈ [φ0, φ0 + 2πn], going
-counter-clockwise outwards, so that turning the outer end counter-clockwise
-(joint flexion) tightens the spiral. Each side of the strip (r ∓ t/2) is a
-chain of 3-point arcs, ``arcs_per_turn`` per turn.
+The centreline is r(a) = r_in + p·a/(2π) at the polar angle φ = φ0 + hand·a, a ∈ [0, 2πn]. The joint
+prints ``hand = −1``: the spiral winds CLOCKWISE outwards (seen from +Z), so that turning its outer end
+counter-clockwise (the preload, then joint flexion) UNWINDS it. Each side of the strip (r ∓ t/2) is a
+chain of 3-point arcs, ``arcs_per_turn`` per turn. The strip may run on past both of the design's end
+rays by ``extend`` mm: that part is buried in the end fittings, so the free strip between them has the
+design's length.
 """
 
 from __future__ import annotations
@@ -14,39 +17,52 @@ import cadquery as cq
 
 from rjcad.spring import SpringDesign
 
+CLOCKWISE = -1
+COUNTER_CLOCKWISE = 1
+
 
 def _pt(r: float, phi: float) -> cq.Vector:
     return cq.Vector(r * math.cos(phi), r * math.sin(phi), 0.0)
 
 
 def spiral_side(r_in: float, pitch: float, turns: float, phi0: float, offset: float,
-                arcs_per_turn: int = 6, backwards: bool = False) -> list[cq.Edge]:
-    """Arcs through r(φ) + offset from φ0 to φ0 + 2πn (counter-clockwise), or back."""
+                arcs_per_turn: int = 6, backwards: bool = False, hand: int = CLOCKWISE,
+                a_start: float = 0.0, a_end: float | None = None) -> list[cq.Edge]:
+    """Arcs through r(a) + offset at φ0 + hand·a, for a from ``a_start`` to ``a_end`` (2πn), or back [rad]."""
     k = pitch / (2 * math.pi)
-    span = 2 * math.pi * turns
-    n_arcs = max(2, math.ceil(turns * arcs_per_turn))
+    a_end = 2 * math.pi * turns if a_end is None else a_end
+    span = a_end - a_start
+    n_arcs = max(2, math.ceil(span / (2 * math.pi) * arcs_per_turn))
     edges = []
     order = range(n_arcs - 1, -1, -1) if backwards else range(n_arcs)
     for i in order:
-        a, b = span * i / n_arcs, span * (i + 1) / n_arcs
+        a, b = a_start + span * i / n_arcs, a_start + span * (i + 1) / n_arcs
         if backwards:
             a, b = b, a
         m = 0.5 * (a + b)
         edges.append(cq.Edge.makeThreePointArc(
-            _pt(r_in + k * a + offset, phi0 + a), _pt(r_in + k * m + offset, phi0 + m),
-            _pt(r_in + k * b + offset, phi0 + b)))
+            _pt(r_in + k * a + offset, phi0 + hand * a), _pt(r_in + k * m + offset, phi0 + hand * m),
+            _pt(r_in + k * b + offset, phi0 + hand * b)))
     return edges
 
 
-def strip_solid(design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int = 6) -> cq.Solid:
-    """The spiral strip alone (no tab, no hook), extruded over z ∈ [z0, z0 + b]."""
+def strip_solid(design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int = 6,
+                hand: int = CLOCKWISE, extend: float = 0.0) -> cq.Solid:
+    """The spiral strip alone (no tab, no key), extruded over z ∈ [z0, z0 + b].
+
+    ``extend`` [mm] prolongs the strip past both end rays (arc length ≈ extend at each end).
+    """
     r_in, p, n, t = design.inner_radius, design.pitch, design.turns, design.thickness
-    outer = spiral_side(r_in, p, n, phi0, +t / 2, arcs_per_turn)
-    inner_back = spiral_side(r_in, p, n, phi0, -t / 2, arcs_per_turn, backwards=True)
-    phi1 = phi0 + 2 * math.pi * n
     r_out = r_in + p * n
-    end_cap = cq.Edge.makeLine(_pt(r_out + t / 2, phi1), _pt(r_out - t / 2, phi1))
-    start_cap = cq.Edge.makeLine(_pt(r_in - t / 2, phi0), _pt(r_in + t / 2, phi0))
+    a0, a1 = -extend / r_in, 2 * math.pi * n + extend / r_out
+    kw = dict(arcs_per_turn=arcs_per_turn, hand=hand, a_start=a0, a_end=a1)
+    outer = spiral_side(r_in, p, n, phi0, +t / 2, **kw)
+    inner_back = spiral_side(r_in, p, n, phi0, -t / 2, backwards=True, **kw)
+    k = p / (2 * math.pi)
+    r0, r1 = r_in + k * a0, r_in + k * a1
+    phi_s, phi_e = phi0 + hand * a0, phi0 + hand * a1
+    end_cap = cq.Edge.makeLine(_pt(r1 + t / 2, phi_e), _pt(r1 - t / 2, phi_e))
+    start_cap = cq.Edge.makeLine(_pt(r0 - t / 2, phi_s), _pt(r0 + t / 2, phi_s))
     wire = cq.Wire.assembleEdges(outer + [end_cap] + inner_back + [start_cap])
     face = cq.Face.makeFromWires(wire)
     return cq.Solid.extrudeLinear(face, cq.Vector(0, 0, design.width)).translate(cq.Vector(0, 0, z0))
@@ -62,17 +78,16 @@ def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height
     return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(phi))
 
 
-def ring_hook(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float,
-              keep_past_centre: float) -> cq.Solid:
-    """A C-shaped hook: the annulus [r_inner, r_outer] around (centre_r, φ), open counter-clockwise.
+def line_box(u: float, v: float, angle: float, s: tuple[float, float], q: tuple[float, float],
+             z0: float, height: float) -> cq.Solid:
+    """Box in the frame whose origin is (u, v) and whose x axis points at ``angle`` [rad]:
+    s[0]..s[1] along that axis, q[0]..q[1] across it (+ = to its left), z0..z0 + height."""
+    box = cq.Solid.makeBox(s[1] - s[0], q[1] - q[0], height, cq.Vector(s[0], q[0], z0))
+    return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(angle)).translate(cq.Vector(u, v, 0))
 
-    The part kept is the clockwise half plus ``keep_past_centre`` mm beyond the centre line.
-    """
+
+def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float) -> cq.Solid:
+    """A closed ring, the annulus [r_inner, r_outer] around the point at radius ``centre_r`` on the ray φ."""
     c = _pt(centre_r, phi)
-    ring = cq.Solid.makeCylinder(r_outer, height, cq.Vector(c.x, c.y, z0)).cut(
+    return cq.Solid.makeCylinder(r_outer, height, cq.Vector(c.x, c.y, z0)).cut(
         cq.Solid.makeCylinder(r_inner, height, cq.Vector(c.x, c.y, z0)))
-    # remove the counter-clockwise side: a box beyond the centre line, in the tangential direction
-    big = 2 * r_outer + 2
-    cutter = cq.Solid.makeBox(big, big, height + 2, cq.Vector(-big / 2, keep_past_centre, z0 - 1))
-    cutter = cutter.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(phi)).translate(c)
-    return ring.cut(cutter)
