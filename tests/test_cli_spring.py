@@ -12,9 +12,12 @@ def test_json_has_the_pinned_keys(cli):
     d = json.loads(out)
     for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
                 "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
-                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end"):
+                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end", "first_contact_deg",
+                "rod_stiffness_nmm_per_rad", "formula_stiffness_nmm_per_rad", "peak_stress_mpa", "pin_force_n"):
         assert key in d, key
     assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
+    assert d["rod_stiffness_nmm_per_rad"] == d["joint_stiffness_nmm_per_rad"]  # the rod model's, per joint
+    assert d["first_contact_deg"] is None and d["min_coil_gap_mm"] >= 0.25 and d["end"] == "clamped"
     assert d["spring_stiffness_nmm_per_rad"] == pytest.approx(2.6, rel=0.005)
     assert d["max_stress_mpa"] <= d["allowed_stress_mpa"]
     assert d["rotation_deg"] == 90 and d["preload_deg"] == 90
@@ -25,18 +28,43 @@ def test_degrees_at_the_cli_radians_inside(cli):
     a = json.loads(out)
     _, out, _ = cli(["spring", "--stiffness", "5.2", "--rotation", "45", "--preload", "135", "--json"])
     b = json.loads(out)
-    # same total wind-up (180°): same stress and width; the wound-gap target is the same too
-    assert a["max_stress_mpa"] == pytest.approx(b["max_stress_mpa"])
-    assert a["width_mm"] == b["width_mm"]
+    assert (a["rotation_deg"], a["preload_deg"]) == (90, 90) and (b["rotation_deg"], b["preload_deg"]) == (45, 135)
+    # same total wind-up (180°) and stiffness: the same torque at 180°
+    for d in (a, b):
+        assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
+        assert d["max_torque_nmm"] == pytest.approx(5.2 * math.pi, rel=0.02)
 
 
 def test_readable_table(cli):
     code, out, _ = cli(PAPER)
     assert code == 0
     for label in ("width b", "thickness t", "length L", "pitch p", "turns n", "outer radius",
-                  "joint stiffness", "peak stress", "allowed stress", "coil gap"):
+                  "joint stiffness", "formula stiffness", "peak stress", "allowed stress", "coil gap", "first contact",
+                  "pin force", "rod model"):
         assert label in out
-    assert "5.2000" in out
+    line = next(x for x in out.splitlines() if x.strip().startswith("joint stiffness"))
+    assert float(line.split()[2]) == pytest.approx(5.2, rel=0.005)
+    assert "clamped outer end" in out
+
+
+def test_plot_draws_the_torque_curve_and_the_wound_shape(cli, tmp_path):
+    png = tmp_path / "spring.png"
+    code, out, err = cli(PAPER + ["--plot", str(png), "--json"])
+    assert code == 0, err
+    json.loads(out)  # the JSON stays clean
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
+    bad = tmp_path / "a_file"
+    bad.write_text("x")
+    code, out, err = cli(PAPER + ["--plot", str(bad / "spring.png")])
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--plot" in err
+
+
+def test_coil_contact_refusal_says_where_and_what_to_change(cli):
+    code, out, err = cli(["spring", "--stiffness", "2", "--rotation", "180", "--preload", "150", "--end", "pinned",
+                          "--inner-radius-max", "3", "--max-outer-radius", "40"])
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "coils touch at" in err and "lower the preload or the rotation" in err
 
 
 def test_options_change_the_design(cli):

@@ -44,7 +44,8 @@ REQUIREMENT = (
     Field("--material", "material", str, f"One of: {', '.join(MATERIALS)} (default {DEFAULT_MATERIAL})."),
     Field("--printer", "printer", str, f"One of: {', '.join(PRINTERS)} (default {DEFAULT_PRINTER})."),
     Field("--safety-factor", "safety_factor", float, "Safety factor on yield (default 1.5)."),
-    Field("--end", "end", str, "Outer end condition: pinned (default, a hook on a pin) or clamped."),
+    Field("--end", "end", str, "Outer end condition: clamped (default: position and angle held) or pinned "
+                               "(free to turn about its post)."),
 )
 
 

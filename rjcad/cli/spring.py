@@ -1,4 +1,4 @@
-"""``rjcad spring``: design the twin spiral springs of one joint, print them as a table or JSON."""
+"""``rjcad spring``: design the twin spiral springs of one joint, print them as a table or JSON, plot them."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ import json
 import click
 
 from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+from rjcad.errors import RjcadError
 from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 from rjcad.units import DEG
@@ -40,22 +41,42 @@ def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
 @click.command()
 @design_options(FIELDS, "TOML file with the same keys (see templates/).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def spring(config, as_json, **options):
-    """Design the twin spiral springs of one joint (smallest outer radius)."""
+@click.option("--plot", "plot", type=click.Path(dir_okay=False),
+              help="Write a PNG: torque against wind-up (rod model vs formula) and the wound shape with its "
+                   "tightest gap.")
+def spring(config, as_json, plot, **options):
+    """Design the twin spiral springs of one joint (smallest outer radius), verified by the rod model."""
     design = design_spring(spring_requirement(options, config))
+    if plot:
+        from rjcad.spring.plot import write_plot
+
+        try:
+            write_plot(design, plot)
+        except OSError as e:
+            raise RjcadError(f"--plot {plot}: cannot write it: {e.strerror or e}") from None
     if as_json:
         click.echo(json.dumps(design.to_dict(), indent=2))
     else:
         print_design(design)
+        if plot:
+            click.echo(f"  plot written to {plot}")
+
+
+def _contact(d: dict) -> tuple[str, str]:
+    if d["first_contact_deg"] is None:
+        return "none", f"up to {d['rotation_deg'] + d['preload_deg']:g}° of wind-up"
+    return f"{d['first_contact_deg']:.1f}", "° of wind-up"
 
 
 def print_design(design: SpringDesign) -> None:
-    """The design as a heading line and a table (degrees, mm, MPa, N·mm)."""
+    """The design as a heading line and a table (degrees, mm, MPa, N·mm); physics from the rod model."""
     d = design.to_dict()
     req = design.requirement
+    windup = d["rotation_deg"] + d["preload_deg"]
     click.echo(f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
                f"(two springs of {req.spring_stiffness:g}), {d['rotation_deg']:g}° rotation, "
-               f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end")
+               f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end, "
+               f"loaded unwinding; checked by the rod model")
     print_table([
         ("width b", f"{d['width_mm']:.3f}", "mm"),
         ("thickness t", f"{d['thickness_mm']:.3f}", "mm"),
@@ -64,12 +85,17 @@ def print_design(design: SpringDesign) -> None:
         ("pitch p", f"{d['pitch_mm']:.4f}", "mm"),
         ("turns n", f"{d['turns']:.3f}", ""),
         ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
-        ("spring stiffness", f"{d['spring_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (one spring)"),
-        ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}", "N·mm/rad (both)"),
-        ("peak stress", f"{d['max_stress_mpa']:.2f}", f"MPa at {d['rotation_deg'] + d['preload_deg']:g}° wind-up"),
+        ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}",
+         "N·mm/rad (both springs, rod model, slope over the rotation)"),
+        ("formula stiffness", f"{d['formula_stiffness_nmm_per_rad']:.4f}",
+         f"N·mm/rad (both springs, c·E·b·t³/12L, {req.end})"),
+        ("peak stress", f"{d['peak_stress_mpa']:.2f}", f"MPa (rod model, over 0-{windup:g}° of wind-up)"),
         ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
-        ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}", "mm at maximum wind-up"),
+        ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}",
+         f"mm (rod model, smallest over the wind-up, at {d['min_coil_gap_windup_deg']:.0f}°)"),
         ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
+        ("first contact", *_contact(d)),
+        ("pin force", f"{d['pin_force_n']:.3f}", "N (largest reaction on the outer end's post, one spring)"),
         ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
         ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
         ("predicted life", f"{d['predicted_cycles']:.3g}",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -11,9 +12,12 @@ from rjcad.life.constraint import predict_cycles
 from rjcad.life.critique import LOO_CUT, Critique, selection_frequencies
 from rjcad.life.effects import EFFECTS, ROAD_WIDTH
 from rjcad.life.likelihood import LEVEL
-from rjcad.life.table import read_table, table_i
+from rjcad.life.table import TABLE_I_END, TABLE_I_INNER_RADIUS, read_table, table_i, table_i_peaks
 from rjcad.materials import get_material
 from rjcad.plotting import pyplot, save_png
+from rjcad.spring import factors
+from rjcad.spring.formulas import turns_for_length, windup_stress
+from rjcad.units import DEG
 
 
 def write_plot(c: Critique, path) -> None:
@@ -34,7 +38,7 @@ def write_plot(c: Critique, path) -> None:
     ax.scatter([], [], marker="x", color="k", label="extended model (" + (", ".join(c.chosen) or "none") + ")")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("stress amplitude σ_a [MPa] (pinned end, 90° → 180°)")
+    ax.set_xlabel("stress amplitude σ_a [MPa] (rod model, clamped end, 90° → 180°)")
     ax.set_ylabel("cycles to failure")
     ax.set_title("Table I: blue backlash 0.25 mm, red 0.75 mm, ▲ run-out")
     ax.legend(fontsize=8)
@@ -55,6 +59,32 @@ def write_plot(c: Critique, path) -> None:
     ax2.grid(alpha=0.3)
     fig.tight_layout()
     save_png(fig, path, dpi=90)
+
+
+def _m_range() -> str:
+    """The rows' peak-moment factors m, as 'lo–hi'."""
+    tab = read_table()
+    m = factors.stress_factor(math.pi, TABLE_I_INNER_RADIUS, tab.pitch,
+                              turns_for_length(tab.length, TABLE_I_INNER_RADIUS, tab.pitch), TABLE_I_END)
+    return f"{m.min():.2f}–{m.max():.2f}"
+
+
+def _peak_ratio() -> str:
+    r = table_i_peaks() / table_i().stress_amp
+    return f"{r.min():.2f}–{r.max():.2f}"
+
+
+def _old_pinned_peaks() -> np.ndarray:
+    """Peak stress per row by the old closed form with the pinned end, 0.8·E·t·(preload + rotation)/L [MPa]."""
+    tab = read_table()
+    E = get_material(tab.meta["material"]).youngs_modulus_mpa
+    theta = (float(tab.meta["rotation_deg"]) + float(tab.meta["preload_deg"])) * DEG
+    return windup_stress(E, float(tab.meta["width_mm"]), tab.thickness, tab.length, theta, "pinned")
+
+
+def _old_ratio() -> str:
+    r = _old_pinned_peaks() / 4 / table_i().stress_amp
+    return f"{r.min():.2f}–{r.max():.2f}"
 
 
 def _fmt_iv(iv) -> str:
@@ -86,12 +116,14 @@ def _data_section(d: dict, n_sim: int, seed: int) -> list[str]:
         f"{tab.meta['rate_cycles_per_min']} cycles/min, {tab.meta['printer']}. Row 7 is a run-out (no failure "
         "at 8.5e5 cycles); it enters the likelihood as the probability of surviving past 8.5e5, not as a failure.",
         "",
-        "**Stresses** from rjcad's spring model with the pinned outer end (rjcad's default, the hook on a pin): "
-        f"σ(θ) = 0.8·E·t·θ/L, E = {E:g} MPa, cycled between the 90° preload and 180°. The amplitude is "
-        "0.8·E·t·(π/2)/(2L) and the peak 0.8·E·t·π/L (four times the amplitude for every row, so the "
-        f"choice between amplitude and peak only shifts a; the clamped end scales every stress by "
-        f"{table_i(end='clamped').stress_amp[0] / table_i().stress_amp[0]:.3g} "
-        "and changes nothing but a).",
+        f"**Stresses** as the spring designer computes them: the rod model's factors (stiffness ratio c, torque "
+        f"curve τ, peak-moment factor m = {_m_range()}) for each row's spiral, outer end clamped (the paper's "
+        "hooks behaved clamped, see docs/spring-model.md), the inner radius assumed "
+        f"{TABLE_I_INNER_RADIUS:g} mm (Table I gives only L, pitch, t and b), E = {E:g} MPa, cycled between the "
+        "90° preload and 180°: σ(θ) = 6·m·T(θ)/(b·t²). The peak is "
+        f"{_peak_ratio()} times the amplitude (the torque is nearly linear in the wind-up), so the choice "
+        "between amplitude and peak mostly shifts a. The old closed form with a pinned end (σ = 0.8·E·t·θ/L) "
+        f"gave amplitudes {_old_ratio()} times these.",
         "",
         "![life](life.png)",
         "",
@@ -246,15 +278,24 @@ def _bootstrap_section(c: Critique, d: dict, freq: dict, n_sim: int) -> list[str
         f"law in {_fmt_iv(d['candidates']['pin_backlash']['intervals_95']['m'])}, while the thin-strip law "
         f"needs m = {d['candidates']['thin_strip']['variants']['with_stress']['params']['m']:.1f} "
         f"{_fmt_iv(d['candidates']['thin_strip']['intervals_95']['m'])}: how life falls with stress depends on "
-        "which cause one assumes, and Table I cannot say. Note also that with the pinned end the peak stress "
-        f"of rows 3 and 4 ({d['rows'][2].get('stress_peak_mpa', float('nan')):.0f} and "
-        f"{d['rows'][3].get('stress_peak_mpa', float('nan')):.0f} MPa) reaches the {sy:g} MPa yield, yet they lived "
-        f"as long as the 0.75 mm-backlash thin strip at {d['rows'][4].get('stress_peak_mpa', float('nan')):.1f} MPa; "
-        "the pinned-end factor of 2 on the "
-        "moment may overstate the paper's hook. Within the table's stress range the design model is "
+        "which cause one assumes, and Table I cannot say. " + _peaks_note(d, sy) + " Within the table's stress "
+        "range the design model is "
         "interpolation; outside it, extrapolation.",
     ]
     return lines
+
+
+def _peaks_note(d: dict, sy: float) -> str:
+    """What the peak stresses of rows 3 and 4 (the short, thick strips) say, against the yield."""
+    p = [r.get("stress_peak_mpa", float("nan")) for r in d["rows"]]
+    old = _old_pinned_peaks()
+    at = [i for i in (2, 3) if p[i] >= sy]
+    level = (f"row {at[0] + 1}'s reaches the {sy:g} MPa yield" if len(at) == 1 else
+             f"both reach the {sy:g} MPa yield" if at else f"both stay below the {sy:g} MPa yield")
+    return (f"The peak stresses of rows 3 and 4 are {p[2]:.1f} and {p[3]:.1f} MPa with the clamped end ({level}; "
+            f"the old pinned-end closed form put them at {old[2]:.0f} and {old[3]:.0f} MPa), yet they lived "
+            f"about as long as the 0.75 mm-backlash thin strip at {p[4]:.1f} MPa: stress does not order these "
+            "lives.")
 
 
 def _design_section() -> list[str]:

@@ -1,13 +1,15 @@
-"""Table I as shipped (``rjcad/data/table1.csv``) and as model input: stresses from the spring formulas.
+"""Table I as shipped (``rjcad/data/table1.csv``) and as model input: stresses from the rod model's factors.
 
 Data (paper Table I): seven ABSplus-P430 spiral springs, b = 4.8 mm, about 90° rotation at
 30 cycles/min on top of the design's 90° preload; the last row is a run-out (no failure at
 8.5e5 cycles: censored).
 
-Stress per row from rjcad's spring model, pinned outer end by default (rjcad's default end):
-σ(θ) = m_end·6·K·θ/(b·t²) = 0.8·E·t·θ/L, cycling θ = preload → preload + rotation, so the
-amplitude σ_a = 0.8·E·t·rotation/(2L) [MPa] and the peak σ_max = 0.8·E·t·(preload + rotation)/L
-(4·σ_a for Table I).
+Stress per row as the spring designer computes it (``rjcad.spring.factors.cycle_stresses``): the
+rod model's c, τ and m for the row's spiral (length L, pitch p and t from Table I; the inner radius
+is not given, ``TABLE_I_INNER_RADIUS`` = 3 mm is assumed), outer end clamped (the paper's hooks
+behaved clamped: its measured 5.19 for 5.2 designed with the clamped formula), loaded in the
+designer's sense (unwind). σ(θ) = 6·m·T(θ)/(b·t²), T(θ) = c·E·b·t³/(12L)·θ·τ(θ), cycling θ =
+preload → preload + rotation: amplitude (σ(θ_max) − σ(θ_p))/2, peak σ(θ_max) [MPa].
 """
 
 from __future__ import annotations
@@ -20,8 +22,14 @@ from importlib import resources
 import numpy as np
 
 from rjcad.materials import get_material
-from rjcad.spring.formulas import peak_stress, stiffness, stress_amplitude
+from rjcad.spring.factors import JOINT_SENSE, cycle_stresses
+from rjcad.spring.formulas import turns_for_length
 from rjcad.units import DEG
+
+#: Table I does not give the springs' inner radius: assumed [mm] (rjcad's smallest, the paper's pin scale).
+TABLE_I_INNER_RADIUS = 3.0
+#: The outer end assumed for Table I's springs: clamped, as the paper's joint measurement says.
+TABLE_I_END = "clamped"
 
 
 
@@ -74,24 +82,27 @@ class LifeData:
                           ("stress_amp", "thickness", "backlash", "cycles", "censored")))
 
 
-def row_stresses(length, thickness, width, E, rotation, preload, end="pinned"):
+def row_stresses(length, pitch, thickness, width, E, rotation, preload, end=TABLE_I_END,
+                 inner_radius=TABLE_I_INNER_RADIUS):
     """(amplitude, peak) bending stress of a spring cycled preload → preload + rotation [MPa].
 
-    σ(θ) = m_end·6·K·θ/(b·t²) with K from rjcad.spring.formulas (pinned: 0.8·E·t·θ/L; clamped: E·t·θ/(2L)).
+    The rod model's factors for the spiral (L, p, t, r_in; turns from the exact Archimedean length),
+    as the spring designer uses them (rjcad.spring.factors.cycle_stresses, the joint's sense).
     """
-    K = stiffness(E, width, thickness, length, end)
-    return (stress_amplitude(K, rotation, width, thickness, end),
-            peak_stress(K * (preload + rotation), width, thickness, end))
+    turns = turns_for_length(length, inner_radius, pitch)
+    _, peak, amp = cycle_stresses(E, width, thickness, length, inner_radius, pitch, turns, preload, rotation, end,
+                                  JOINT_SENSE)
+    return amp, peak
 
 
 def _table_stresses(tab: Table, end: str):
     """(amplitude, peak) of every row of ``tab`` under its own conditions [MPa]."""
-    return row_stresses(tab.length, tab.thickness, float(tab.meta["width_mm"]),
+    return row_stresses(tab.length, tab.pitch, tab.thickness, float(tab.meta["width_mm"]),
                         get_material(tab.meta["material"]).youngs_modulus_mpa,
                         float(tab.meta["rotation_deg"]) * DEG, float(tab.meta["preload_deg"]) * DEG, end)
 
 
-def table_i(runout_bound: float | None = None, end: str = "pinned") -> LifeData:
+def table_i(runout_bound: float | None = None, end: str = TABLE_I_END) -> LifeData:
     """Table I as model input (optionally moving the run-out's bound to ``runout_bound`` cycles)."""
     tab = read_table()
     amp, _ = _table_stresses(tab, end)
@@ -101,6 +112,6 @@ def table_i(runout_bound: float | None = None, end: str = "pinned") -> LifeData:
     return LifeData(amp, tab.thickness, tab.backlash, cycles, tab.censored)
 
 
-def table_i_peaks(end: str = "pinned") -> np.ndarray:
+def table_i_peaks(end: str = TABLE_I_END) -> np.ndarray:
     """Peak stress of each Table I row [MPa]."""
     return _table_stresses(read_table(), end)[1]

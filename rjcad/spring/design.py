@@ -1,8 +1,10 @@
 """A spring requirement (what the user asks of one joint) and a spring design (one spring of the pair).
 
-Every derived value of a design comes from :mod:`rjcad.spring.formulas`. Lengths in mm,
-angles in rad, stresses in MPa. A joint has two springs in parallel, so a joint of
-stiffness K_joint uses springs of K_joint/2.
+A design's physics (stiffness, stresses, coil gap, contact, end force) comes from the full rod
+model (:mod:`rjcad.spring.verify`, cached by geometry), wound in the joint's sense ``JOINT_SENSE``
+(``unwind``) from the printed shape to preload + rotation; the closed form of
+:mod:`rjcad.spring.formulas` is reported beside it. Lengths in mm, angles in rad, stresses in MPa.
+A joint has two springs in parallel, so a joint of stiffness K_joint uses springs of K_joint/2.
 
 A design reports its predicted life through the predictor it was built with
 (``life``; the optimiser passes ``rjcad.life.predict_cycles``): this module does not
@@ -17,16 +19,9 @@ from typing import Callable
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
-from rjcad.spring.formulas import (
-    DEFAULT_END,
-    END_CONDITIONS,
-    TWO_PI,
-    coil_gap,
-    outer_radius,
-    stiffness,
-    stress_amplitude,
-    windup_stress,
-)
+from rjcad.spring.factors import JOINT_SENSE
+from rjcad.spring.formulas import DEFAULT_END, END_CONDITIONS, TWO_PI, outer_radius, stiffness
+from rjcad.spring.verify import RodCheck, check_design
 from rjcad.validate import in_range
 
 #: Thin-strip validity: the innermost centreline radius is at least this many t.
@@ -60,7 +55,9 @@ def _angle(name: str, value, lo: float, lo_open: bool, limit: str) -> None:
 class SpringRequirement:
     """What the user asks of one joint; validated on construction.
 
-    Angles in rad. ``joint_stiffness`` is the sum of the twin springs (N·mm/rad).
+    Angles in rad. ``joint_stiffness`` is the sum of the twin springs (N·mm/rad), the slope of the
+    torque over the working range preload → preload + rotation. ``pin_radius`` (optional): the pin
+    the inner end is fused to; the strip then keeps the printer's minimum gap to it too.
     """
 
     joint_stiffness: float
@@ -78,6 +75,7 @@ class SpringRequirement:
     min_turns: float = 1.0
     min_cycles: float | None = None
     backlash: float = 0.25
+    pin_radius: float | None = None
 
     def __post_init__(self):
         in_range("stiffness", self.joint_stiffness, 0, 1e4, lo_open=True,
@@ -94,6 +92,8 @@ class SpringRequirement:
         if self.min_cycles is not None:
             in_range("min_cycles", self.min_cycles, 1, 1e9, limit="must be >= 1 and <= 1e9 cycles")
         in_range("backlash", self.backlash, 0.05, 1.5, limit="must be >= 0.05 and <= 1.5 mm")
+        if self.pin_radius is not None:
+            in_range("pin_radius", self.pin_radius, 0, 100, lo_open=True, limit="must be > 0 and <= 100 mm")
         check_end(self.end)
         object.__setattr__(self, "material", get_material(self.material).key)
         object.__setattr__(self, "printer", get_printer(self.printer).key)
@@ -126,8 +126,8 @@ class SpringRequirement:
 class SpringDesign:
     """One spiral spring of a twin-spring joint. Lengths in mm, angles in rad.
 
-    ``life`` predicts cycles from (stress amplitude, thickness, backlash); without it the
-    design has no predicted life (no life keys in ``to_dict``).
+    Its physics is the rod model's (``rod``, computed once per geometry and sense). ``life`` predicts
+    cycles from (stress amplitude, thickness, backlash); without it the design has no predicted life.
     """
 
     width: float
@@ -138,8 +138,11 @@ class SpringDesign:
     turns: float
     requirement: SpringRequirement = field(repr=False)
     life: LifePredictor | None = field(default=None, repr=False, compare=False)
+    #: How the joint loads the printed spiral: ``unwind`` (preload and flexion open it), the designer's
+    #: constant; ``tighten`` only to judge springs printed the old way.
+    sense: str = field(default=JOINT_SENSE, repr=False)
 
-    # --- derived, all from the model functions -----------------------------
+    # --- derived ------------------------------------------------------------
     @property
     def end(self) -> str:
         return self.requirement.end
@@ -148,6 +151,11 @@ class SpringDesign:
     def youngs_modulus(self) -> float:
         """E of the requirement's material [MPa]."""
         return self.requirement.material_spec.youngs_modulus_mpa
+
+    @property
+    def rod(self) -> RodCheck:
+        """The rod model wound over 0..preload + rotation (cached by geometry)."""
+        return check_design(self)
 
     @property
     def centreline_outer_radius(self) -> float:
@@ -160,21 +168,27 @@ class SpringDesign:
         return self.centreline_outer_radius + self.thickness / 2.0
 
     @property
-    def spring_stiffness(self) -> float:
+    def formula_stiffness(self) -> float:
+        """Closed form of one spring, c_end·E·b·t³/(12L) (c_end 1 clamped, 0.8 pinned) [N·mm/rad]."""
         return float(stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end))
+
+    @property
+    def spring_stiffness(self) -> float:
+        """One spring, rod model: torque slope over the working range [N·mm/rad]."""
+        return self.rod.stiffness
 
     @property
     def joint_stiffness(self) -> float:
         return 2.0 * self.spring_stiffness
 
     def stress_at(self, theta: float) -> float:
-        """Peak stress at wind-up θ (rad) from the printed shape [MPa]."""
-        return float(windup_stress(self.youngs_modulus, self.width, self.thickness, self.length, theta, self.end))
+        """Peak stress at wind-up θ (rad, 0..preload + rotation) from the printed shape, rod model [MPa]."""
+        return self.rod.stress_at(theta)
 
     @property
     def max_stress(self) -> float:
-        """Peak stress at preload + rotation [MPa]."""
-        return self.stress_at(self.requirement.max_windup)
+        """Peak stress over the whole wind-up, rod model [MPa]."""
+        return self.rod.peak_stress
 
     @property
     def preload_stress(self) -> float:
@@ -182,9 +196,18 @@ class SpringDesign:
 
     @property
     def min_coil_gap(self) -> float:
-        """Coil gap at maximum wind-up [mm]."""
-        return float(coil_gap(self.inner_radius, self.pitch, self.turns, self.thickness,
-                              self.requirement.max_windup))
+        """Smallest gap between coils over 0..preload + rotation, rod model [mm]."""
+        return float(self.rod.coil_gap.min())
+
+    @property
+    def min_pin_gap(self) -> float | None:
+        """Smallest gap between the strip and the pin (with a pin radius), rod model [mm]."""
+        return None if self.rod.pin_gap is None else float(self.rod.pin_gap.min())
+
+    @property
+    def first_contact(self) -> float | None:
+        """Wind-up at which the coils first touch, rod model [rad]; None: not within the range."""
+        return self.rod.first_contact
 
     @property
     def print_coil_gap(self) -> float:
@@ -193,9 +216,9 @@ class SpringDesign:
 
     @property
     def stress_amplitude(self) -> float:
-        """Stress amplitude of the working cycle, preload → preload + rotation [MPa]."""
-        K = stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end)
-        return float(stress_amplitude(K, self.requirement.rotation, self.width, self.thickness, self.end))
+        """Stress amplitude of the working cycle, (σ(preload + rotation) − σ(preload))/2, rod model [MPa]."""
+        req = self.requirement
+        return (self.stress_at(req.max_windup) - self.stress_at(req.preload)) / 2.0
 
     def predicted_life(self) -> tuple[float, float, float]:
         """Median cycles and 90 % interval from the life predictor (Table I's model, rjcad.life)."""
@@ -206,7 +229,7 @@ class SpringDesign:
         return float(med[0]), float(lo[0]), float(hi[0])
 
     def constraint_report(self) -> dict[str, tuple[float, float, bool]]:
-        """Every constraint as name → (value, limit, met)."""
+        """Every constraint as name → (value, limit, met), physics from the rod model."""
         req = self.requirement
         pr = req.printer_spec
         steps = self.thickness / pr.thickness_step_mm
@@ -216,6 +239,8 @@ class SpringDesign:
         if req.min_cycles is not None:
             lo = self.predicted_life()[1]
             extra["life_lower_cycles"] = (lo, req.min_cycles, lo >= req.min_cycles * (1 - 1e-6))
+        if self.min_pin_gap is not None:
+            extra["pin_gap_mm"] = (self.min_pin_gap, pr.min_gap_mm, self.min_pin_gap >= pr.min_gap_mm - tol)
         b_min = max(req.width_min, MIN_WIDTH_TO_THICKNESS * self.thickness)
         r_min = max(req.inner_radius_min, MIN_RADIUS_TO_THICKNESS * self.thickness)
         return {**extra,
@@ -235,9 +260,10 @@ class SpringDesign:
         }
 
     def to_dict(self) -> dict:
-        """The pinned JSON keys of ``rjcad spring --json`` (and a few more)."""
+        """The keys of ``rjcad spring --json``: stiffnesses per joint unless the key says spring."""
         req = self.requirement
-        K = self.spring_stiffness
+        rod = self.rod
+        contact = rod.first_contact
         return {
             "width_mm": self.width,
             "thickness_mm": self.thickness,
@@ -247,18 +273,27 @@ class SpringDesign:
             "turns": self.turns,
             "outer_radius_mm": self.outer_radius,
             "centreline_outer_radius_mm": self.centreline_outer_radius,
-            "spring_stiffness_nmm_per_rad": K,
-            "joint_stiffness_nmm_per_rad": 2.0 * K,
+            "spring_stiffness_nmm_per_rad": self.spring_stiffness,
+            "joint_stiffness_nmm_per_rad": self.joint_stiffness,
+            "rod_stiffness_nmm_per_rad": self.joint_stiffness,
+            "formula_stiffness_nmm_per_rad": 2.0 * self.formula_stiffness,
             "max_stress_mpa": self.max_stress,
+            "peak_stress_mpa": self.max_stress,
             "allowed_stress_mpa": req.allowed_stress,
             "preload_stress_mpa": self.preload_stress,
             "min_coil_gap_mm": self.min_coil_gap,
+            "min_coil_gap_windup_deg": math.degrees(rod.min_gap_theta),
+            "min_pin_gap_mm": self.min_pin_gap,
+            "first_contact_deg": None if contact is None else math.degrees(contact),
             "print_coil_gap_mm": self.print_coil_gap,
-            "preload_torque_nmm": 2.0 * K * req.preload,
-            "max_torque_nmm": 2.0 * K * req.max_windup,
+            "pin_force_n": rod.pin_force,
+            "preload_torque_nmm": 2.0 * rod.torque_at(req.preload),
+            "max_torque_nmm": 2.0 * rod.torque_at(req.max_windup),
             "material": req.material,
             "printer": req.printer,
             "end": req.end,
+            "loading_sense": self.sense,
+            "verified": True,
             "safety_factor": req.safety_factor,
             "rotation_deg": math.degrees(req.rotation),
             "preload_deg": math.degrees(req.preload),

@@ -1,7 +1,11 @@
-"""Spiral torsion spring formulas: pure and numpy-vectorised (they broadcast over arrays).
+"""Spiral torsion spring formulas, the closed form: pure and numpy-vectorised (they broadcast over arrays).
 
 Imports nothing from rjcad, so that any module (``rjcad.life`` among them) can use them.
 Units: mm, N, N·mm, rad, MPa (= N/mm²). ``K`` is the stiffness of one spring.
+
+The designer no longer rests on these: its stiffness, stress and coil gap come from the rod model
+(``rjcad.spring.rod``, its surrogate ``rjcad.spring.factors``); the closed form is reported beside
+it (``formula_stiffness``), and the length and turns of the Archimedean spiral are exact.
 
 End conditions (the outer end; the inner end is always fused to the pin):
 
@@ -10,9 +14,10 @@ End conditions (the outer end; the inner end is always fused to the pin):
   *Mechanical Springs*): compliance ≈ 1.25× clamped, so K ≈ 0.8·E·b·t³/(12·L),
   and the peak moment ≈ 2·T.
 
-Centreline: the Archimedean spiral r(φ) = r_in + p·φ/(2π), φ ∈ [0, 2π·n]. Wind-up
-*tightens* it: the wound spiral keeps its end radii and gains θ/2π turns, so the pitch
-becomes (r_out − r_in)/(n + θ/2π) and the gap between neighbouring coils is that pitch − t.
+Centreline: the Archimedean spiral r(φ) = r_in + p·φ/(2π), φ ∈ [0, 2π·n]. The handbook's
+wound pitch (``wound_pitch``, ``coil_gap``) assumes a tightened spiral stays concentric and gains
+θ/2π turns; it does not (the outer end's reaction pushes the coil pack sideways, issue #14), so
+the designer uses the rod model's gap instead.
 """
 
 from __future__ import annotations
@@ -28,7 +33,9 @@ END_CONDITIONS: dict[str, tuple[float, float]] = {
     "clamped": (1.0, 1.0),
     "pinned": (0.8, 2.0),
 }
-DEFAULT_END = "pinned"
+#: The designer's default outer end: clamped (the paper's measured stiffness, 5.19 for 5.2 designed with
+#: the clamped formula, says its hooks behaved clamped; docs/spring-model.md).
+DEFAULT_END = "clamped"
 
 
 def end_factors(end: str) -> tuple[float, float]:

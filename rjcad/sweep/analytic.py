@@ -1,4 +1,8 @@
-"""Analytic mode: every design point through the vectorised spring optimiser, grouped by material, printer, end."""
+"""Analytic mode: every design point through the vectorised spring optimiser, grouped by material, printer, end.
+
+The optimiser's physics here is the rod model's table surrogate only: rows say ``verified = False``
+(build mode, and ``rjcad spring``, wind every design with the full rod model: ``verified = True``).
+"""
 
 from __future__ import annotations
 
@@ -10,8 +14,7 @@ from rjcad.errors import RjcadError
 from rjcad.life.constraint import predict_cycles
 from rjcad.materials import get_material, get_printer
 from rjcad.spring.design import SpringRequirement
-from rjcad.spring.formulas import stiffness, stress_amplitude
-from rjcad.spring.optimise import CONSTRAINTS, infeasible_message, optimise_arrays
+from rjcad.spring.optimise import CONSTRAINTS, optimise_arrays, row_message
 from rjcad.sweep.spec import point_id
 
 
@@ -20,8 +23,7 @@ def _life_columns(rows: list[dict]) -> None:
     ok = [r for r in rows if r.get("feasible")]
     if not ok:
         return
-    amp = np.array([stress_amplitude(r["spring_stiffness_nmm_per_rad"], math.radians(float(r["rotation_deg"])),
-                                     r["width_mm"], r["thickness_mm"], r["end"]) for r in ok])
+    amp = np.array([r["stress_amplitude_mpa"] for r in ok])
     med, lo, hi = predict_cycles(amp, np.array([r["thickness_mm"] for r in ok]), 0.25)
     for r, a, b, c in zip(ok, med, lo, hi):
         r["predicted_cycles"], r["predicted_cycles_lo"], r["predicted_cycles_hi"] = float(a), float(b), float(c)
@@ -52,28 +54,26 @@ def analytic_rows(points: list[dict]) -> list[dict]:
         pre = np.radians([float(points[i]["preload_deg"]) for i in idx])
         sf = np.array([float(points[i]["safety_factor"]) for i in idx])
         allow = material.yield_strength_mpa / sf
-        res = optimise_arrays(K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end)
-        E = material.youngs_modulus_mpa
-        Ks = stiffness(E, res["width"], res["thickness"], res["length"], end)
+        res = optimise_arrays(K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end,
+                              rotation=rot)
+        Ks = res["spring_stiffness"]
         cols = {
             "width_mm": res["width"], "thickness_mm": res["thickness"], "length_mm": res["length"],
             "inner_radius_mm": res["inner_radius"], "pitch_mm": res["pitch"], "turns": res["turns"],
             "outer_radius_mm": res["outer_radius"], "spring_stiffness_nmm_per_rad": Ks,
             "joint_stiffness_nmm_per_rad": 2 * Ks, "max_stress_mpa": res["max_stress"],
             "allowed_stress_mpa": allow, "min_coil_gap_mm": res["min_coil_gap"],
+            "stress_amplitude_mpa": res["stress_amplitude"],
         }
         for k, i in enumerate(idx):
-            row = {**points[i], "id": point_id(points[i]), "material": mat, "printer": prn}
+            row = {**points[i], "id": point_id(points[i]), "material": mat, "printer": prn, "verified": False}
             if res["feasible"][k]:
                 row.update({c: float(v[k]) for c, v in cols.items()})
                 row.update(status="ok", feasible=True, binding="", error="",
                            stress_margin=float(allow[k] / res["max_stress"][k]))
             else:
                 name = CONSTRAINTS[int(res["binding"][k])]
-                row.update(status="infeasible", feasible=False, binding=name,
-                           error=infeasible_message(name, float(res["binding_value"][k]),
-                                                    float(res["binding_limit"][k]),
-                                                    float(res["thickness"][k]), float(res["width"][k])))
+                row.update(status="infeasible", feasible=False, binding=name, error=row_message(res, k, 0.25, end))
             rows[i] = row
     out = [r for r in rows if r is not None]
     _life_columns(out)
