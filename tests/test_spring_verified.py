@@ -144,3 +144,12 @@ def test_beyond_a_turn_of_wind_up_is_refused_in_words():
     with pytest.raises(InfeasibleDesign) as e:
         opt.design_spring(sp.SpringRequirement(5.2, 300 * DEG, 90 * DEG))
     assert e.value.constraint == "coil_gap" and "390° of wind-up is beyond the 360°" in str(e.value)
+
+
+def test_spring_model_doc_is_what_its_generator_writes(tmp_path, root):
+    # docs/spring-model.md is generated (python -m rjcad.spring.doc docs): rerun it when the model or its table changes
+    from rjcad.spring.doc import write_doc
+
+    text = write_doc(tmp_path).read_text()
+    assert "| clamped |" in text and "coils touch" in text and (tmp_path / "spring.png").stat().st_size > 20_000
+    assert text == (root / "docs" / "spring-model.md").read_text()

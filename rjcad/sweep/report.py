@@ -105,7 +105,10 @@ def write_report(out: Path, rows: list[dict], build: bool) -> None:
     for r in rows:
         if r.get("binding"):
             binding[r["binding"]] = binding.get(r["binding"], 0) + 1
-    lines = [f"# Sweep summary ({'build' if build else 'analytic'} mode)", "",
+    verified = ("every design was built through `design_spring`, so wound by the full rod model (`verified` = true)"
+                if build else "the springs come from the rod model's table only (`verified` = false); `rjcad spring` "
+                "or build mode winds each one with the full rod model")
+    lines = [f"# Sweep summary ({'build' if build else 'analytic'} mode)", "", f"Spring physics: {verified}.", "",
              f"- designs: {n}", *[f"- {k or 'unknown'}: {v}" for k, v in sorted(by_status.items())]]
     if binding:
         lines += ["", "## Binding constraints of the infeasible designs", "",
