@@ -27,7 +27,7 @@ from functools import cached_property
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
 from rjcad.envelope import WoundEnvelope, wound_envelope
-from rjcad.spring import SpringDesign, SpringRequirement
+from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 from rjcad.units import DEG
 from rjcad.validate import in_range
@@ -46,9 +46,9 @@ RANGES = {
 }
 
 
-#: The joint's default outer end: clamped (issue #14: the paper's measured stiffness says its hooks behaved
-#: clamped). The spring designer's own default (rjcad.spring.DEFAULT_END) follows in its branch.
-JOINT_DEFAULT_END = "clamped"
+#: The joint's default outer end: the spring designer's (clamped: the paper's measured stiffness says its hooks
+#: behaved clamped; issue #14).
+JOINT_DEFAULT_END = DEFAULT_END
 #: Radial length over which a clamped end's key engages the tines of its socket [mm].
 KEY_ENGAGEMENT = 3.5
 #: Strip length buried in each end fitting (tab at the pin, key or stub outside), so that the free

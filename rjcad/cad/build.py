@@ -169,7 +169,7 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         f"{name}.stl": ex.stl_bytes(list(b.meshes.values())),
-        f"{name}.3mf": ex.threemf_bytes(b.meshes),
+        f"{name}.3mf": ex.threemf_bytes(b.meshes, name),
     }
     t1 = time.perf_counter()
     files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
@@ -265,7 +265,7 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": ex.stl_bytes(list(b.meshes.values())),
-        "finger.3mf": ex.threemf_bytes(b.meshes),
+        "finger.3mf": ex.threemf_bytes(b.meshes, "finger"),
         "finger.step": ex.step_bytes(b.solids, "finger"),
     }
     t1 = time.perf_counter()

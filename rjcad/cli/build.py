@@ -17,7 +17,7 @@ FIELDS = requirement(
         Field("--pin-radius", "pin_radius_mm", float, "Knuckle pin radius [mm] (default 2)."),
     ),
     stiffness="Joint stiffness, both springs [N·mm/rad] (default 5.2).",
-    end="Spring outer end: pinned (default) or clamped.",
+    end="Spring outer end: clamped (default; a key in a socket) or pinned (a ring on a post).",
 )
 
 
