@@ -231,6 +231,7 @@ def test_life_constraint_property(args):
         assert dsg.to_dict()["outer_radius_mm"] == free.to_dict()["outer_radius_mm"]
 
 
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 @settings(max_examples=40, deadline=None)
 @given(st.floats(1.0, 20.0), st.floats(30.0, 150.0), st.floats(1e3, 1e7))
 def test_life_constraint_with_a_stress_dependent_model(K, rot, n_min):

@@ -60,6 +60,7 @@ def test_simultaneous_start_of_very_different_targets_is_refused_with_the_reason
 TOO_SOFT = 0.2
 
 
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 def test_unprintable_stiffness_message_is_true():
     with pytest.raises(InfeasibleDesign) as e:
         design_finger([65, 50, 50], 25, base_stiffness=TOO_SOFT)
@@ -76,6 +77,7 @@ def test_unprintable_stiffness_message_is_true():
     assert max(abs(x) for x in d.end_error_deg) < 1.0
 
 
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 def test_preferred_stiffness_is_rescaled_to_the_nearest_printable_one():
     q = np.array([1.0, 1.3, 1.3])
     th0 = np.radians([65, 50, 50])

@@ -2,6 +2,8 @@
 
 import math
 
+import pytest
+
 from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 from spring_reference import brute_force
@@ -49,6 +51,7 @@ def assert_meets_every_constraint(d: sp.SpringDesign):
     assert abs(sp.archimedean_length(d.inner_radius, d.pitch, d.turns) / d.length - 1) < 1e-9
 
 
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 @settings(max_examples=60)
 @given(requirements)
 def test_optimiser_is_right_or_says_why(req):

@@ -66,6 +66,7 @@ def test_default_design_is_contact_free_in_the_rod_model():
 @settings(max_examples=50, deadline=None)
 @given(st.floats(1.0, 15.0), st.floats(30.0, 150.0), st.floats(0.0, 120.0), st.sampled_from(sorted(MATERIALS)),
        st.sampled_from(sorted(PRINTERS)))
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 def test_random_requirements_are_contact_free_or_say_why(K, rot, pre, material, printer):
     req = sp.SpringRequirement(K, rot * DEG, pre * DEG, material=material, printer=printer)
     try:
@@ -146,6 +147,7 @@ def test_beyond_a_turn_of_wind_up_is_refused_in_words():
     assert e.value.constraint == "coil_gap" and "390° of wind-up is beyond the 360°" in str(e.value)
 
 
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
 def test_spring_model_doc_is_what_its_generator_writes(tmp_path, root):
     # docs/spring-model.md is generated (python -m rjcad.spring.doc docs): rerun it when the model or its table changes
     from rjcad.spring.doc import write_doc
