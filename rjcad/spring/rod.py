@@ -23,11 +23,13 @@ Conventions (mm, N, N·mm, rad, MPa):
   the outer end moves with the post, turned about the axis by the wind-up θ;
   ``clamped`` its angle turns by θ too, ``pinned`` it turns freely. Torque T is
   what the moving link applies about the axis, positive in the wind-up sense.
-* Sense: the builder prints the spiral counter-clockwise outwards, hook clockwise
-  of its post; the user winds the hook counter-clockwise by the preload (README,
-  "How to print it") and flexion turns the posts further counter-clockwise. That
-  raises the curvature everywhere: the joint TIGHTENS the printed spiral, preload
-  and flexion alike. ``sense="tighten"`` (default) is that, ``"unwind"`` the other.
+* Sense: ``"tighten"`` raises the curvature everywhere (the outer end turned the way
+  the spiral winds outwards), ``"unwind"`` lowers it. The first-wave builder printed
+  its spiral counter-clockwise outwards and wound it counter-clockwise: it TIGHTENED
+  it (coils touch at ≈23° pinned). Since #14 the builder prints the spiral clockwise
+  outwards, so the same preload and flexion UNWIND it; the designer passes
+  ``sense="unwind"`` (rjcad.spring.factors.JOINT_SENSE). This module's own default
+  stays ``"tighten"`` (the reference tools' sense, used by its tests).
 * ``arms=2``: two interleaved arms 180° apart, each of pitch 2·p (p the coil-to-coil
   pitch) and ``turns`` turns, outer ends on posts 180° apart. The hub is fixed, so
   arm 2 is arm 1 turned by 180°; torques add, hub forces cancel.
