@@ -188,9 +188,17 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
     meshes, (z0, z1) = stacked_joint()
     rep = run_checks(meshes, slicer="prusa", printer="generic-0.4")
     for name in ("overhang", "slicer"):
-        c = rep.get(name)
-        assert c.passed is False, (name, c.detail)
-        assert z0 - 1e-6 <= c.where[2] <= z1, (name, c.where, c.detail)
+        assert rep.get(name).passed is False, (name, rep.get(name).detail)
+    c = rep.get("overhang")
+    assert z0 - 1e-6 <= c.where[2] <= z1, (c.where, c.detail)
+    # the slicer's worst stretch is a whole first layer over a flat 0.4 mm gap held at one end: the top spring's,
+    # or (since #14's narrower clamped springs) the bottom cheek's over the bottom spring, whichever is longer
+    from rjcad.params import JointParams
+
+    p = JointParams(printer="generic-0.4")
+    z = rep.get("slicer").where[2]
+    first_layers = (z0, p.spring.width + p.gap_z)
+    assert min(abs(z - f) for f in first_layers) <= 0.3, (z, first_layers, rep.get("slicer").detail)
     assert "ground" in rep.get("slicer").detail.split("worst (where): ")[1][:10]
     worst = float(re.search(r"worst \(where\): ground in layer \d+, ([\d.]+) mm", rep.get("slicer").detail).group(1))
     # the top spring's whole first layer: its loop, held only where it meets the pin (issue #15 measured 452 mm
@@ -201,8 +209,9 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
     # cheek (issue #15, by rays cast down from the mesh's facets: 173 and 171 mm²)
     other = dict(re.findall(r"(ground|moving): bed [\d.]+, anchored [\d.]+, other body ([\d.]+)",
                             rep.get("overhang").detail))
-    assert float(other["ground"]) == pytest.approx(173, rel=0.1)
-    assert float(other["moving"]) == pytest.approx(171, rel=0.1)
+    # (172/173 mm² on the first-wave geometry, as the issue measured; the #14 sockets and narrower springs move
+    # them: each body still prints well over 150 mm² onto the other across the 0.4 mm gaps)
+    assert float(other["ground"]) > 150 and float(other["moving"]) > 150, other
 
 
 # ---------------------------------------------------------------- the 3MF: one object, named parts
