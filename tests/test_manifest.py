@@ -158,7 +158,8 @@ def test_the_builders_write_version_1_and_it_round_trips():
     assert list(new) == list(old)
     assert d["measured_min_gap_mm"] == pytest.approx(old["measured_min_gap_mm"], abs=1e-4)
     geometry = ("bodies", "tendon_wrap_angle_rad", "spring_strip_volume_mm3", "frame", "mesh", "print",
-                "measured_min_gap_mm")
+                "measured_min_gap_mm",
+                "spring", "joint_stiffness_nmm_per_rad")  # #14: the spring is designed on the rod model
     assert {k: v for k, v in new.items() if k not in geometry} == {k: v for k, v in old.items() if k not in geometry}
     fb = build_finger_model(FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]}))
     assert Manifest.from_json(fb.manifest.to_json()) == fb.manifest and len(fb.manifest.joints) == 1
