@@ -27,6 +27,7 @@ from functools import cached_property
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
 from rjcad.envelope import WoundEnvelope, wound_envelope
+from rjcad.layout_desktop import DesktopLayout
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 from rjcad.units import DEG
@@ -58,6 +59,22 @@ STRIP_OVERLAP = 0.3
 WOUND_MARGIN = 0.1
 
 
+LAYOUTS = ("desktop", "stacked")
+#: The layout when none is asked for. Issue #15 wants ``desktop`` on printers without soluble support; it is
+#: not the default yet because the paper finger's 40 mm links cannot hold its joints (they need 39-47 mm).
+DEFAULT_LAYOUT = "stacked"
+#: Clearance of the stacked layout (the paper's printer holds it) [mm].
+STACKED_CLEARANCE = 0.25
+
+
+def default_clearance(material: str, printer: str, layout: str) -> float:
+    """The clearance a layout uses when none is given: the material's desktop print-in-place clearance on a
+    printer without soluble support in the desktop layout, else 0.25 mm [mm]."""
+    if layout == "desktop" and not get_printer(printer).soluble_support:
+        return get_material(material).desktop_clearance_mm
+    return STACKED_CLEARANCE
+
+
 def _check(name: str, value, lo, hi, unit: str) -> None:
     """``value`` within [lo, hi] (to 1e-12; shown in degrees when ``unit`` is "deg"), else ParameterError."""
     in_range(name, value, lo, hi, unit=unit, deg=unit == "deg", tol=1e-12, not_a_number="must be a number")
@@ -77,13 +94,16 @@ class JointParams:
     preload: float = 90 * DEG
     material: str = DEFAULT_MATERIAL
     printer: str = DEFAULT_PRINTER
-    clearance: float = 0.25
+    clearance: float | None = None
     link_length: float = 40.0
     tendon_diameter: float = 1.0
     tendon_moment_arm: float | None = None
     pin_radius: float = 2.0
     safety_factor: float = 1.5
     end: str = JOINT_DEFAULT_END
+    #: ``stacked`` (the paper's: two springs beside the knuckle, needs soluble support; the default for now) or
+    #: ``desktop`` (support-free: one spring on the bed under nested cones; rjcad.layout_desktop).
+    layout: str | None = None
     # fixed proportions (not user inputs, but kept here so that everything derives from one object)
     cheek_thickness: float = field(default=2.0, repr=False)
     post_radius: float = field(default=1.2, repr=False)
@@ -91,6 +111,15 @@ class JointParams:
     support_pin_radius: float = field(default=0.9, repr=False)
 
     def __post_init__(self):
+        if self.layout is None:
+            object.__setattr__(self, "layout", DEFAULT_LAYOUT)
+        if self.layout not in LAYOUTS:
+            raise ParameterError("layout", self.layout, f"known layouts: {', '.join(LAYOUTS)}")
+        if self.clearance is None:
+            object.__setattr__(self, "clearance", default_clearance(self.material, self.printer, self.layout))
+        if self.layout == "desktop" and self.end != "clamped":
+            raise ParameterError("end", self.end, "the desktop layout holds the spring's outer end clamped "
+                                 "(key in a socket); use layout stacked for a pinned end")
         for name, (lo, hi, unit) in RANGES.items():
             value = getattr(self, name)
             if name == "tendon_moment_arm" and value is None:
@@ -134,9 +163,24 @@ class JointParams:
         """Gap kept inside the ground body (spring to its own parts): printer minimum gap [mm]."""
         return max(self.printer_spec.min_gap_mm, self.clearance)
 
+    @property
+    def springs(self) -> int:
+        """Springs in the joint: one on the bed (desktop), one each side (stacked)."""
+        return 1 if self.layout == "desktop" else 2
+
+    @property
+    def coil_gap_min(self) -> float | None:
+        """The gap the coils keep over the whole wind-up: the clearance (desktop), else the printer's [mm]."""
+        return max(self.clearance, self.printer_spec.min_gap_mm) if self.layout == "desktop" else None
+
+    @cached_property
+    def desktop(self) -> DesktopLayout:
+        """The desktop layout's dimensions (meaningful when ``layout`` is desktop)."""
+        return DesktopLayout.of(self)
+
     @cached_property
     def spring(self) -> SpringDesign:
-        """The spring design for each of the twin springs (K_joint/2 each)."""
+        """The spring design: each of the twin springs (K_joint/2 each, stacked) or the one spring (desktop)."""
         # innermost strip edge must clear the pin: r_in − t/2 − r_pin ≥ internal gap
         t_max = 1.2
         r_min = max(3.0, self.pin_radius + self.gap_internal + t_max / 2)
@@ -144,6 +188,7 @@ class JointParams:
             joint_stiffness=self.stiffness, rotation=self.rotation, preload=self.preload,
             material=self.material, printer=self.printer, safety_factor=self.safety_factor,
             end=self.end, inner_radius_min=r_min, inner_radius_max=max(10.0, r_min),
+            springs=self.springs, min_gap=self.coil_gap_min,
         )
         d = design_spring(req)
         if d.inner_radius - d.thickness / 2 - self.pin_radius < self.gap_internal - 1e-9:
@@ -169,6 +214,8 @@ class JointParams:
 
     @property
     def z_eye(self) -> tuple[float, float]:
+        if self.layout == "desktop":
+            return self.desktop.z_band
         z0 = self.z_cheek1[1] + self.gap_z
         return (z0, z0 + self.eye_thickness)
 
@@ -189,11 +236,12 @@ class JointParams:
     @property
     def height(self) -> float:
         """Total height of the module along the joint axis [mm]."""
-        return self.z_spring2[1]
+        return self.desktop.height if self.layout == "desktop" else self.z_spring2[1]
 
     @property
     def z_mid(self) -> float:
-        return 0.5 * sum(self.z_eye)
+        """Height of the tendon's plane [mm]."""
+        return self.desktop.z_t if self.layout == "desktop" else 0.5 * sum(self.z_eye)
 
     # --- radial layout ---------------------------------------------------------
     @property
@@ -243,6 +291,8 @@ class JointParams:
     @property
     def seat_height(self) -> float:
         """How far the socket (or post) reaches into a spring's layer from the joint's middle, h_s [mm]."""
+        if self.layout == "desktop":
+            return self.desktop.seat
         b = self.spring.width
         return min(b, max(1.5, 0.5 * b))
 
@@ -379,6 +429,8 @@ class JointParams:
         whose edge y' = R_e passes the block's corner (−X_g, W/2) unless
         X_g·sin θ + (W/2)·cos θ ≥ R_e + c for θ up to the rotation.
         """
+        if self.layout == "desktop":
+            return self.desktop.X_g
         g, c = self.gap_internal, self.clearance
         R_h, rho = self.post_ring_radius, self.post_radius
         bounds = [
@@ -401,6 +453,8 @@ class JointParams:
         the ground block's corner (−X_g, W/2) never enters it: −X_g·cos θ + (W/2)·sin θ ≤ X_m − c − 0.5
         up to the rotation.
         """
+        if self.layout == "desktop":
+            return self.desktop.X_m
         corner = (-self.ground_block_start * math.cos(self.rotation)
                   + self.link_width / 2 * math.sin(self.rotation) + self.clearance + 0.5)
         wound = self.wound.moving_x_max + self.spring.thickness / 2 + WOUND_MARGIN + self.gap_internal

@@ -37,7 +37,9 @@ def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float]
         requested_stiffness_nmm_per_rad=p.stiffness, spring=spring,
         preload_deg=math.degrees(p.preload), rotation_deg=math.degrees(p.rotation),
         link_length_mm=p.link_length, z_mid_mm=p.z_mid, height_mm=p.height,
-        extra={"spring_end": end_fitting_entry(p)},
+        extra={"spring_end": end_fitting_entry(p),
+               "layout": p.desktop.summary() if p.layout == "desktop" else {"layout": "stacked"},
+               "springs": p.springs},
     )
 
 
@@ -74,6 +76,10 @@ def end_fitting_entry(p: JointParams) -> dict:
 
 def seating_text(p: JointParams) -> str:
     """What the user does after printing, one sentence."""
+    if p.layout == "desktop":
+        return (f"lift the spring's key out of the bed plane (into the cup) by {p.seat_height + p.clearance:.1f} mm, "
+                f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
+                "drop between the tines of its socket on the cup")
     what, where = ("key", "between the tines of its socket") if p.end_condition == "clamped" else \
         ("ring", "around its post")
     return (f"for each spring, push its {what} out of the spring's plane (away from the joint's middle) by "

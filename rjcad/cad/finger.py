@@ -21,12 +21,13 @@ from rjcad.cad.joint import (
     Z,
     _fuse,
     _one_solid,
-    eye_cuts,
-    eye_parts,
-    fork_parts,
     ground_channel_points,
+    ground_side,
+    ground_side_cuts,
     link_block,
     moving_channel_start,
+    moving_side,
+    moving_side_cuts,
     support_pin,
     tube_path,
 )
@@ -42,7 +43,7 @@ PAPER_FINGER = templates.PAPER_FINGER
 
 GLOBAL_KEYS = {
     "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
-    "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str,
+    "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str, "layout": str,
     "defaults": dict, "joint": list,
 }
 JOINT_KEYS = {
@@ -73,7 +74,7 @@ class FingerParams:
             raise ParameterError("joint", len(joints), f"a finger needs 1 to {MAX_JOINTS} [[joint]] tables")
         common = dict(
             material=data.get("material", "absplus-p430"), printer=data.get("printer", "generic-0.4"),
-            clearance=float(data.get("clearance_mm", 0.25)),
+            clearance=float(data["clearance_mm"]) if "clearance_mm" in data else None, layout=data.get("layout"),
             tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
             safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", JOINT_DEFAULT_END),
         )
@@ -172,12 +173,12 @@ def link_channel_points(p: JointParams, q: JointParams, length: float) -> list[t
 def base_body(fp: FingerParams) -> cq.Shape:
     """Fork of joint 1, the base block with two M3 through holes (along Y) and the entry channel."""
     p = fp.joints[0]
-    body = _fuse(fork_parts(p) + [link_block(-fp.base_length, -p.ground_block_start, p.link_width, p.height)],
+    body = _fuse(ground_side(p) + [link_block(-fp.base_length, -p.ground_block_start, p.link_width, p.height)],
                  "base fuse")
     x_h = -fp.base_length + 5.0
     holes = [cq.Solid.makeCylinder(M3_CLEARANCE_DIAMETER / 2, p.link_width + 2, cq.Vector(x_h, -p.link_width / 2 - 1, z),
                                    cq.Vector(0, 1, 0)) for z in (4.0, p.height - 4.0)]
-    cuts = tube_path(ground_channel_points(p, fp.base_length), p.tendon_diameter / 2) + holes
+    cuts = tube_path(ground_channel_points(p, fp.base_length), p.tendon_diameter / 2) + holes + ground_side_cuts(p)
     return _one_solid(body.cut(*cuts), "base cuts")
 
 
@@ -186,9 +187,10 @@ def link_body(p: JointParams, q: JointParams) -> cq.Shape:
     L = p.link_length
     H = max(p.height, q.height)
     W = max(p.link_width, q.link_width)
-    parts = eye_parts(p) + [link_block(p.block_start, L - q.ground_block_start, W, H)] + _moved(fork_parts(q), L)
+    parts = moving_side(p) + [link_block(p.block_start, L - q.ground_block_start, W, H)] + _moved(ground_side(q), L)
     body = _fuse(parts, "link fuse")
-    cuts = eye_cuts(p, H) + tube_path(link_channel_points(p, q, L), p.tendon_diameter / 2)
+    cuts = (moving_side_cuts(p, H) + tube_path(link_channel_points(p, q, L), p.tendon_diameter / 2)
+            + _moved(ground_side_cuts(q), L))
     body = _one_solid(body.cut(*cuts), "link cuts")
     return _fuse([body, support_pin(p)], "link support pin")
 
@@ -202,11 +204,11 @@ def distal_body(p: JointParams) -> cq.Shape:
     """Moving side of the last joint, ending in a rounded fingertip, with the tendon's cross-hole anchor."""
     L, W, H = p.link_length, p.link_width, p.height
     tip = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
-    body = _fuse(eye_parts(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")
+    body = _fuse(moving_side(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")
     xa = distal_anchor_x(p)
     anchor = cq.Solid.makeCylinder(max(1.0, p.tendon_diameter), H + 2, cq.Vector(xa, p.moment_arm, -1), Z)
     channel = tube_path([moving_channel_start(p), (xa, p.moment_arm, p.z_mid)], p.tendon_diameter / 2)
-    body = _one_solid(body.cut(*eye_cuts(p, H), *channel, anchor), "distal cuts")
+    body = _one_solid(body.cut(*moving_side_cuts(p, H), *channel, anchor), "distal cuts")
     return _fuse([body, support_pin(p)], "distal support pin")
 
 

@@ -27,8 +27,10 @@ from dataclasses import dataclass
 
 import cadquery as cq
 
-from rjcad.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
-from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, ring, strip_solid
+from rjcad.params import KEY_ENGAGEMENT, JointParams
+from rjcad.cad import desktop
+from rjcad.cad.parts import spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
+from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
 
 Z = cq.Vector(0, 0, 1)
 ORIGIN = cq.Vector(0, 0, 0)
@@ -48,53 +50,9 @@ def _fuse(parts: list[cq.Shape], what: str) -> cq.Shape:
     return _one_solid(fused, what)
 
 
-def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
-    """Cylinders along a polyline plus spheres at its interior knees (a channel to cut)."""
-    solids = []
-    for a, b in zip(points[:-1], points[1:]):
-        va, vb = cq.Vector(*a), cq.Vector(*b)
-        d = vb - va
-        solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
-    # knee balls, poles along the mean direction so they lie buried inside the cylinders
-    # (poles on the channel's surface tessellate into an open seam)
-    for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
-        d = (cq.Vector(*k) - cq.Vector(*a)).normalized() + (cq.Vector(*b) - cq.Vector(*k)).normalized()
-        solids.append(cq.Solid.makeSphere(radius, cq.Vector(*k), d.normalized(), angleDegrees1=-90, angleDegrees2=90))
-    return solids
-
-
 # --------------------------------------------------------------------------
 # springs
 # --------------------------------------------------------------------------
-
-
-def spring_phi0(p: JointParams) -> float:
-    """Start angle of the clockwise-outward spiral, so that its outer end lies at −preload [rad]."""
-    return -p.preload + 2 * math.pi * p.spring.turns
-
-
-def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
-    """The strip alone, and its fused end fittings (inner tab, outer key or stub + ring), for z ∈ [z0, z0+b].
-
-    The strip runs STRIP_OVERLAP mm past both end rays into the fittings, which lie beyond the rays
-    (the tab counter-clockwise of the start, the key or stub clockwise of the end): the free strip
-    between them is the designed one.
-    """
-    d = p.spring
-    b, t = d.width, d.thickness
-    phi0, phi1 = spring_phi0(p), -p.preload
-    strip = strip_solid(d, phi0, z0, hand=CLOCKWISE, extend=STRIP_OVERLAP)
-    # inner tab: radial, overlapping the pin by 0.4 mm, covering the strip's start
-    w_tab = 1.5 * max(t, p.printer_spec.min_wall_mm)
-    tab = radial_box(p.pin_radius - 0.4, d.inner_radius + 0.25 * t, w_tab, phi0, z0, b, side=w_tab / 2)
-    r0 = p.key_root_radius
-    if p.end_condition == "clamped":
-        return strip, [tab, radial_box(r0, p.key_tip_radius, p.key_width, phi1, z0, b, side=-p.key_width / 2)]
-    # pinned: a radial stub into a closed ring around the post's place
-    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance
-    w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
-    stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
-    return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]
 
 
 def socket_solids(p: JointParams, z0: float, height: float) -> list[cq.Solid]:
@@ -170,6 +128,34 @@ def eye_cuts(p: JointParams, height: float) -> list[cq.Shape]:
     ]
 
 
+def ground_side(p: JointParams) -> list[cq.Shape]:
+    """The ground body's parts around the axis, in ``p``'s layout."""
+    if p.layout == "desktop":
+        return desktop.ground_parts(p)
+    return fork_parts(p)
+
+
+def ground_side_cuts(p: JointParams) -> list[cq.Shape]:
+    """What the ground body's parts around the axis lose (desktop: the tendon's way through the web)."""
+    if p.layout == "desktop":
+        return desktop.ground_cuts(p)
+    return []
+
+
+def moving_side(p: JointParams) -> list[cq.Shape]:
+    """The moving body's parts around the axis, in ``p``'s layout."""
+    if p.layout == "desktop":
+        return desktop.moving_parts(p)
+    return eye_parts(p)
+
+
+def moving_side_cuts(p: JointParams, height: float) -> list[cq.Shape]:
+    """What the moving body's parts lose: the bore and the slot (stacked), the groove and the slot (desktop)."""
+    if p.layout == "desktop":
+        return desktop.moving_cuts(p)
+    return eye_cuts(p, height)
+
+
 def support_pin(p: JointParams) -> cq.Solid:
     """Tendon support pin across the slot, above the tendon, embedded 0.5 mm above and below the slot."""
     ze0, ze1 = p.z_eye
@@ -202,19 +188,21 @@ def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, flo
 def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
     """Ground body of a module: fork parts plus the block from x = −reach to −X_g, with its channel."""
     reach = p.link_length if reach is None else reach
-    body = _fuse(fork_parts(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)],
+    body = _fuse(ground_side(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)],
                  "ground fuse")
+    cuts = ground_side_cuts(p)
     if channel:
-        body = _one_solid(body.cut(*tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)),
-                          "ground channel cut")
+        cuts += tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)
+    if cuts:
+        body = _one_solid(body.cut(*cuts), "ground channel cut")
     return body
 
 
 def build_moving(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
     """Moving body of a module: eye parts plus the block from X_m to x = reach, slot, support pin, channel."""
     reach = p.link_length if reach is None else reach
-    body = _fuse(eye_parts(p) + [link_block(p.block_start, reach, p.link_width, p.height)], "moving fuse")
-    cuts = eye_cuts(p, p.height)
+    body = _fuse(moving_side(p) + [link_block(p.block_start, reach, p.link_width, p.height)], "moving fuse")
+    cuts = moving_side_cuts(p, p.height)
     if channel:
         cuts += tube_path(moving_channel_points(p, reach), p.tendon_diameter / 2)
     body = _one_solid(body.cut(*cuts), "moving cut")
@@ -244,5 +232,5 @@ def build_joint(p: JointParams) -> JointSolids:
 
 
 def strip_volume(p: JointParams) -> float:
-    """B-rep volume of the two free spring strips (the parts buried in the fittings excluded) [mm³]."""
-    return 2 * strip_solid(p.spring, spring_phi0(p), 0.0, hand=CLOCKWISE).Volume()
+    """B-rep volume of the joint's free spring strips (the parts buried in the fittings excluded) [mm³]."""
+    return p.springs * strip_solid(p.spring, spring_phi0(p), 0.0, hand=CLOCKWISE).Volume()

@@ -27,12 +27,25 @@ def _cone(n: np.ndarray, half_angle: float) -> list[np.ndarray]:
     return [n] + [c * n + s * w for w in (u, -u, v, -v)]
 
 
-def _ray_lengths(mesh: trimesh.Trimesh, origins: np.ndarray, dirs: np.ndarray) -> np.ndarray:
-    """Distance to the first hit of each ray on ``mesh`` (inf when none)."""
+#: A gap inside a body counts only across faces within this angle of facing each other (antiparallel
+#: normals): two walls across a slot (spring coils, a pin in its bore: parallel to within the tessellation's
+#: few degrees). A re-entrant crease, where a 50° overhang leaves a wall or two CAD faces meet at a
+#: shallow angle (a box cutting into a ring: 16°), opens as it goes out and a slicer fills its tip; no gap.
+FACING_ANGLE = math.radians(10)
+
+
+def _ray_lengths(mesh: trimesh.Trimesh, origins: np.ndarray, dirs: np.ndarray,
+                 facing: np.ndarray | None = None) -> np.ndarray:
+    """Distance to the first hit of each ray on ``mesh`` (inf when none). With ``facing`` (normals at the
+    origins), a hit counts only on a face within FACING_ANGLE of antiparallel to the origin's normal."""
     out = np.full(len(origins), np.inf)
-    locs, idx, _ = mesh.ray.intersects_location(origins, dirs, multiple_hits=False)
+    locs, idx, tri = mesh.ray.intersects_location(origins, dirs, multiple_hits=False)
     if len(idx):
-        out[idx] = np.linalg.norm(locs - origins[idx], axis=1)
+        dist = np.linalg.norm(locs - origins[idx], axis=1)
+        if facing is not None:
+            faces = np.einsum("ij,ij->i", mesh.face_normals[tri], facing[idx]) <= -math.cos(FACING_ANGLE)
+            idx, dist = idx[faces], dist[faces]
+        out[idx] = dist
     return out
 
 
@@ -40,7 +53,8 @@ def feature_sizes(mesh: trimesh.Trimesh, samples: int = FEATURE_SAMPLES, seed: i
     """Surface samples with their wall thickness (inward) and in-body gap (outward), by ray cones [mm].
 
     Each sample takes the longest ray of a 25° cone around its normal, projected on the normal: across
-    a flat wall or gap every ray gives the true size; at an edge or a corner some ray escapes.
+    a flat wall or gap every ray gives the true size; at an edge or a corner some ray escapes. A gap ray
+    counts only where it lands on a face that faces the sample (FACING_ANGLE): creases are no gaps.
     """
     pts, fi = trimesh.sample.sample_surface(mesh, samples, seed=seed)
     n = mesh.face_normals[fi]
@@ -51,7 +65,7 @@ def feature_sizes(mesh: trimesh.Trimesh, samples: int = FEATURE_SAMPLES, seed: i
         # project each ray on the normal: across a flat wall every ray of the cone then gives its thickness
         c = 1.0 if k == 0 else math.cos(CONE_HALF_ANGLE)
         wall = np.maximum(wall, c * _ray_lengths(mesh, pts - n * eps, -d))
-        gap = np.maximum(gap, c * _ray_lengths(mesh, pts + n * eps, d))
+        gap = np.maximum(gap, c * _ray_lengths(mesh, pts + n * eps, d, facing=n))
     return pts, n, wall, gap
 
 

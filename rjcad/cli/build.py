@@ -9,7 +9,10 @@ from rjcad.cli.options import Field, design_options, merge_config, print_table, 
 #: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
 FIELDS = requirement(
     after_printer=(
-        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default 0.25)."),
+        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default 0.25 stacked; "
+              "desktop: the material's print-in-place clearance, PLA 0.35, ABS 0.40, PETG 0.45)."),
+        Field("--layout", "layout", str, "stacked (default; the paper's, two springs, needs soluble support) or "
+              "desktop (support-free: one spring on the bed under nested 50° cones)."),
         Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40)."),
         Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
         Field("--tendon-moment-arm", "tendon_moment_arm_mm", float,

@@ -78,10 +78,11 @@ def _adjusted(d: SpringDesign, prev):
             L, b = L * b_new / b, b_new
     if abs(k_ratio - 1.0) > RETUNE:
         L = _retuned_length(L, k_ratio, prev if b == d.width else None)
-    if d.min_coil_gap < pr.min_gap_mm:
-        p += 1.5 * (pr.min_gap_mm - d.min_coil_gap) + 1e-3
-    if d.min_pin_gap is not None and d.min_pin_gap < pr.min_gap_mm:
-        r_in += 1.5 * (pr.min_gap_mm - d.min_pin_gap) + 1e-3
+    g = req.gap_min
+    if d.min_coil_gap < g:
+        p += 1.5 * (g - d.min_coil_gap) + 1e-3
+    if d.min_pin_gap is not None and d.min_pin_gap < g:
+        r_in += 1.5 * (g - d.min_pin_gap) + 1e-3
     if (b, L, p, r_in) == (d.width, d.length, d.pitch, d.inner_radius):
         return None
     same = (b, p, r_in) == (d.width, d.pitch, d.inner_radius)
@@ -108,7 +109,7 @@ def verify(d: SpringDesign, adjust: bool = True) -> SpringDesign:
         rod = d.rod
         raise RodRefusal(REPORT_NAMES[name], "rod-model check: " + infeasible_message(
             REPORT_NAMES[name], value, limit, d.thickness, d.width, d.requirement.backlash,
-            contact_deg=_deg(rod.first_contact), gap_low_deg=_deg(rod.below(d.requirement.printer_spec.min_gap_mm)),
+            contact_deg=_deg(rod.first_contact), gap_low_deg=_deg(rod.below(d.requirement.gap_min)),
             windup_deg=math.degrees(d.requirement.max_windup), end=d.end, rod=True), value, limit)
     return d
 

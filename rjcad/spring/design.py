@@ -4,7 +4,8 @@ A design's physics (stiffness, stresses, coil gap, contact, end force) comes fro
 model (:mod:`rjcad.spring.verify`, cached by geometry), wound in the joint's sense ``JOINT_SENSE``
 (``unwind``) from the printed shape to preload + rotation; the closed form of
 :mod:`rjcad.spring.formulas` is reported beside it. Lengths in mm, angles in rad, stresses in MPa.
-A joint has two springs in parallel, so a joint of stiffness K_joint uses springs of K_joint/2.
+A joint has ``springs`` springs in parallel (two in the stacked layout, one in the desktop layout), so a joint
+of stiffness K_joint uses springs of K_joint/springs.
 
 A design reports its predicted life through the predictor it was built with
 (``life``; the optimiser passes ``rjcad.life.predict_cycles``): this module does not
@@ -76,6 +77,10 @@ class SpringRequirement:
     min_cycles: float | None = None
     backlash: float = 0.25
     pin_radius: float | None = None
+    #: Springs in parallel in the joint: 2 (stacked layout, one each side) or 1 (desktop layout, on the bed).
+    springs: int = 2
+    #: Smallest gap the coils keep over the whole wind-up [mm]; None: the printer's minimum gap.
+    min_gap: float | None = None
 
     def __post_init__(self):
         in_range("stiffness", self.joint_stiffness, 0, 1e4, lo_open=True,
@@ -94,6 +99,10 @@ class SpringRequirement:
         in_range("backlash", self.backlash, 0.05, 1.5, limit="must be >= 0.05 and <= 1.5 mm")
         if self.pin_radius is not None:
             in_range("pin_radius", self.pin_radius, 0, 100, lo_open=True, limit="must be > 0 and <= 100 mm")
+        if self.springs not in (1, 2):
+            raise ParameterError("springs", self.springs, "must be 1 or 2 springs per joint")
+        if self.min_gap is not None:
+            in_range("min_gap", self.min_gap, 0.05, 2.0, limit="must be >= 0.05 and <= 2 mm")
         check_end(self.end)
         object.__setattr__(self, "material", get_material(self.material).key)
         object.__setattr__(self, "printer", get_printer(self.printer).key)
@@ -108,8 +117,13 @@ class SpringRequirement:
 
     @property
     def spring_stiffness(self) -> float:
-        """Stiffness of one of the twin springs, K_joint/2 [N·mm/rad]."""
-        return self.joint_stiffness / 2.0
+        """Stiffness of one spring, K_joint/springs [N·mm/rad]."""
+        return self.joint_stiffness / self.springs
+
+    @property
+    def gap_min(self) -> float:
+        """The coil gap kept over the wind-up: ``min_gap``, else the printer's minimum gap [mm]."""
+        return self.printer_spec.min_gap_mm if self.min_gap is None else self.min_gap
 
     @property
     def max_windup(self) -> float:
@@ -179,7 +193,8 @@ class SpringDesign:
 
     @property
     def joint_stiffness(self) -> float:
-        return 2.0 * self.spring_stiffness
+        """All the joint's springs together, springs × one spring's [N·mm/rad]."""
+        return self.requirement.springs * self.spring_stiffness
 
     def stress_at(self, theta: float) -> float:
         """Peak stress at wind-up θ (rad, 0..preload + rotation) from the printed shape, rod model [MPa]."""
@@ -240,7 +255,7 @@ class SpringDesign:
             lo = self.predicted_life()[1]
             extra["life_lower_cycles"] = (lo, req.min_cycles, lo >= req.min_cycles * (1 - 1e-6))
         if self.min_pin_gap is not None:
-            extra["pin_gap_mm"] = (self.min_pin_gap, pr.min_gap_mm, self.min_pin_gap >= pr.min_gap_mm - tol)
+            extra["pin_gap_mm"] = (self.min_pin_gap, req.gap_min, self.min_pin_gap >= req.gap_min - tol)
         b_min = max(req.width_min, MIN_WIDTH_TO_THICKNESS * self.thickness)
         r_min = max(req.inner_radius_min, MIN_RADIUS_TO_THICKNESS * self.thickness)
         return {**extra,
@@ -248,7 +263,7 @@ class SpringDesign:
             "stress_mpa": (self.max_stress, req.allowed_stress, self.max_stress <= req.allowed_stress * (1 + tol)),
             "min_wall_mm": (self.thickness, pr.min_wall_mm, self.thickness >= pr.min_wall_mm - tol),
             "thickness_steps": (steps, round(steps), abs(steps - round(steps)) < 1e-6),
-            "coil_gap_mm": (self.min_coil_gap, pr.min_gap_mm, self.min_coil_gap >= pr.min_gap_mm - tol),
+            "coil_gap_mm": (self.min_coil_gap, req.gap_min, self.min_coil_gap >= req.gap_min - tol),
             "turns": (self.turns, req.min_turns, self.turns >= req.min_turns - tol),
             "width_min_mm": (self.width, b_min, self.width >= b_min - tol),
             "width_max_mm": (self.width, req.width_max, self.width <= req.width_max + tol),
@@ -276,7 +291,7 @@ class SpringDesign:
             "spring_stiffness_nmm_per_rad": self.spring_stiffness,
             "joint_stiffness_nmm_per_rad": self.joint_stiffness,
             "rod_stiffness_nmm_per_rad": self.joint_stiffness,
-            "formula_stiffness_nmm_per_rad": 2.0 * self.formula_stiffness,
+            "formula_stiffness_nmm_per_rad": req.springs * self.formula_stiffness,
             "max_stress_mpa": self.max_stress,
             "peak_stress_mpa": self.max_stress,
             "allowed_stress_mpa": req.allowed_stress,
@@ -287,8 +302,10 @@ class SpringDesign:
             "first_contact_deg": None if contact is None else math.degrees(contact),
             "print_coil_gap_mm": self.print_coil_gap,
             "pin_force_n": rod.pin_force,
-            "preload_torque_nmm": 2.0 * rod.torque_at(req.preload),
-            "max_torque_nmm": 2.0 * rod.torque_at(req.max_windup),
+            "preload_torque_nmm": req.springs * rod.torque_at(req.preload),
+            "max_torque_nmm": req.springs * rod.torque_at(req.max_windup),
+            "springs": req.springs,
+            "min_gap_mm": req.gap_min,
             "material": req.material,
             "printer": req.printer,
             "end": req.end,

@@ -255,6 +255,7 @@ def optimise_arrays(
     pin_radius: float | None = None,
     holes_ok: bool = False,
     gap_margin: float = 0.0,
+    min_gap: float | None = None,
 ) -> dict[str, np.ndarray]:
     """Vectorised optimiser over D requirements; smallest outer radius per row (rod-model surrogate).
 
@@ -272,10 +273,11 @@ def optimise_arrays(
     messages contact_deg / gap_low_deg (surrogate) and windup_deg. Where the table has a hole (a
     NaN within θ ≤ 2π) the cell is refused as ``coil_gap`` with a NaN value, unless ``holes_ok``:
     then the hole counts as met, with fallback factors, for the full rod model to judge. ``gap_margin``
-    [mm] is added to the printer's minimum gap (design_spring's retry when the rod model found less).
+    [mm] is added to the minimum gap (design_spring's retry when the rod model found less); ``min_gap`` [mm]
+    replaces the printer's minimum gap when given.
     """
     check_end(end)
-    E, g_min = material.youngs_modulus_mpa, printer.min_gap_mm + gap_margin
+    E, g_min = material.youngs_modulus_mpa, (printer.min_gap_mm if min_gap is None else min_gap) + gap_margin
     K, theta, s_allow, t, wf = _grid(spring_stiffness, max_windup, allowed_stress, printer)
     shape = K.shape
     rot = _rows(max_windup if rotation is None else rotation, shape)
@@ -329,7 +331,7 @@ def _optimise_one(req: SpringRequirement, holes_ok: bool = False, gap_margin: fl
         inner_radius_min=req.inner_radius_min, inner_radius_max=req.inner_radius_max,
         outer_radius_max=req.outer_radius_max, min_turns=req.min_turns, rotation=req.rotation,
         min_cycles=req.min_cycles, backlash=req.backlash, pin_radius=req.pin_radius, holes_ok=holes_ok,
-        gap_margin=gap_margin,
+        gap_margin=gap_margin, min_gap=req.min_gap,
     )
 
 

@@ -63,7 +63,7 @@ def _shape_panel(ax, design) -> None:
         ax.add_patch(pyplot().Circle((0, 0), req.pin_radius, color="0.5", alpha=0.5, label="pin"))
     gap, xy = _tightest_at_end(design)
     ax.plot(*xy, "o", ms=12, mfc="none", mec="C3", mew=2,
-            label=f"tightest gap here: {gap:.3f} mm (printer minimum {req.printer_spec.min_gap_mm:g})")
+            label=f"tightest gap here: {gap:.3f} mm (minimum {req.gap_min:g})")
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (hub frame)")
     ax.set_ylabel("y [mm]")

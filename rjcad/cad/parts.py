@@ -1,0 +1,75 @@
+"""Parts shared by the joint's layouts: the spring with its end fittings, and tendon channels to cut."""
+
+from __future__ import annotations
+
+import math
+
+import cadquery as cq
+
+from rjcad.cad.spiral import CLOCKWISE, radial_box, ring, strip_solid
+from rjcad.params import STRIP_OVERLAP, JointParams
+
+Z = cq.Vector(0, 0, 1)
+
+
+#: Slope of a horizontal channel's pointed roof from horizontal [rad] (a teardrop section: no ceiling
+#: prints over the channel's air; each layer steps in by less than a road's half-width).
+CHANNEL_ROOF = math.radians(50.0)
+
+
+def _channel_roof(va: cq.Vector, vb: cq.Vector, radius: float) -> cq.Solid:
+    """Triangular prism over a horizontal channel: apex r/cos β above the axis, its sides tangent to the bore
+    at r·(±sin β, cos β) (a teardrop: no ledge, no notch)."""
+    d = vb - va
+    side = Z.cross(d.normalized()).normalized()
+    h = radius / math.cos(CHANNEL_ROOF)
+    u, v = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF)
+    wire = cq.Wire.makePolygon([va + side * u + Z * v, va + Z * h, va - side * u + Z * v], close=True)
+    return cq.Solid.extrudeLinear(cq.Face.makeFromWires(wire), d)
+
+
+def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
+    """Cylinders along a polyline, with a pointed roof over horizontal ones, plus spheres at its interior
+    knees (a channel to cut)."""
+    solids = []
+    for a, b in zip(points[:-1], points[1:]):
+        va, vb = cq.Vector(*a), cq.Vector(*b)
+        d = vb - va
+        solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
+        if abs(d.z) < 1e-9 * max(d.Length, 1.0):
+            solids.append(_channel_roof(va, vb, radius))
+    # knee balls, poles along the mean direction so they lie buried inside the cylinders
+    # (poles on the channel's surface tessellate into an open seam)
+    for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
+        d = (cq.Vector(*k) - cq.Vector(*a)).normalized() + (cq.Vector(*b) - cq.Vector(*k)).normalized()
+        solids.append(cq.Solid.makeSphere(radius, cq.Vector(*k), d.normalized(), angleDegrees1=-90, angleDegrees2=90))
+    return solids
+
+
+def spring_phi0(p: JointParams) -> float:
+    """Start angle of the clockwise-outward spiral, so that its outer end lies at −preload [rad]."""
+    return -p.preload + 2 * math.pi * p.spring.turns
+
+
+def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
+    """The strip alone, and its fused end fittings (inner tab, outer key or stub + ring), for z ∈ [z0, z0+b].
+
+    The strip runs STRIP_OVERLAP mm past both end rays into the fittings, which lie beyond the rays
+    (the tab counter-clockwise of the start, the key or stub clockwise of the end): the free strip
+    between them is the designed one.
+    """
+    d = p.spring
+    b, t = d.width, d.thickness
+    phi0, phi1 = spring_phi0(p), -p.preload
+    strip = strip_solid(d, phi0, z0, hand=CLOCKWISE, extend=STRIP_OVERLAP)
+    # inner tab: radial, overlapping the pin by 0.4 mm, covering the strip's start
+    w_tab = 1.5 * max(t, p.printer_spec.min_wall_mm)
+    tab = radial_box(p.pin_radius - 0.4, d.inner_radius + 0.25 * t, w_tab, phi0, z0, b, side=w_tab / 2)
+    r0 = p.key_root_radius
+    if p.end_condition == "clamped":
+        return strip, [tab, radial_box(r0, p.key_tip_radius, p.key_width, phi1, z0, b, side=-p.key_width / 2)]
+    # pinned: a radial stub into a closed ring around the post's place
+    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance
+    w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
+    stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
+    return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]

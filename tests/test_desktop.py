@@ -1,0 +1,123 @@
+"""The support-free desktop layout (issue #15): its geometry's invariants, and the built joint's checks."""
+
+from __future__ import annotations
+
+import math
+import shutil
+
+import numpy as np
+import pytest
+import trimesh
+
+from rjcad.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
+from rjcad.materials import get_printer
+from rjcad.params import JointParams
+
+
+@pytest.fixture(scope="module")
+def p():
+    return JointParams(layout="desktop")
+
+
+def test_default_layout_is_still_stacked_and_desktop_uses_the_material_clearance():
+    assert JointParams().layout == "stacked" and JointParams().clearance == 0.25
+    assert JointParams(layout="desktop", material="pla").clearance == 0.35
+    assert JointParams(layout="desktop", material="petg").clearance == 0.45
+    assert JointParams(layout="desktop", material="pla", clearance=0.3).clearance == 0.3
+
+
+def test_desktop_refuses_a_pinned_end_in_one_line():
+    from rjcad.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="end"):
+        JointParams(layout="desktop", end="pinned")
+
+
+def test_one_spring_carries_the_whole_joint_stiffness(p):
+    d = p.spring
+    assert p.springs == 1 and d.requirement.springs == 1
+    assert d.joint_stiffness == pytest.approx(p.stiffness, rel=0.005)
+    assert d.spring_stiffness == pytest.approx(p.stiffness, rel=0.005)
+    # the coils keep the desktop clearance (not only the printer's minimum) over the whole wind-up
+    assert d.min_coil_gap >= p.clearance - 1e-9 and d.first_contact is None
+
+
+def test_cones_are_steeper_than_45_degrees_and_a_road_step_apart():
+    assert CONE_ANGLE > math.radians(45.0)
+    layer = get_printer("generic-0.4").layer_height_mm
+    assert layer / T < 0.2  # each layer steps out less than the slicer check's h·tan 45°
+
+
+def test_nested_cones_keep_the_clearance_along_their_normal(p):
+    L = p.desktop
+    normal = math.cos(CONE_ANGLE)
+    for r in np.linspace(L.R_band, L.R_flare, 7):  # flare top under the roof's underside
+        assert (L.roof_under(r) - L.flare_top(r)) * normal == pytest.approx(L.c + FACET_MARGIN)
+    for r in np.linspace(L.R_bore, L.R_co, 7):  # arm's underside over the roof's top
+        assert (L.arm_under(r) - L.roof_top(r)) * normal == pytest.approx(L.c + FACET_MARGIN)
+    assert L.R_bore - L.R_band == pytest.approx(L.c + FACET_MARGIN)
+    assert L.R_flare > L.R_bore  # the flare holds the hub down under the roof's bore
+    assert (L.roof_top(0.0) - L.roof_under(0.0)) * normal == pytest.approx(ROOF_NORMAL)
+
+
+def test_the_spring_and_its_lifted_key_fit_under_the_roof(p):
+    L = p.desktop
+    assert L.flare_bottom >= p.spring.width + p.gap_z - 1e-9
+    assert L.z_w0 >= p.spring.width + L.seat + L.c  # the key, lifted over the tines, passes under the roof
+    assert L.R_ci >= p.wound_radius + p.gap_internal - 1e-9  # the wound strip never reaches the wall
+    assert L.R_ci > math.hypot(p.key_tip_radius, p.key_width) + L.c  # nor the printed key
+    # the tendon runs above the lugs and the roof, beside the arm
+    assert L.lug_top < L.z_t - p.tendon_diameter / 2
+    assert L.w_arm < p.moment_arm - p.tendon_diameter / 2
+
+
+def test_the_arm_plane_stays_above_the_roof_cone_everywhere(p):
+    """The arm's underside is a plane in x; at (x, y) the roof's top is at radius ≥ x, i.e. lower."""
+    L = p.desktop
+    for x in np.linspace(L.R_band, L.R_co, 9):
+        for y in np.linspace(-L.w_arm, L.w_arm, 5):
+            r = math.hypot(x, y)
+            plane = L.z_band[0] - (x - L.R_band) * T
+            assert plane - L.roof_top(max(r, L.R_bore)) >= (L.c + FACET_MARGIN) / math.cos(CONE_ANGLE) - 1e-9
+
+
+def test_the_desktop_joint_passes_every_check_with_supports_off(p, tmp_path):
+    """Built and checked as a user would: watertight, manifold, clearance, motion, min_feature, overhang, and
+    (where PrusaSlicer is installed, as in CI) the supports-off slice read back layer by layer."""
+    from rjcad.cad.build import write_joint
+    from rjcad.check import run_checks
+
+    b = write_joint(p, tmp_path, png=False)
+    slicer = "prusa" if shutil.which("prusa-slicer") else None
+    rep = run_checks(str(tmp_path / "joint.stl"), manifest=str(tmp_path / "joint.json"), slicer=slicer)
+    failed = {c.name: c.detail for c in rep.checks if c.passed is False}
+    assert not failed, failed
+    names = {c.name for c in rep.checks if c.passed}
+    assert {"watertight", "manifold", "clearance", "motion", "min_feature", "overhang"} <= names
+    if slicer:
+        assert "slicer" in names
+    m = b.manifest
+    assert m["tendon_moment_arm_mm"] == pytest.approx(p.moment_arm, abs=0.05)
+    assert m["joints"][0]["layout"]["layout"] == "desktop"
+
+
+def _min_feature(mesh):
+    from rjcad.check.feature import check_min_feature
+
+    return check_min_feature([mesh], ["part"], get_printer("generic-0.4"), 0.02)
+
+
+def test_min_feature_ignores_a_crease_but_not_a_slot():
+    """Meshes made outside rjcad: a ring fused to a box that cuts slightly into it (a re-entrant crease at a
+    shallow angle: no gap), and a block with a 0.1 mm slot (two walls facing each other: a real gap)."""
+    ring = trimesh.creation.annulus(r_min=5.0, r_max=8.0, height=4.0)
+    box = trimesh.creation.box((6.0, 6.0, 4.0))
+    box.apply_translation((10.7, 0.0, 0.0))  # its face at x = 7.7 cuts the ring's outside
+    crease = trimesh.boolean.union([ring, box], engine="manifold")
+    assert _min_feature(crease).passed, _min_feature(crease).detail
+    block = trimesh.creation.box((10.0, 10.0, 6.0))
+    slot = trimesh.creation.box((0.1, 12.0, 5.0))
+    slot.apply_translation((0.0, 0.0, 1.0))
+    slotted = trimesh.boolean.difference([block, slot], engine="manifold")
+    res = _min_feature(slotted)
+    assert not res.passed and "gap inside a body" in res.detail and res.value == pytest.approx(0.1, abs=0.02)
