@@ -48,7 +48,8 @@ def end_fitting_entry(p: JointParams) -> dict:
     h_s, c = p.seat_height, p.clearance
     common = {
         "end": p.end_condition,
-        "spiral": "printed winding clockwise outwards (seen from +Z); preload and flexion unwind it",
+        "spiral": (f"printed winding {'counter-clockwise' if p.layout == 'desktop' else 'clockwise'} outwards "
+                   "(seen from +Z); preload and flexion unwind it"),
         "seat_height_mm": h_s,
         "push_out_mm": h_s + c,
         "wound_radius_mm": p.wound_radius,
@@ -86,6 +87,27 @@ def seating_text(p: JointParams) -> str:
             f"{p.seat_height + p.clearance:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
             f"(seen from +Z, the flexion sense: this unwinds the spiral) and let it spring back {where} "
             "on the moving link")
+
+
+def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
+    """The joint preview's three sections (title, point, normal), in ``p``'s layout."""
+    deg = math.degrees(p.preload)
+    if p.layout == "desktop":
+        z = p.desktop.seat + 0.5 * (p.spring.width - p.desktop.seat)
+        return [
+            (f"z = {z:.2f}: spring on the bed (ccw out), key printed {deg:g}° ccw of its socket (at -X)",
+             (0, 0, z), (0, 0, 1)),
+            ("section through the tendon: band, groove, arm, support pin, channels", (0, 0, p.z_mid), (0, 0, 1)),
+            ("section y = 0: spring, cup and 50° roof, hub with flare, band and arm", (0, 0, 0), (0, 1, 0)),
+        ]
+    fitting = ("key", "socket") if p.end_condition == "clamped" else ("ring", "post")
+    z = p.spring.width - p.seat_height / 2
+    return [
+        (f"z = {z:.2f}: bottom spring (clockwise out), its {fitting[0]} printed {deg:g}° clockwise of its "
+         f"{fitting[1]}", (0, 0, z), (0, 0, 1)),
+        ("section through the eye band: eye, tendon groove, support pin, channels", (0, 0, p.z_mid), (0, 0, 1)),
+        ("section y = 0: the stack spring | cheek | eye | cheek | spring", (0, 0, 0), (0, 1, 0)),
+    ]
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
@@ -186,15 +208,7 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
             lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
-            sections=[
-                (f"z = {p.spring.width - p.seat_height / 2:.2f}: bottom spring (clockwise out), its "
-                 f"{'key' if p.end_condition == 'clamped' else 'ring'} printed {math.degrees(p.preload):g}° "
-                 f"clockwise of its {'socket' if p.end_condition == 'clamped' else 'post'}",
-                 (0, 0, p.spring.width - p.seat_height / 2), (0, 0, 1)),
-                ("section through the eye band: eye, tendon groove, support pin, channels",
-                 (0, 0, p.z_mid), (0, 0, 1)),
-                ("section y = 0: the stack spring | cheek | eye | cheek | spring", (0, 0, 0), (0, 1, 0)),
-            ])
+            sections=preview_sections(p))
     t3 = time.perf_counter()
     b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "png_s": t3 - t2})
     files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"

@@ -43,6 +43,12 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
     for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
         d = (cq.Vector(*k) - cq.Vector(*a)).normalized() + (cq.Vector(*b) - cq.Vector(*k)).normalized()
         solids.append(cq.Solid.makeSphere(radius, cq.Vector(*k), d.normalized(), angleDegrees1=-90, angleDegrees2=90))
+        if abs(a[2] - k[2]) < 1e-9 and abs(b[2] - k[2]) < 1e-9:
+            # the knee's roof: the roofs' section turned about Z (the two prisms end square at the knee and
+            # would leave a fin between them on the outside of the bend)
+            h = radius / math.cos(CHANNEL_ROOF)
+            u, v = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF)
+            solids.append(cq.Solid.makeCone(u, 0.05, h - v - 0.05 * math.tan(CHANNEL_ROOF), cq.Vector(*k) + Z * v, Z))
     return solids
 
 
