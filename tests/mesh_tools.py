@@ -9,6 +9,20 @@ import trimesh
 from rjcad.mesh import to_manifold as manifold  # the tests' name for it: float64, like the builder and check
 
 
+def box(lo, hi) -> trimesh.Trimesh:
+    """Axis-aligned box from corner ``lo`` to corner ``hi`` [mm]."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    b = trimesh.creation.box(extents=hi - lo)
+    b.apply_translation((lo + hi) / 2)
+    return b
+
+
+def union(*meshes) -> trimesh.Trimesh:
+    """Boolean union by manifold3d (float64), as a processed trimesh."""
+    m = m3.Manifold.batch_boolean([manifold(x) for x in meshes], m3.OpType.Add).to_mesh64()
+    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
+
+
 def load_bodies(path) -> list[trimesh.Trimesh]:
     """Connected bodies of a mesh file, largest first."""
     mesh = trimesh.load(str(path), force="mesh", process=True)

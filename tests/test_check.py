@@ -10,6 +10,8 @@ import trimesh
 
 from rjcad.check import BadInput, run_checks
 
+from mesh_tools import box, union
+
 SEG = 256  # fine facets: a 2 mm pin in a 2.25 mm bore then measures within 0.001 mm of 0.25 mm
 
 
@@ -17,22 +19,6 @@ def cyl(r, z0, z1, x=0.0, y=0.0):
     c = trimesh.creation.cylinder(radius=r, height=z1 - z0, sections=SEG)
     c.apply_translation((x, y, (z0 + z1) / 2))
     return c
-
-
-def box(lo, hi):
-    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-    b = trimesh.creation.box(extents=hi - lo)
-    b.apply_translation((lo + hi) / 2)
-    return b
-
-
-def union(*meshes):
-    from rjcad.mesh import to_manifold
-
-    import manifold3d as m3
-
-    m = m3.Manifold.batch_boolean([to_manifold(x) for x in meshes], m3.OpType.Add).to_mesh64()
-    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
 
 
 def difference(a, b):

@@ -8,7 +8,6 @@ import shutil
 import subprocess
 import zipfile
 
-import manifold3d as m3
 import numpy as np
 import pytest
 import trimesh
@@ -18,22 +17,11 @@ from rjcad.check import run_checks
 from rjcad.check.load import PARTS_CONFIG, load_bodies
 from rjcad.check.overhang import MAX_BRIDGE_MM, check_overhang
 from rjcad.materials import get_printer
-from rjcad.mesh import to_manifold
+
+from mesh_tools import box, union
 
 PRUSA = shutil.which("prusa-slicer")
 PRINTER = get_printer("generic-0.4")
-
-
-def box(lo, hi):
-    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-    b = trimesh.creation.box(extents=hi - lo)
-    b.apply_translation((lo + hi) / 2)
-    return b
-
-
-def union(*meshes):
-    m = m3.Manifold.batch_boolean([to_manifold(x) for x in meshes], m3.OpType.Add).to_mesh64()
-    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
 
 
 def flare(x0, y0, side, z0, z1, grow):
