@@ -59,8 +59,7 @@ class DesktopLayout:
     seat: float         # tine height (from the bed); the key lifts by seat + c
     R_ci: float         # cup inner radius
     R_co: float         # cup outer radius
-    R_band: float       # band radius (tendon groove's rim)
-    R_collar: float     # hub radius in the roof's bore
+    R_band: float       # band radius (tendon groove's rim), also the hub's radius in the roof's bore
     R_bore: float       # roof's bore radius
     R_flare: float      # flare's outer radius
     z_w0: float         # roof underside at the cup wall
@@ -112,7 +111,7 @@ class DesktopLayout:
                     p.moment_arm - p.tendon_diameter / 2 - 0.6)
         if theta_m > math.pi / 2:
             w_web = min(w_web, (X_m - c - 0.3 + (R_co - 0.5) * math.cos(theta_m)) / math.sin(theta_m))
-        return cls(c=c, b=b, r_h=r_h, seat=seat, R_ci=R_ci, R_co=R_co, R_band=R_band, R_collar=R_band,
+        return cls(c=c, b=b, r_h=r_h, seat=seat, R_ci=R_ci, R_co=R_co, R_band=R_band,
                    R_bore=R_bore, R_flare=R_f, z_w0=z_w0, z_t=z_t, z_band=(z_step, z_t + half), height=height,
                    w_arm=w_arm, X_m=X_m, X_g=X_g, w_web=w_web, groove_half=groove_half, groove_depth=depth)
 
@@ -151,7 +150,7 @@ class DesktopLayout:
         return {
             "layout": "desktop", "cone_angle_deg": math.degrees(CONE_ANGLE), "clearance_normal_mm": self.c,
             "hub_radius_mm": self.r_h, "cup_inner_radius_mm": self.R_ci, "cup_outer_radius_mm": self.R_co,
-            "band_radius_mm": self.R_band, "collar_radius_mm": self.R_collar, "bore_radius_mm": self.R_bore, "flare_radius_mm": self.R_flare,
+            "band_radius_mm": self.R_band, "bore_radius_mm": self.R_bore, "flare_radius_mm": self.R_flare,
             "roof_wall_z_mm": self.z_w0, "tendon_z_mm": self.z_t, "height_mm": self.height,
             "arm_half_width_mm": self.w_arm, "seat_height_mm": self.seat, "socket_ray_deg": math.degrees(SOCKET_RAY),
         }

@@ -13,10 +13,9 @@ import math
 
 import cadquery as cq
 
-from rjcad.cad.parts import spring_solids, tube_path
-from rjcad.cad.spiral import line_box
+from rjcad.cad.parts import socket_solids, spring_solids, tube_path
 from rjcad.layout_desktop import LUG_WIDTH, ROOF_LAND, SOCKET_RAY, T
-from rjcad.params import KEY_ENGAGEMENT, JointParams
+from rjcad.params import JointParams
 
 Z = cq.Vector(0, 0, 1)
 ORIGIN = cq.Vector(0, 0, 0)
@@ -29,35 +28,22 @@ def revolved(points: list[tuple[float, float]], angle: float = 360.0, start: flo
     return solid.rotate(ORIGIN, Z, start) if start else solid
 
 
-def _turned(shapes: list[cq.Shape], mirror: bool) -> list[cq.Shape]:
-    """Mirror across XZ (if asked) and turn to the socket's ray."""
-    out = []
-    for s in shapes:
-        if mirror:
-            s = s.mirror("XZ")
-        out.append(s.rotate(ORIGIN, Z, math.degrees(SOCKET_RAY)))
-    return out
+def _turned(shapes: list[cq.Shape]) -> list[cq.Shape]:
+    """Mirror across XZ and turn to the socket's ray."""
+    return [s.mirror("XZ").rotate(ORIGIN, Z, math.degrees(SOCKET_RAY)) for s in shapes]
 
 
 def spring_parts(p: JointParams) -> list[cq.Shape]:
     """The spring on the bed: strip, inner tab (into the hub) and key, counter-clockwise outwards."""
     strip, extras = spring_solids(p, 0.0)
-    return _turned([strip, *extras], mirror=True)
+    return _turned([strip, *extras])
 
 
 def socket_parts(p: JointParams) -> list[cq.Shape]:
-    """The key's socket on the cup's inside: two tilted tines and the base, from the bed to the seat height."""
+    """The key's socket on the cup's inside: the stacked layout's tines and base, from the bed to the seat height,
+    the base ending in the cup's wall; mirrored and turned like the spring."""
     L = p.desktop
-    a, wt, wk = p.socket_tilt, p.tine_width, p.key_width
-    R0, Rk, depth = p.socket_inner_radius, p.key_tip_radius, p.socket_base_depth
-    h = L.seat
-    end = (Rk + depth / 2 - R0) / math.cos(a)
-    ccw = line_box(R0, 0.0, a, (0.0, end), (0.0, wt), 0.0, h)
-    cw = line_box(Rk, -wk, a, (-KEY_ENGAGEMENT / math.cos(a), depth / 2 / math.cos(a)), (-wt, 0.0), 0.0, h)
-    v_lo, v_hi = p.socket_span
-    base = cq.Solid.makeBox(L.R_co - 0.3 - Rk, v_hi - v_lo, h, cq.Vector(Rk, v_lo, 0.0))
-    # the tines run on into the wall: clip nothing, the fuse with the cup closes them
-    return _turned([ccw, cw, base], mirror=True)
+    return _turned(socket_solids(p, 0.0, L.seat, base_end=L.R_co - 0.3))
 
 
 def cup_profile(p: JointParams) -> list[tuple[float, float]]:

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import cadquery as cq
 
-from rjcad.params import KEY_ENGAGEMENT, JointParams
+from rjcad.params import JointParams
 from rjcad.cad import desktop
-from rjcad.cad.parts import spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
+from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
 
 Z = cq.Vector(0, 0, 1)
@@ -53,25 +53,6 @@ def _fuse(parts: list[cq.Shape], what: str) -> cq.Shape:
 # --------------------------------------------------------------------------
 # springs
 # --------------------------------------------------------------------------
-
-
-def socket_solids(p: JointParams, z0: float, height: float) -> list[cq.Solid]:
-    """A clamped spring's socket on the moving link at rest (its key's ray is +X), z ∈ [z0, z0 + height].
-
-    Key seated: u ∈ [key root, R_k], v ∈ [−w_k, 0]. The clockwise tine's face passes through the key's
-    tip corner (R_k, −w_k), the counter-clockwise tine's through (R_s0, 0), both tilted by α
-    counter-clockwise (``socket_tilt``); the base's face is at u = R_k, and it runs on into the link
-    block. Loaded, the key bears on exactly these three places.
-    """
-    a, wt, wk = p.socket_tilt, p.tine_width, p.key_width
-    R0, Rk, depth = p.socket_inner_radius, p.key_tip_radius, p.socket_base_depth
-    end = (Rk + depth / 2 - R0) / math.cos(a)  # the tines end inside the base
-    ccw = line_box(R0, 0.0, a, (0.0, end), (0.0, wt), z0, height)
-    cw = line_box(Rk, -wk, a, (-KEY_ENGAGEMENT / math.cos(a), depth / 2 / math.cos(a)), (-wt, 0.0), z0, height)
-    v_lo, v_hi = p.socket_span
-    # the base, bridged out to the link block (so that the block, not only the post, holds it)
-    base = cq.Solid.makeBox(p.block_start + 0.5 - Rk, v_hi - v_lo, height, cq.Vector(Rk, v_lo, z0))
-    return [ccw, cw, base]
 
 
 # --------------------------------------------------------------------------

@@ -1,4 +1,5 @@
-"""Parts shared by the joint's layouts: the spring with its end fittings, and tendon channels to cut."""
+"""Parts shared by the joint's layouts: the spring with its end fittings, the clamped end's socket, and tendon
+channels to cut."""
 
 from __future__ import annotations
 
@@ -6,8 +7,8 @@ import math
 
 import cadquery as cq
 
-from rjcad.cad.spiral import CLOCKWISE, radial_box, ring, strip_solid
-from rjcad.params import STRIP_OVERLAP, JointParams
+from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, ring, strip_solid
+from rjcad.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
 
 Z = cq.Vector(0, 0, 1)
 
@@ -79,3 +80,24 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
     w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
     stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
     return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]
+
+
+def socket_solids(p: JointParams, z0: float, height: float, base_end: float | None = None) -> list[cq.Solid]:
+    """A clamped spring's socket on the moving link at rest (its key's ray is +X), z ∈ [z0, z0 + height].
+
+    Key seated: u ∈ [key root, R_k], v ∈ [−w_k, 0]. The clockwise tine's face passes through the key's
+    tip corner (R_k, −w_k), the counter-clockwise tine's through (R_s0, 0), both tilted by α
+    counter-clockwise (``socket_tilt``); the base's face is at u = R_k, and it runs on to u = ``base_end``
+    (default: into the moving link's block; the desktop layout ends it in the cup's wall). Loaded, the key
+    bears on exactly these three places.
+    """
+    a, wt, wk = p.socket_tilt, p.tine_width, p.key_width
+    R0, Rk, depth = p.socket_inner_radius, p.key_tip_radius, p.socket_base_depth
+    end = (Rk + depth / 2 - R0) / math.cos(a)  # the tines end inside the base
+    ccw = line_box(R0, 0.0, a, (0.0, end), (0.0, wt), z0, height)
+    cw = line_box(Rk, -wk, a, (-KEY_ENGAGEMENT / math.cos(a), depth / 2 / math.cos(a)), (-wt, 0.0), z0, height)
+    v_lo, v_hi = p.socket_span
+    # the base, bridged out to the link block (so that the block, not only the post, holds it)
+    base_end = p.block_start + 0.5 if base_end is None else base_end
+    base = cq.Solid.makeBox(base_end - Rk, v_hi - v_lo, height, cq.Vector(Rk, v_lo, z0))
+    return [ccw, cw, base]
