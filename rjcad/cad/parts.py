@@ -18,38 +18,44 @@ Z = cq.Vector(0, 0, 1)
 CHANNEL_ROOF = math.radians(50.0)
 
 
-def _channel_roof(va: cq.Vector, vb: cq.Vector, radius: float) -> cq.Solid:
-    """Triangular prism over a horizontal channel: apex r/cos β above the axis, its sides tangent to the bore
-    at r·(±sin β, cos β) (a teardrop: no ledge, no notch)."""
-    d = vb - va
-    side = Z.cross(d.normalized()).normalized()
-    h = radius / math.cos(CHANNEL_ROOF)
-    u, v = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF)
-    wire = cq.Wire.makePolygon([va + side * u + Z * v, va + Z * h, va - side * u + Z * v], close=True)
-    return cq.Solid.extrudeLinear(cq.Face.makeFromWires(wire), d)
+def _teardrop_wire(c: cq.Vector, side: cq.Vector, radius: float) -> cq.Wire:
+    """Teardrop section around ``c`` in the plane of ``side`` and Z: the bore's lower arc between its tangent
+    points c + r·(±sin β·side + cos β·Z), and the two roof lines up to the apex c + Z·r/cos β (one face: no
+    tangent faces between separate tool solids, which OCC's cut mishandles)."""
+    u, v, h = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF), radius / math.cos(CHANNEL_ROOF)
+    left, right, apex = c - side * u + Z * v, c + side * u + Z * v, c + Z * h
+    return cq.Wire.assembleEdges([cq.Edge.makeThreePointArc(left, c - Z * radius, right),
+                                  cq.Edge.makeLine(right, apex), cq.Edge.makeLine(apex, left)])
+
+
+def _horizontal(a, b) -> bool:
+    return abs(a[2] - b[2]) < 1e-9
 
 
 def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
-    """Cylinders along a polyline, with a pointed roof over horizontal ones, plus spheres at its interior
-    knees (a channel to cut)."""
+    """A channel to cut along a polyline: teardrop prisms along horizontal segments (cylinders along others),
+    and at each interior knee a ball, with a cone for the roof between horizontal segments."""
     solids = []
     for a, b in zip(points[:-1], points[1:]):
         va, vb = cq.Vector(*a), cq.Vector(*b)
         d = vb - va
-        solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
-        if abs(d.z) < 1e-9 * max(d.Length, 1.0):
-            solids.append(_channel_roof(va, vb, radius))
-    # knee balls, poles along the mean direction so they lie buried inside the cylinders
-    # (poles on the channel's surface tessellate into an open seam)
+        if _horizontal(a, b):
+            side = Z.cross(d.normalized()).normalized()
+            solids.append(cq.Solid.extrudeLinear(cq.Face.makeFromWires(_teardrop_wire(va, side, radius)), d))
+        else:
+            solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
     for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
-        d = (cq.Vector(*k) - cq.Vector(*a)).normalized() + (cq.Vector(*b) - cq.Vector(*k)).normalized()
-        solids.append(cq.Solid.makeSphere(radius, cq.Vector(*k), d.normalized(), angleDegrees1=-90, angleDegrees2=90))
-        if abs(a[2] - k[2]) < 1e-9 and abs(b[2] - k[2]) < 1e-9:
-            # the knee's roof: the roofs' section turned about Z (the two prisms end square at the knee and
-            # would leave a fin between them on the outside of the bend)
-            h = radius / math.cos(CHANNEL_ROOF)
-            u, v = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF)
-            solids.append(cq.Solid.makeCone(u, 0.05, h - v - 0.05 * math.tan(CHANNEL_ROOF), cq.Vector(*k) + Z * v, Z))
+        vk = cq.Vector(*k)
+        # a ball, poles along the mean direction so they lie buried in the segments
+        # (poles on the channel's surface tessellate into an open seam)
+        d = (vk - cq.Vector(*a)).normalized() + (cq.Vector(*b) - vk).normalized()
+        solids.append(cq.Solid.makeSphere(radius, vk, d.normalized(), angleDegrees1=-90, angleDegrees2=90))
+        if _horizontal(a, k) and _horizontal(k, b):
+            # and the roof turned about Z (the two prisms end square at the knee and would leave a fin on
+            # the outside of the bend), its tip cut flat at 0.05 mm (a point on the axis tessellates badly)
+            u, v, h = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF), radius / math.cos(CHANNEL_ROOF)
+            tip = 0.05
+            solids.append(cq.Solid.makeCone(u, tip, h - v - tip * math.tan(CHANNEL_ROOF), vk + Z * v, Z))
     return solids
 
 
