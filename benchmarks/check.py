@@ -41,12 +41,12 @@ def print_checks(quick: bool, repeats: int) -> dict:
 
     t_over, over = median_time(lambda b: chk.check_overhang(b, names, prn), repeats, setup=fresh)
     out = {"finger_triangles": int(sum(len(m.faces) for m in meshes.values())), "finger_overhang_s": t_over,
-           "finger_overhang_failing_mm2": over.value, "finger_slicer_s": None, "finger_prusaslicer_s": None,
+           "finger_overhang_failing_mm2": over.value, "finger_overhang_passed": over.passed, "finger_slicer_s": None, "finger_prusaslicer_s": None,
            "finger_gcode_read_s": None}
     if not quick and shutil.which("prusa-slicer"):
         t_slice, res = median_time(lambda: chk.check_slicer(list(meshes.values()), names, prn, "prusa"), 1, warmup=0)
         m = re.search(r"sliced in ([\d.]+) s, G-code read in ([\d.]+) s", res.detail)
-        out.update({"finger_slicer_s": t_slice, "finger_prusaslicer_s": float(m.group(1)) if m else None,
+        out.update({"finger_slicer_passed": res.passed, "finger_slicer_s": t_slice, "finger_prusaslicer_s": float(m.group(1)) if m else None,
                     "finger_gcode_read_s": float(m.group(2)) if m else None})
     return out
 

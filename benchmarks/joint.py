@@ -1,4 +1,5 @@
-"""Joint benchmark: build time of the default joint, export times, triangle count, STL size.
+"""Joint benchmark: build time of the default joint (desktop layout), export times, triangle count, STL size;
+and the stacked layout's total in the same run, for the ratio.
 
 Prints one JSON object; every time is the median of several repeats in this run, after a warm-up.
 Target: build + all exports <= 3 s on a 2-core machine.
@@ -38,7 +39,10 @@ def main() -> None:
     # a fresh JointParams per run: the spring design is not cached across runs
     runs = timed_runs(one_run, args.repeats, setup=JointParams)
     med = median_of([{"total_s": t, **r} for t, r in runs])
+    stacked = median_of([{"total_s": t, **r} for t, r in
+                         timed_runs(one_run, args.repeats, setup=lambda: JointParams(layout="stacked"))])
     out = {
+        "layout": JointParams().layout,
         "median_total_s": med["total_s"],
         "median_cad_build_s": med["cad_build_s"],
         "median_tessellate_s": med["tessellate_s"],
@@ -50,6 +54,8 @@ def main() -> None:
         "triangles": int(med["triangles"]),
         "stl_bytes": int(med["stl_bytes"]),
         "stl_mb": med["stl_bytes"] / 1e6,
+        "stacked_median_total_s": stacked["total_s"],
+        "desktop_over_stacked_total": med["total_s"] / stacked["total_s"],
         "repeats": args.repeats,
         "targets": {"median_total_s": target(med["total_s"], at_most=3.0)},
     }

@@ -95,7 +95,8 @@ class DesktopLayout:
                    b + cz + gz + 2 * T * R_f - (R_ci + r_h) * T)  # the flare clears the spring
         roof_top_bore = z_w0 + (R_ci - R_bore) * T + ROOF_NORMAL * SEC
         flank = depth * T
-        z_step = roof_top_bore + cz + (R_bore - R_band) * T  # the arm's cone at the band's radius
+        # the arm's cone at the band's radius (raised by tendon_lift: a finger's joints share one tendon plane)
+        z_step = roof_top_bore + cz + (R_bore - R_band) * T + getattr(p, "tendon_lift", 0.0)
         z_t = z_step + flank + groove_half + 0.3
         half = groove_half + flank + 0.3
         height = z_t + half + 1.0

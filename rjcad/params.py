@@ -60,11 +60,14 @@ WOUND_MARGIN = 0.1
 
 
 LAYOUTS = ("desktop", "stacked")
-#: The layout when none is asked for. Issue #15 wants ``desktop`` on printers without soluble support; it is
-#: not the default yet because the paper finger's 40 mm links cannot hold its joints (they need 39-47 mm).
-DEFAULT_LAYOUT = "stacked"
 #: Clearance of the stacked layout (the paper's printer holds it) [mm].
 STACKED_CLEARANCE = 0.25
+
+
+def default_layout(printer: str) -> str:
+    """The layout when none is asked for: ``stacked`` (the paper's) on a printer with soluble support, else
+    ``desktop`` (support-free)."""
+    return "stacked" if get_printer(printer).soluble_support else "desktop"
 
 
 def default_clearance(material: str, printer: str, layout: str) -> float:
@@ -101,18 +104,20 @@ class JointParams:
     pin_radius: float = 2.0
     safety_factor: float = 1.5
     end: str = JOINT_DEFAULT_END
-    #: ``stacked`` (the paper's: two springs beside the knuckle, needs soluble support; the default for now) or
-    #: ``desktop`` (support-free: one spring on the bed under nested cones; rjcad.layout_desktop).
+    #: ``desktop`` (support-free: one spring on the bed under nested cones; rjcad.layout_desktop) or ``stacked``
+    #: (the paper's: two springs beside the knuckle, needs soluble support); None: :func:`default_layout`.
     layout: str | None = None
     # fixed proportions (not user inputs, but kept here so that everything derives from one object)
     cheek_thickness: float = field(default=2.0, repr=False)
+    #: desktop: the tendon plane raised by this much, so that a finger's joints share one plane [mm]
+    tendon_lift: float = field(default=0.0, repr=False)
     post_radius: float = field(default=1.2, repr=False)
     tendon_line_diameter: float = field(default=0.6, repr=False)
     support_pin_radius: float = field(default=0.9, repr=False)
 
     def __post_init__(self):
         if self.layout is None:
-            object.__setattr__(self, "layout", DEFAULT_LAYOUT)
+            object.__setattr__(self, "layout", default_layout(self.printer))
         if self.layout not in LAYOUTS:
             raise ParameterError("layout", self.layout, f"known layouts: {', '.join(LAYOUTS)}")
         if self.clearance is None:

@@ -1,12 +1,24 @@
-"""Built-in designs as plain data (no CAD imports): the paper's finger."""
+"""Built-in designs as plain data (no CAD imports): the default finger and the paper's finger."""
 
 from rjcad.paper import FINGER
 
-#: The paper's finger (Sec. V, rjcad.paper.FINGER); templates/finger.toml says the same.
+#: The paper's finger (Sec. V, rjcad.paper.FINGER) as the paper printed it: 40 mm links on the Dimension
+#: Elite with soluble support, so the stacked layout and its 0.25 mm clearance. The physics commands use it.
 PAPER_FINGER = {
     "material": "absplus-p430",
-    "printer": "generic-0.4",
-    "clearance_mm": 0.25,
+    "printer": "dimension-elite",
     "defaults": {"preload_deg": 90, "rotation_deg": 90, "link_length_mm": FINGER.link_length},
     "joint": [{"stiffness_nmm_per_rad": k} for k in FINGER.designed_stiffness],
+}
+
+#: The default finger (templates/finger.toml says the same): the paper's three joints on a desktop printer,
+#: in the support-free desktop layout. Its joints are wider than the paper's, so each link is the shortest
+#: whole millimetre that holds its two joints' blocks and the tendon slot (the paper's 40 mm cannot).
+DEFAULT_FINGER = {
+    "material": "absplus-p430",
+    "printer": "generic-0.4",
+    "base_length_mm": 29,
+    "defaults": {"preload_deg": 90, "rotation_deg": 90},
+    "joint": [{"stiffness_nmm_per_rad": k, "link_length_mm": L}
+              for k, L in zip(FINGER.designed_stiffness, (44, 48, 42))],
 }

@@ -22,13 +22,13 @@ O = cq.Vector(0, 0, 0)
 
 @pytest.fixture(scope="module", params=["clamped", "pinned"])
 def joint(request):
-    p = JointParams(end=request.param)
+    p = JointParams(layout="stacked", end=request.param)
     return p, build_joint(p)
 
 
 @pytest.fixture(scope="module")
 def clamped():
-    p = JointParams(end="clamped")
+    p = JointParams(layout="stacked", end="clamped")
     return p, build_joint(p)
 
 
@@ -128,7 +128,7 @@ def test_clamped_key_bears_in_its_socket_at_the_modelled_pose(clamped, top):
 
 def test_pinned_ring_is_centred_on_its_post():
     """The ring's bore, turned by the preload, is coaxial with the post; printed, ring and post are apart."""
-    p = JointParams(end="pinned")
+    p = JointParams(layout="stacked", end="pinned")
     j = build_joint(p)
 
     def cylinders(shape, radius):
@@ -202,7 +202,7 @@ def test_wound_strip_clears_the_other_parts(end):
     """The strip wound to every 10° of the wind-up (independent rod-model run) keeps the internal gap from the
     ground block (assembly and range) and from the moving body (turned with the joint, over the range), in
     both spring layers."""
-    p = JointParams(end=end)
+    p = JointParams(layout="stacked", end=end)
     assert wound_strip_clearance(p, build(p).meshes) >= p.gap_internal - 0.05
 
 

@@ -149,6 +149,44 @@ def test_bridge_over_another_body_fails_the_slicer_check_there():
     assert -0.5 <= x <= 8.5 and 0 <= y <= 6 and 4.4 <= z <= 4.6
 
 
+def holed_block(section: list[tuple[float, float]]) -> trimesh.Trimesh:
+    """A 16 × 12 × 10 mm block with a horizontal hole along Y of (x, z) ``section`` through it."""
+    import manifold3d as m3
+
+    # both sections are convex: the hole is the hull of the section at y = −1 and at y = 13
+    hole = trimesh.convex.convex_hull(np.array([(x, y, z) for x, z in section for y in (-1.0, 13.0)]))
+    block = box((-8, 0, 0), (8, 12, 10))
+    out = m3.Manifold.batch_boolean([m3.Manifold(m3.Mesh(np.asarray(m.vertices, np.float32),
+                                                         np.asarray(m.faces, np.uint32))) for m in (block, hole)],
+                                    m3.OpType.Subtract).to_mesh()
+    return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=True)
+
+
+def round_section(r=1.7, z=5.0, n=48):
+    return [(r * np.cos(a), z + r * np.sin(a)) for a in np.linspace(0, 2 * np.pi, n, endpoint=False)]
+
+
+def teardrop_section(r=1.7, z=5.0, roof=np.radians(50), n=48):
+    """The lower part of a circle, then two flanks at ``roof`` from horizontal meeting in a point."""
+    a0 = np.pi / 2 - roof  # where the flanks leave the circle, tangent to it
+    arc = [(r * np.cos(a), z + r * np.sin(a)) for a in np.linspace(np.pi - a0, 2 * np.pi + a0, n)]
+    return arc + [(0.0, z + r / np.cos(roof))]
+
+
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
+def test_a_teardrop_hole_prints_and_a_round_one_fails_at_its_crown():
+    """Roads along a horizontal hole: over a round hole's crown they lie on nothing for the hole's whole length
+    (the base's M3 holes did this); a teardrop's tip is a slot narrower than a road, which the road straddles."""
+    s = run_checks({"t": holed_block(teardrop_section())}, slicer="prusa", printer="generic-0.4").get("slicer")
+    assert s.passed is True, s.detail
+    s = run_checks({"r": holed_block(round_section())}, slicer="prusa", printer="generic-0.4").get("slicer")
+    assert s.passed is False, s.detail
+    x, y, z = s.where
+    assert abs(x) <= 1.7 and 5.0 <= z <= 6.9, s.where  # at the crown (top 6.7), along the hole
+    length = float(re.search(r"worst \(where\): r in layer \d+, ([\d.]+) mm", s.detail).group(1))
+    assert length > MAX_BRIDGE_MM  # the hole is 12 mm long: no bridge across it excuses that
+
+
 @pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_roads_on_nothing_do_not_fail_on_a_printer_with_soluble_support():
     parts = over_other_pair()
@@ -184,7 +222,7 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
     # (which of these near-equal loops PrusaSlicer's paths make the longest varies from run to run)
     from rjcad.params import JointParams
 
-    p = JointParams(printer="generic-0.4")
+    p = JointParams(printer="generic-0.4", layout="stacked")
     z = rep.get("slicer").where[2]
     first_layers = (p.spring.width + p.gap_z, p.z_eye[0], p.z_eye[1] + p.gap_z, z0)
     assert min(abs(z - f) for f in first_layers) <= 0.3, (z, first_layers, rep.get("slicer").detail)

@@ -158,3 +158,19 @@ def test_console_script_end_to_end(cli_process):
     bad = cli_process(PAPER + ["--rotation", "400"], timeout=120)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and "rotation" in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_one_spring_with_a_coil_gap_is_the_default_desktop_joints_spring(cli):
+    """`--springs 1 --min-gap 0.4` designs exactly the spring the default (desktop) joint prints."""
+    from rjcad.params import JointParams
+
+    code, out, err = cli(PAPER + ["--springs", "1", "--min-gap", "0.4", "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    want = JointParams().spring.to_dict()
+    for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "springs"):
+        assert d[key] == pytest.approx(want[key]), key
+    assert d["springs"] == 1 and d["spring_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
+    assert d["min_coil_gap_mm"] >= 0.4 - 1e-9
+    code, out, _ = cli(PAPER + ["--springs", "1", "--min-gap", "0.4"])
+    assert "(one spring)" in out.splitlines()[0]

@@ -8,6 +8,8 @@ import shutil
 import numpy as np
 import pytest
 import trimesh
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
 
 from rjcad.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
 from rjcad.materials import get_printer
@@ -19,8 +21,12 @@ def p():
     return JointParams(layout="desktop")
 
 
-def test_default_layout_is_still_stacked_and_desktop_uses_the_material_clearance():
-    assert JointParams().layout == "stacked" and JointParams().clearance == 0.25
+def test_default_layout_follows_the_printer_and_desktop_uses_the_material_clearance():
+    # no soluble support: desktop with the material's clearance; the paper's printer: stacked, 0.25 mm
+    assert JointParams().layout == "desktop" and JointParams().clearance == 0.40
+    assert JointParams(printer="dimension-elite").layout == "stacked"
+    assert JointParams(printer="dimension-elite").clearance == 0.25
+    assert JointParams(layout="stacked").clearance == 0.25
     assert JointParams(layout="desktop", material="pla").clearance == 0.35
     assert JointParams(layout="desktop", material="petg").clearance == 0.45
     assert JointParams(layout="desktop", material="pla", clearance=0.3).clearance == 0.3
@@ -121,3 +127,45 @@ def test_min_feature_ignores_a_crease_but_not_a_slot():
     slotted = trimesh.boolean.difference([block, slot], engine="manifold")
     res = _min_feature(slotted)
     assert not res.passed and "gap inside a body" in res.detail and res.value == pytest.approx(0.1, abs=0.02)
+
+
+desktop_designs = st.builds(
+    JointParams,
+    stiffness=st.floats(1.0, 14.0),
+    rotation=st.floats(20.0, 110.0).map(math.radians),
+    preload=st.floats(30.0, 120.0).map(math.radians),
+    material=st.sampled_from(["absplus-p430", "abs-m30", "pla", "petg"]),
+    link_length=st.floats(32.0, 70.0),
+    layout=st.just("desktop"),
+)
+
+
+@pytest.mark.slow
+@settings(max_examples=20, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True,
+          phases=[Phase.explicit, Phase.generate])  # no shrinking: a build + slice per step
+@given(st.data())
+def test_random_desktop_designs_pass_every_check_with_supports_off(data):
+    """Issue #15's acceptance: 20 random valid designs (stiffness, rotation, preload, material, link length) in
+    the desktop layout pass overhang, the supports-off slice (PrusaSlicer) and every other check: watertight,
+    manifold, bodies, clearance, motion over the full range, min_feature, bed."""
+    import tempfile
+
+    from hypothesis import assume
+
+    from rjcad.cad.build import write_joint
+    from rjcad.check import run_checks
+    from rjcad.errors import InfeasibleDesign, ParameterError
+
+    try:
+        p = data.draw(desktop_designs)
+    except (InfeasibleDesign, ParameterError):
+        assume(False)
+    slicer = "prusa" if shutil.which("prusa-slicer") else None
+    with tempfile.TemporaryDirectory() as out:
+        write_joint(p, out, png=False)
+        rep = run_checks(f"{out}/joint.stl", manifest=f"{out}/joint.json", slicer=slicer)
+    failed = {c.name: c.detail for c in rep.checks if c.passed is False}
+    assert not failed, (p, failed)
+    passed = {c.name for c in rep.checks if c.passed}
+    assert {"watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed", "overhang"} <= passed
+    assert slicer is None or "slicer" in passed

@@ -3,13 +3,16 @@
 import itertools
 import json
 import math
+import shutil
 import tomllib
 
 import numpy as np
 import pytest
 from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
-from rjcad.cad.finger import PAPER_FINGER
+from rjcad.cad.finger import DEFAULT_FINGER, FingerParams, PAPER_FINGER
+from rjcad.finger_lengths import shortest_lengths
+from rjcad.cad.joint import LEAD_IN
 from rjcad.cli import main
 
 DEG = math.pi / 180
@@ -32,8 +35,18 @@ def default_finger(tmp_path_factory, root):
     return out, manifest, bodies, order, mans, axes
 
 
-def test_template_is_the_built_in_paper_finger(root):
-    assert tomllib.loads((root / "templates" / "finger.toml").read_text()) == PAPER_FINGER
+def test_template_is_the_built_in_default_finger(root):
+    assert tomllib.loads((root / "templates" / "finger.toml").read_text()) == DEFAULT_FINGER
+
+
+def test_default_finger_links_are_the_shortest_whole_mm_and_the_paper_finger_keeps_40():
+    fp = FingerParams.from_dict(DEFAULT_FINGER)
+    assert {p.layout for p in fp.joints} == {"desktop"}
+    base, links = shortest_lengths(fp.joints)
+    assert (fp.base_length, [p.link_length for p in fp.joints]) == (base, links) == (29.0, [44.0, 48.0, 42.0])
+    paper = FingerParams.from_dict(PAPER_FINGER)
+    assert {p.layout for p in paper.joints} == {"stacked"} and paper.joints[0].clearance == 0.25
+    assert [p.link_length for p in paper.joints] == [40.0] * 3 and paper.base_length == 25.0
 
 
 def test_outputs(default_finger):
@@ -73,12 +86,16 @@ def test_stiffnesses_and_manifest(default_finger):
             assert key in j
         assert j["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
         assert j["preload_deg"] == 90 and j["rotation_deg"] == 90
-    assert [j["axis_point_mm"][0] for j in m["joints"]] == [0.0, 40.0, 80.0]
+    assert [j["axis_point_mm"][0] for j in m["joints"]] == [0.0, 44.0, 92.0]
     for key in ("material", "printer", "clearance_mm", "bodies", "tendon_length_mm"):
         assert key in m
-    # base channel: climbs r = 6 mm from the base end's centre to the fork face: wrap = atan(6/run)
-    run = m["base_length_mm"] - (-m["tendon_path_mm"][1][0])
-    assert m["joints"][0]["tendon_wrap_angle_rad"] == pytest.approx(math.atan2(6.0, run + 0.5), rel=1e-6)
+    # base channel: square into the base end's centre (LEAD_IN), then climbs r = 6 mm to the fork face's square
+    # run: two bends of atan(6/run) each
+    path = m["tendon_path_mm"]
+    assert path[1][0] - path[0][0] == pytest.approx(LEAD_IN) and path[1][1] == path[0][1] == 0.0
+    run = path[2][0] - path[1][0]
+    assert path[2][1] == pytest.approx(6.0)
+    assert m["joints"][0]["tendon_wrap_angle_rad"] == pytest.approx(2 * math.atan2(6.0, run), rel=1e-6)
     # the links' channels are straight: all joints share one eye plane
     assert m["joints"][1]["tendon_wrap_angle_rad"] == pytest.approx(0.0, abs=1e-9)
     path = np.array(m["tendon_path_mm"])
@@ -186,14 +203,41 @@ def test_per_joint_overrides_and_one_joint_finger(tmp_path):
     assert 0.28 <= g.min_gap(d, 1.0) <= 0.35
 
 
-def test_default_finger_passes_every_check_but_printing_without_support(default_finger):
-    """As for the joint: the stacked layout needs support on generic-0.4 (issue #15), which `overhang` reports;
-    every other check passes."""
+def test_default_finger_passes_every_check_with_supports_off(default_finger):
+    """Issue #15's acceptance: the default (desktop) finger passes overhang and the supports-off slice
+    (PrusaSlicer, where installed, as in CI) and every other check."""
     from rjcad.check import run_checks
 
     out = default_finger[0]
-    rep = run_checks(out / "finger.stl", manifest=out / "finger.json")
-    failed = {c.name for c in rep.checks if c.passed is False}
-    assert failed == {"overhang"}, [(c.name, c.detail) for c in rep.checks if c.passed is False]
+    slicer = "prusa" if shutil.which("prusa-slicer") else None
+    rep = run_checks(out / "finger.stl", manifest=out / "finger.json", slicer=slicer)
+    failed = {c.name: c.detail for c in rep.checks if c.passed is False}
+    assert not failed, failed
     assert {c.name for c in rep.checks if c.passed is True} >= {
-        "watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed"}
+        "watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed", "overhang"} | (
+        {"slicer"} if slicer else set())
+
+
+def test_the_physics_runs_on_the_desktop_finger_manifest(default_finger, capsys):
+    """The finger model reads the desktop manifest as built: one spring's (whole) stiffness, preload, the measured
+    moment arm and wrap; `rjcad simulate finger` runs on it unchanged."""
+    import json as _json
+
+    from rjcad.physics.finger import load_finger_model
+
+    out, m = default_finger[0], default_finger[1]
+    model = load_finger_model(str(out / "finger.json"))
+    js = m["joints"]
+    assert all(j["spring"]["springs"] == 1 for j in js)
+    assert model.stiffness == pytest.approx([j["joint_stiffness_nmm_per_rad"] for j in js])
+    assert model.stiffness == pytest.approx([5.2, 7.8, 10.4], rel=0.005)
+    assert model.moment_arm == pytest.approx([j["tendon_moment_arm_mm"] for j in js])
+    assert model.wrap == pytest.approx([j["tendon_wrap_angle_rad"] for j in js])
+    assert model.preload == pytest.approx([j["preload_deg"] * DEG for j in js])
+    assert model.link_length == pytest.approx([44.0, 48.0, 42.0])
+    with pytest.raises(SystemExit) as e:
+        main(["simulate", "finger", str(out / "finger.json"), "--stroke", "25", "--steps", "100", "--json"])
+    assert e.value.code == 0
+    d = _json.loads(capsys.readouterr().out)
+    theta = np.array(d["theta_deg"])
+    assert theta.shape[0] == 3 and theta.max() > 10.0 and theta.min() >= -1e-6

@@ -146,7 +146,7 @@ def test_the_builders_write_version_1_and_it_round_trips():
     from rjcad.cad.finger import FingerParams
     from rjcad.params import JointParams
 
-    b = build(JointParams(end="pinned"))  # the end version 0's default joint had
+    b = build(JointParams(end="pinned", layout="stacked"))  # the end version 0's default joint had
     text = render_files(b, png=False)["joint.json"]
     d = json.loads(text)
     assert Manifest.from_json(d) == b.manifest and json.dumps(b.manifest.to_json(), indent=2) + "\n" == text

@@ -49,6 +49,47 @@ def strip_manifold(P, t, z0, z1):
 
 
 def wound_strip_clearance(p, meshes, step_deg: float = 10.0) -> float:
+    """The layout's wound-strip clearance (stacked: :func:`stacked_wound_clearance`, desktop:
+    :func:`desktop_wound_clearance`) [mm]."""
+    if p.layout == "desktop":
+        return desktop_wound_clearance(p, meshes, step_deg)
+    return stacked_wound_clearance(p, meshes, step_deg)
+
+
+def desktop_wound_clearance(p, meshes, step_deg: float = 10.0) -> float:
+    """Smallest gap between the wound strip on the bed and the ground body (cup, socket, lugs, web), and
+    between the strip beyond its inner tab and the hub, over all wind-ups (θ_j = wind-up − preload once
+    seated); asserts there is no overlap [mm].
+
+    The rod model winds the stacked layout's spring (clockwise outwards, inner end fixed, outer end turned
+    counter-clockwise); the desktop spring is that one mirrored across XZ and turned to the socket's ray, in
+    the hub's (moving) frame, which turns by θ_j in the world."""
+    from rjcad.layout_desktop import SOCKET_RAY
+
+    ground = manifold(meshes["ground"])
+    d, L = p.spring, p.desktop
+    steps = math.ceil(math.degrees(p.preload + p.rotation) / step_deg)
+    sol = wind(p, p.preload + p.rotation, steps)
+    wind_up = (p.preload + p.rotation) * sol.lam
+    tightest = math.inf
+    for k in range(len(wind_up)):
+        P = sol.positions(k)[:-2].copy()  # the last node is held by the key
+        P[:, 1] *= -1.0  # mirror across XZ
+        a = SOCKET_RAY + max(0.0, wind_up[k] - p.preload)  # to the socket's ray, then the joint's turn
+        c, s = math.cos(a), math.sin(a)
+        P = P @ np.array([[c, s], [-s, c]])
+        strip = strip_manifold(P, d.thickness, 0.0, L.b)
+        assert strip.volume() > 0.5 * d.width * d.thickness * d.length
+        assert (strip ^ ground).volume() < 1e-9, math.degrees(wind_up[k])
+        tightest = min(tightest, strip.min_gap(ground, 2.0))
+        # beyond the first half turn (the tab), the strip's inner face stays off the hub
+        r = np.hypot(P[:, 0], P[:, 1])
+        half = int(len(P) / (2 * d.turns))
+        tightest = min(tightest, float(r[half:].min()) - d.thickness / 2 - L.r_h)
+    return tightest
+
+
+def stacked_wound_clearance(p, meshes, step_deg: float = 10.0) -> float:
     """Smallest gap between the wound strip and the ground block (all wind-ups) or the moving body (turned with
     the joint, wind-ups from the preload on), both spring layers; asserts there is no overlap [mm]."""
     ground, moving = manifold(meshes["ground"]), manifold(meshes["moving"])

@@ -181,7 +181,9 @@ def build(p: JointParams) -> JointBuild:
         },
         "mesh": _mesh_summary(meshes),
         "print": {
-            "orientation": "as exported: joint axis vertical (Z), bottom spring on the bed",
+            "orientation": ("as exported: joint axis vertical (Z); the spring, the cup and both link blocks on the bed"
+                            if p.layout == "desktop" else
+                            "as exported: joint axis vertical (Z), bottom spring on the bed"),
             "post_print": seating_text(p),
         },
     }
@@ -296,17 +298,28 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
         files["finger.png"] = ex.preview_png(
             b.meshes, f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
             lines=[np.array(b.manifest.extra["tendon_path_mm"])],
-            sections=[
-                (f"section z = {p0.spring.width - p0.seat_height / 2:.2f}: joint 1's bottom spring, its "
-                 f"{'key and socket' if p0.end_condition == 'clamped' else 'ring and post'}",
-                 (0, 0, p0.spring.width - p0.seat_height / 2), (0, 0, 1)),
-                ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
-                ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0)),
-            ])
+            sections=finger_sections(fp))
     t2 = time.perf_counter()
     b.timings.update({"exports_s": t1 - t0, "png_s": t2 - t1})
     files["finger.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
+
+
+def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
+    """The finger preview's three sections (title, point, normal), in its joints' layout."""
+    p0 = fp.joints[0]
+    if p0.layout == "desktop":
+        z = min(p.spring.width for p in fp.joints) / 2
+        return [(f"section z = {z:.2f}: the springs on the bed, keys printed {math.degrees(p0.preload):g}° ccw "
+                 "of their sockets", (0, 0, z), (0, 0, 1)),
+                ("section through the tendon plane: bands, arms, tendon path, support pins", (0, 0, p0.z_mid),
+                 (0, 0, 1)),
+                ("section y = 0: cups, roofs, hubs and arms", (0, 0, 0), (0, 1, 0))]
+    z = p0.spring.width - p0.seat_height / 2
+    return [(f"section z = {z:.2f}: joint 1's bottom spring, its "
+             f"{'key and socket' if p0.end_condition == 'clamped' else 'ring and post'}", (0, 0, z), (0, 0, 1)),
+            ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
+            ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0))]
 
 
 def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:

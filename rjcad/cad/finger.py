@@ -11,6 +11,8 @@ Body names: ``base``, ``link1`` … ``link{N-1}``, ``distal``. Joint i's axis is
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
@@ -31,6 +33,7 @@ from rjcad.cad.joint import (
     support_pin,
     tube_path,
 )
+from rjcad.finger_lengths import base_length_min, link_length_min, shortest_lengths
 from rjcad.params import JOINT_DEFAULT_END, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
@@ -40,6 +43,7 @@ from rjcad.units import DEG
 
 #: The paper's finger, as plain data in rjcad.templates (the builder's default).
 PAPER_FINGER = templates.PAPER_FINGER
+DEFAULT_FINGER = templates.DEFAULT_FINGER
 
 GLOBAL_KEYS = {
     "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
@@ -111,7 +115,12 @@ class FingerParams:
         # spring gets thicker cheeks, b_max − b each, and all joints share z_mid and the height
         b_max = max(p.spring.width for p in built)
         built = [replace(p, cheek_thickness=p.cheek_thickness + (b_max - p.spring.width)) for p in built]
-        fp = cls(tuple(built), float(data.get("base_length_mm", 25.0)), source, tuple(requested))
+        # desktop: each joint's tendon plane is raised to the highest one's (its band and arm grow)
+        z_top = max(p.z_mid for p in built)
+        built = [replace(p, tendon_lift=z_top - p.z_mid) if p.layout == "desktop" else p for p in built]
+        # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
+        base = float(data["base_length_mm"]) if "base_length_mm" in data else shortest_lengths(built)[0]
+        fp = cls(tuple(built), base, source, tuple(requested))
         fp.validate_lengths()
         return fp
 
@@ -121,16 +130,13 @@ class FingerParams:
         return cls.from_dict(data, source=str(path))
 
     def validate_lengths(self) -> None:
-        """Each link must hold its joints' blocks, the tendon slot and the anchor."""
+        """Each link must hold its joints' blocks, the tendon slot and the anchor (rjcad.finger_lengths)."""
         js = self.joints
-        lo = js[0].ground_block_start + 12.0
+        lo = base_length_min(js[0])
         if not lo <= self.base_length <= 150:
             raise ParameterError("base_length_mm", self.base_length, f"must be in [{lo:.1f}, 150] mm", unit="mm")
         for i, p in enumerate(js, start=1):
-            if i < len(js):
-                need = p.block_start + p.slot_length + js[i].ground_block_start + 0.5
-            else:
-                need = p.block_start + p.slot_length + p.link_width / 2 + 6.0
+            need = link_length_min(p, js[i] if i < len(js) else None)
             if p.link_length < need - 1e-9:
                 raise ParameterError(f"joint[{i}].link_length_mm", p.link_length,
                                      f"must be >= {need:.1f} mm for these springs", unit="mm")
@@ -170,14 +176,29 @@ def link_channel_points(p: JointParams, q: JointParams, length: float) -> list[t
     return [s, (s[0] + 2.0, s[1], s[2]), (e[0] - 3.5, e[1], e[2]), e]
 
 
+def m3_hole_heights(p: JointParams) -> tuple[float, float]:
+    """Heights of the base's two M3 holes: 4 mm above the bed and 4 mm below the top, the upper one moved
+    below the tendon's channel when it would come within a wall of it (the holes cross y = r) [mm]."""
+    from rjcad.cad.parts import CHANNEL_ROOF
+
+    r_hole, r_t = M3_CLEARANCE_DIAMETER / 2, p.tendon_diameter / 2
+    tip, wall = 1.0 / math.cos(CHANNEL_ROOF), p.printer_spec.min_wall_mm + 0.2
+    z = p.height - 4.0
+    if z - r_hole - wall < p.z_mid + r_t * tip and z + r_hole * tip + wall > p.z_mid - r_t:
+        z = p.z_mid - r_t - wall - r_hole * tip
+    return 4.0, z
+
+
 def base_body(fp: FingerParams) -> cq.Shape:
     """Fork of joint 1, the base block with two M3 through holes (along Y) and the entry channel."""
     p = fp.joints[0]
     body = _fuse(ground_side(p) + [link_block(-fp.base_length, -p.ground_block_start, p.link_width, p.height)],
                  "base fuse")
     x_h = -fp.base_length + 5.0
-    holes = [cq.Solid.makeCylinder(M3_CLEARANCE_DIAMETER / 2, p.link_width + 2, cq.Vector(x_h, -p.link_width / 2 - 1, z),
-                                   cq.Vector(0, 1, 0)) for z in (4.0, p.height - 4.0)]
+    # teardrop holes (a round hole's crown is a flat overhang the length of the hole)
+    holes = [h for z in m3_hole_heights(p)
+             for h in tube_path([(x_h, -p.link_width / 2 - 1, z), (x_h, p.link_width / 2 + 1, z)],
+                                M3_CLEARANCE_DIAMETER / 2)]
     cuts = tube_path(ground_channel_points(p, fp.base_length), p.tendon_diameter / 2) + holes + ground_side_cuts(p)
     return _one_solid(body.cut(*cuts), "base cuts")
 

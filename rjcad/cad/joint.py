@@ -150,10 +150,15 @@ def link_block(x0: float, x1: float, width: float, height: float) -> cq.Solid:
     return cq.Solid.makeBox(x1 - x0, width, height, cq.Vector(x0, -width / 2, 0))
 
 
+#: Straight run of the tendon's channel into the ground link's end face [mm].
+LEAD_IN = 2.0
+
+
 def ground_channel_points(p: JointParams, reach: float) -> list[tuple[float, float, float]]:
-    """Tendon channel centreline in the ground link: from the link end (centre) to the fork face at y = r."""
+    """Tendon channel centreline in the ground link: from the link end (centre; square to the end face for
+    LEAD_IN, so that the mouth leaves no wedge between the face and a slanting channel) to the fork face at y = r."""
     r, zm, xg = p.moment_arm, p.z_mid, p.ground_block_start
-    return [(-reach - 0.5, 0.0, zm), (-xg - 3.0, r, zm), (-xg + 0.5, r, zm)]
+    return [(-reach - 0.5, 0.0, zm), (-reach + LEAD_IN, 0.0, zm), (-xg - 3.0, r, zm), (-xg + 0.5, r, zm)]
 
 
 def moving_channel_start(p: JointParams) -> tuple[float, float, float]:

@@ -32,30 +32,69 @@ def _horizontal(a, b) -> bool:
     return abs(a[2] - b[2]) < 1e-9
 
 
+#: How far a mitred channel piece reaches past its knee's bisector plane, so that neighbouring pieces overlap
+#: instead of touching face to face (coincident faces between tool solids upset OCC's cut) [mm].
+MITRE_OVERLAP = 0.01
+
+
+def _keep_side(solid: cq.Shape, at: cq.Vector, normal: cq.Vector) -> cq.Shape:
+    """``solid`` cut by the half-space beyond the vertical plane through ``at`` with horizontal ``normal``
+    (the part where (x − at)·normal ≤ 0 stays)."""
+    n = normal.normalized()
+    big = 1000.0
+    t = Z.cross(n).normalized()
+    corner = at - t * (big / 2) - Z * (big / 2)
+    box = cq.Solid.extrudeLinear(
+        cq.Face.makeFromWires(cq.Wire.makePolygon([corner, corner + t * big, corner + t * big + Z * big,
+                                                   corner + Z * big], close=True)), n * big)
+    return solid.cut(box)
+
+
 def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
-    """A channel to cut along a polyline: teardrop prisms along horizontal segments (cylinders along others),
-    and at each interior knee a ball, with a cone for the roof between horizontal segments."""
+    """A channel to cut along a polyline: teardrop prisms along horizontal segments (cylinders along others).
+    Two horizontal segments meet in a mitre: each prism runs r·tan(β/2) past the knee (β the bend) and is cut
+    on the bisector's vertical plane (+ MITRE_OVERLAP), so that their roofs meet in one ridge with no notch or
+    fin; other knees get a ball."""
+    pts = [cq.Vector(*p) for p in points]
+    n = len(pts)
+    horiz = [_horizontal(points[i], points[i + 1]) for i in range(n - 1)]
     solids = []
-    for a, b in zip(points[:-1], points[1:]):
-        va, vb = cq.Vector(*a), cq.Vector(*b)
+    for i in range(n - 1):
+        va, vb = pts[i], pts[i + 1]
         d = vb - va
-        if _horizontal(a, b):
-            side = Z.cross(d.normalized()).normalized()
-            solids.append(cq.Solid.extrudeLinear(cq.Face.makeFromWires(_teardrop_wire(va, side, radius)), d))
-        else:
+        if not horiz[i]:
             solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
-    for a, k, b in zip(points[:-2], points[1:-1], points[2:]):
-        vk = cq.Vector(*k)
+            continue
+        u = d.normalized()
+        cuts, start, end = [], va, vb
+        for j, sign in ((i - 1, -1), (i + 1, +1)):  # the knee at the start (j = i − 1), at the end (j = i + 1)
+            if not 0 <= j < n - 1 or not horiz[j]:
+                continue
+            knee = va if sign < 0 else vb
+            other = (pts[j + 1] - pts[j]).normalized()
+            bend = math.acos(max(-1.0, min(1.0, u.dot(other))))
+            if bend < 1e-6:
+                continue
+            reach = radius * math.tan(bend / 2) + 0.1
+            if sign < 0:
+                start = va - u * reach
+            else:
+                end = vb + u * reach
+            bisector = (u + other).normalized()  # normal of the mitre plane, along the mean direction
+            cuts.append((knee + bisector * (sign * MITRE_OVERLAP), bisector * sign))
+        side = Z.cross(u).normalized()
+        prism = cq.Solid.extrudeLinear(cq.Face.makeFromWires(_teardrop_wire(start, side, radius)), end - start)
+        for at, normal in cuts:
+            prism = _keep_side(prism, at, normal)
+        solids.append(prism)
+    for i in range(1, n - 1):
+        if horiz[i - 1] and horiz[i]:
+            continue
+        a, k, b = pts[i - 1], pts[i], pts[i + 1]
         # a ball, poles along the mean direction so they lie buried in the segments
         # (poles on the channel's surface tessellate into an open seam)
-        d = (vk - cq.Vector(*a)).normalized() + (cq.Vector(*b) - vk).normalized()
-        solids.append(cq.Solid.makeSphere(radius, vk, d.normalized(), angleDegrees1=-90, angleDegrees2=90))
-        if _horizontal(a, k) and _horizontal(k, b):
-            # and the roof turned about Z (the two prisms end square at the knee and would leave a fin on
-            # the outside of the bend), its tip cut flat at 0.05 mm (a point on the axis tessellates badly)
-            u, v, h = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF), radius / math.cos(CHANNEL_ROOF)
-            tip = 0.05
-            solids.append(cq.Solid.makeCone(u, tip, h - v - tip * math.tan(CHANNEL_ROOF), vk + Z * v, Z))
+        d = (k - a).normalized() + (b - k).normalized()
+        solids.append(cq.Solid.makeSphere(radius, k, d.normalized(), angleDegrees1=-90, angleDegrees2=90))
     return solids
 
 

@@ -6,7 +6,9 @@ bodies, layer by layer:
 - every extrusion is sampled every SAMPLE_MM along its path;
 - a sample is supported on the first layer (the bed), or when a road of the same body in the
   previous layer lies within h·tan 45° + (w_prev − w)/2 + TOL_MM of it: its centre line is over
-  that road, or overhangs it by no more than the 45° rule allows (h the layer height, w widths);
+  that road, or overhangs it by no more than the 45° rule allows (h the layer height, w widths), or it
+  lies over a small void: roads of the previous layer within w + h on every side of it (a teardrop's
+  tip, a sliver that solid infill left in a corner), which it spans;
 - unsupported samples form runs along their path. A run is excused as a bridge when it is straight
   (within half a road of its chord, or ≤ SHORT_SPAN_MM long), ≤ MAX_BRIDGE_MM, anchored at both
   ends on supported samples of its path, and no other body lies within OPEN_BELOW_MM below it; or as
@@ -96,15 +98,29 @@ def _sample(tp: Toolpaths, idx: np.ndarray) -> _Layer:
                   tp.width[seg], path[rep], (cum - base)[rep] + t * length[rep], seg)
 
 
-def _supported(cur: _Layer, prev: _Layer | None, h: float) -> np.ndarray:
-    """Samples within h·tan 45° + (w_prev − w)/2 + TOL_MM of a road of the previous layer."""
+def _supported(cur: _Layer, prev: _Layer | None, h: float, enclosed: bool = True) -> np.ndarray:
+    """Samples within h·tan 45° + (w_prev − w)/2 + TOL_MM of a road of the previous layer, or (``enclosed``)
+    over a small void: roads of the previous layer within w + h + TOL_MM of the sample on every side (no
+    angular gap of 180° or more among them), so that the road spans at most about two road widths."""
     if prev is None:
         return np.zeros(len(cur.x), dtype=bool)
     pts = np.stack([cur.x, cur.y], axis=1)
     d, i = prev.tree.query(pts, distance_upper_bound=h + prev.w_max / 2 + TOL_MM)
     found = np.isfinite(d)
     allow = h + (prev.w[np.minimum(i, len(prev.w) - 1)] - cur.w) / 2 + TOL_MM
-    return found & (d <= allow)
+    ok = found & (d <= allow)
+    if not enclosed or ok.all():
+        return ok
+    bad = np.flatnonzero(~ok)
+    prev_pts = np.stack([prev.x, prev.y], axis=1)
+    for b, near in zip(bad, prev.tree.query_ball_point(pts[bad], cur.w[bad] + h + TOL_MM)):
+        if len(near) < 3:
+            continue
+        v = prev_pts[near] - pts[b]
+        ang = np.sort(np.arctan2(v[:, 1], v[:, 0]))
+        gaps = np.diff(np.r_[ang, ang[0] + 2 * math.pi])
+        ok[b] = gaps.max() < math.pi
+    return ok
 
 
 def _below(pts: np.ndarray, w: float, z: float, h: float, history, me: int) -> tuple[int, float]:

@@ -9,23 +9,27 @@ from rjcad.cli.options import Field, design_options, merge_config, print_table, 
 #: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
 FIELDS = requirement(
     after_printer=(
-        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default 0.25 stacked; "
-              "desktop: the material's print-in-place clearance, PLA 0.35, ABS 0.40, PETG 0.45)."),
-        Field("--layout", "layout", str, "stacked (default; the paper's, two springs, needs soluble support) or "
-              "desktop (support-free: one spring on the bed under nested 50° cones)."),
+        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default: desktop, the material's print-in-place "
+              "clearance, PLA 0.35, ABS 0.40, PETG 0.45; stacked 0.25)."),
+        Field("--layout", "layout", str, "desktop (default without soluble support: one spring on the bed under nested 50° "
+              "cones, no support) or stacked (the paper's, two springs; default on dimension-elite)."),
         Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40)."),
         Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
         Field("--tendon-moment-arm", "tendon_moment_arm_mm", float,
               "Tendon moment arm about the axis [mm] (default 6)."),
         Field("--pin-radius", "pin_radius_mm", float, "Knuckle pin radius [mm] (default 2)."),
     ),
-    stiffness="Joint stiffness, both springs [N·mm/rad] (default 5.2).",
-    end="Spring outer end: clamped (default; a key in a socket) or pinned (a ring on a post).",
+    stiffness="Joint stiffness, all springs [N·mm/rad] (default 5.2).",
+    end="Spring outer end: clamped (default; a key in a socket) or pinned (a ring on a post; stacked only).",
 )
 
 
 def _outputs(out_dir: str, stem: str, no_png: bool) -> str:
     return f"{out_dir}/{stem}.{{stl,3mf,step{'' if no_png else ',png'},json}}"
+
+
+def _springs(n: int) -> str:
+    return "N·mm/rad (one spring)" if n == 1 else f"N·mm/rad ({n} springs)"
 
 
 def _bodies(m: dict) -> tuple[str, str, str]:
@@ -51,7 +55,7 @@ def joint(config, out_dir, no_png, **options):
 def print_joint(m: dict) -> None:
     """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
     print_table([
-        ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", "N·mm/rad (both springs)"),
+        ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", _springs(m['spring'].get('springs', 2))),
         ("spring b × t × L", f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × "
                              f"{m['spring']['length_mm']:.1f}", "mm"),
         ("spring outer radius", f"{m['spring']['outer_radius_mm']:.2f}", "mm"),
@@ -69,11 +73,13 @@ def print_joint(m: dict) -> None:
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def finger(template, out_dir, no_png):
-    """Build a finger of chained joint modules (default: the paper's finger, templates/finger.toml)."""
+    """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
+    templates/finger.toml)."""
     from rjcad.cad.build import write_finger
-    from rjcad.cad.finger import PAPER_FINGER, FingerParams
+    from rjcad.cad.finger import FingerParams
+    from rjcad.templates import DEFAULT_FINGER
 
-    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(PAPER_FINGER, "built-in paper finger")
+    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     b = write_finger(fp, out_dir, png=not no_png)
     m = b.manifest
     click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "

@@ -1,4 +1,4 @@
-"""``rjcad spring``: design the twin spiral springs of one joint, print them as a table or JSON, plot them."""
+"""``rjcad spring``: design a joint's spiral springs (twin, or one), print them as a table or JSON, plot them."""
 
 from __future__ import annotations
 
@@ -14,6 +14,10 @@ from rjcad.units import DEG
 
 #: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
 FIELDS = requirement() + (
+    Field("--springs", "springs", int, "Springs sharing the joint stiffness: 2 (default; the stacked layout, the "
+          "paper's) or 1 (the desktop layout's one spring on the bed)."),
+    Field("--min-gap", "min_gap_mm", float, "Gap the coils keep over the whole wind-up [mm] (default: the printer's "
+          "minimum gap; the desktop joint uses its clearance, e.g. 0.40 for ABS)."),
     Field("--width-min", "width_min_mm", float, "Lower bound on spring width b [mm] (default 1)."),
     Field("--width-max", "width_max_mm", float, "Upper bound on spring width b [mm] (default 10)."),
     Field("--inner-radius-min", "inner_radius_min_mm", float,
@@ -26,7 +30,7 @@ FIELDS = requirement() + (
     Field("--backlash", "backlash_mm", float, "Pin backlash for the life model [mm] (default 0.25)."),
 )
 #: Options whose SpringRequirement field has another name.
-_RENAMED = {"stiffness": "joint_stiffness", "max_outer_radius": "outer_radius_max"}
+_RENAMED = {"stiffness": "joint_stiffness", "max_outer_radius": "outer_radius_max", "min_gap_mm": "min_gap"}
 
 
 def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
@@ -45,7 +49,8 @@ def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
               help="Write a PNG: torque against wind-up (rod model vs formula) and the wound shape with its "
                    "tightest gap.")
 def spring(config, as_json, plot, **options):
-    """Design the twin spiral springs of one joint (smallest outer radius), verified by the rod model."""
+    """Design the spiral springs of one joint (twin, or one with --springs 1; smallest outer radius), verified by
+    the rod model."""
     design = design_spring(spring_requirement(options, config))
     if plot:
         from rjcad.spring.plot import write_plot
@@ -73,8 +78,10 @@ def print_design(design: SpringDesign) -> None:
     d = design.to_dict()
     req = design.requirement
     windup = d["rotation_deg"] + d["preload_deg"]
+    share = "one spring" if req.springs == 1 else f"{req.springs} springs of {req.spring_stiffness:g}"
+    both = "one spring" if req.springs == 1 else "both springs"
     click.echo(f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
-               f"(two springs of {req.spring_stiffness:g}), {d['rotation_deg']:g}° rotation, "
+               f"({share}), {d['rotation_deg']:g}° rotation, "
                f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end, "
                f"loaded unwinding; checked by the rod model")
     print_table([
@@ -86,9 +93,9 @@ def print_design(design: SpringDesign) -> None:
         ("turns n", f"{d['turns']:.3f}", ""),
         ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
         ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}",
-         "N·mm/rad (both springs, rod model, slope over the rotation)"),
+         f"N·mm/rad ({both}, rod model, slope over the rotation)"),
         ("formula stiffness", f"{d['formula_stiffness_nmm_per_rad']:.4f}",
-         f"N·mm/rad (both springs, c·E·b·t³/12L, {req.end})"),
+         f"N·mm/rad ({both}, c·E·b·t³/12L, {req.end})"),
         ("peak stress", f"{d['peak_stress_mpa']:.2f}", f"MPa (rod model, over 0-{windup:g}° of wind-up)"),
         ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
         ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}",
