@@ -105,6 +105,19 @@ def test_the_desktop_joint_passes_every_check_with_supports_off(p, tmp_path):
     m = b.manifest
     assert m["tendon_moment_arm_mm"] == pytest.approx(p.moment_arm, abs=0.05)
     assert m["joints"][0]["layout"]["layout"] == "desktop"
+    # the physics reads this manifest as built: the one spring's (whole) stiffness, the preload, the measured
+    # moment arm and wrap (a joint is a finger with one joint)
+    from rjcad.physics.finger import load_finger_model, simulate_stroke
+
+    model = load_finger_model(str(tmp_path / "joint.json"))
+    assert model.stiffness == pytest.approx([m["joint_stiffness_nmm_per_rad"]]) and m["spring"]["springs"] == 1
+    assert model.stiffness[0] == pytest.approx(p.stiffness, rel=0.005)
+    assert model.moment_arm == pytest.approx([m["tendon_moment_arm_mm"]])
+    assert model.wrap == pytest.approx([m["tendon_wrap_angle_rad"]]) and model.wrap[0] > 0
+    assert model.preload == pytest.approx([p.preload])
+    closure = simulate_stroke(model, 5.0, 100)
+    # frictionless: the joint starts once r·T = K·θ0, then θ = stroke / r (tendon inextensible)
+    assert math.degrees(closure.theta[100][0]) == pytest.approx(math.degrees(5.0 / model.moment_arm[0]), abs=0.5)
 
 
 def _min_feature(mesh):
