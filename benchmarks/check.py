@@ -86,6 +86,7 @@ def main() -> None:
         "joint_motion_poses": int(motion.detail.split(" poses")[0].split()[-1]),
         "joint_clearance_s": t_clear,
         "joint_min_feature_s": t_feat,
+        "min_feature_s_per_100k_triangles": t_feat / (sum(len(b.faces) for b in bodies) / 1e5),
         **prints,
         "repeats": args.repeats,
         "targets": {

@@ -82,7 +82,9 @@ def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | No
         return bodies, names
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise BadInput(f"{p}: the file holds no triangles")
-    parts = loaded.split(only_watertight=False)
+    # repair=False: trimesh's split otherwise fills each component's small holes, and the check would then
+    # measure a mesh that is not the file (a missing triangle passed `watertight`)
+    parts = loaded.split(only_watertight=False, repair=False)
     parts = sorted(parts, key=lambda b: -abs(b.volume))
     return list(parts), None
 

@@ -30,20 +30,39 @@ def _edge_defects(mesh: trimesh.Trimesh) -> tuple[np.ndarray, bool]:
     return np.stack([bad // n, bad % n], axis=1), bool(mesh.is_winding_consistent)
 
 
+def _misdirected_edge(mesh: trimesh.Trimesh) -> np.ndarray | None:
+    """Midpoint of a directed edge a→b that two faces both use (where the winding flips), or None."""
+    F = np.asarray(mesh.faces, dtype=np.int64)
+    n = len(mesh.vertices)
+    a, b = F.ravel(), np.roll(F, -1, axis=1).ravel()
+    keys, counts = np.unique(a * n + b, return_counts=True)
+    twice = keys[counts > 1]
+    if not len(twice):
+        return None
+    return mesh.vertices[[twice[0] // n, twice[0] % n]].mean(axis=0)
+
+
 def check_watertight(bodies, names) -> CheckResult:
-    """Every edge shared by exactly two faces, winding consistent."""
+    """Every edge shared by exactly two faces, winding consistent, normals outwards (positive volume)."""
     bad = []
     for b, n in zip(bodies, names):
         open_edges, wound = _edge_defects(b)
-        if len(open_edges) or not wound:
-            where = b.vertices[open_edges[0]].mean(axis=0) if len(open_edges) else b.centroid
-            bad.append((n, len(open_edges), wound, where))
+        inside_out = not len(open_edges) and wound and b.volume < 0
+        if len(open_edges) or not wound or inside_out:
+            if len(open_edges):
+                where = b.vertices[open_edges[0]].mean(axis=0)
+            else:
+                flip = None if wound else _misdirected_edge(b)
+                where = flip if flip is not None else b.vertices[b.faces[0]].mean(axis=0)
+            bad.append((n, len(open_edges), wound, inside_out, where))
     if not bad:
-        return CheckResult("watertight", True, 0, 0, None, f"{len(bodies)} bodies closed and consistently wound")
-    n, k, wind, where = bad[0]
+        return CheckResult("watertight", True, 0, 0, None,
+                           f"{len(bodies)} bodies closed, consistently wound, facing outwards")
+    n, k, wind, inside_out, where = bad[0]
+    what = (f"{n}: inside out (closed and consistently wound, but its normals point inwards: volume < 0)"
+            if inside_out else f"{n}: {k} edges not shared by exactly two faces" + ("" if wind else ", winding inconsistent"))
     return CheckResult("watertight", False, k, 0, point(where),
-                       f"{n}: {k} edges not shared by exactly two faces"
-                       + ("" if wind else ", winding inconsistent") + (f"; {len(bad)} bodies affected" if len(bad) > 1 else ""))
+                       what + (f"; {len(bad)} bodies affected" if len(bad) > 1 else ""))
 
 
 def check_manifold(bodies, names) -> tuple[CheckResult, list[m3.Manifold]]:
@@ -79,6 +98,23 @@ def _closest_points(a: trimesh.Trimesh, b: trimesh.Trimesh) -> np.ndarray:
     return (a.vertices[k] + b.vertices[i[k]]) / 2
 
 
+def _deepest(verts: np.ndarray, a: trimesh.Trimesh, b: trimesh.Trimesh) -> np.ndarray:
+    """Where two bodies overlap: of the overlap's vertices that are a body's own vertices (inside the other), the
+    one farthest inside the other body; else the overlap's mean vertex."""
+    from scipy.spatial import cKDTree
+
+    best, depth = verts.mean(axis=0), -1.0
+    for own, other in ((a, b), (b, a)):
+        d, _ = cKDTree(own.vertices).query(verts, distance_upper_bound=1e-6)
+        inside = verts[np.isfinite(d)]
+        if len(inside):
+            _, dist, _ = trimesh.proximity.closest_point(other, inside)
+            k = int(np.argmax(dist))
+            if dist[k] > depth:
+                best, depth = inside[k], float(dist[k])
+    return best
+
+
 def check_clearance(bodies, names, mans, clearance: float, allowance: float) -> CheckResult:
     """Every pair of bodies: min gap ≥ clearance − allowance and no overlap."""
     limit = clearance - allowance
@@ -96,8 +132,8 @@ def check_clearance(bodies, names, mans, clearance: float, allowance: float) -> 
             inter = mans[i] ^ mans[j]
             vol = inter.volume()
             if vol > 1e-6 and (overlap is None or vol > overlap[0]):
-                verts = np.asarray(inter.to_mesh().vert_properties)[:, :3]
-                overlap = (vol, (i, j), verts.mean(axis=0))
+                verts = np.asarray(inter.to_mesh64().vert_properties)[:, :3]
+                overlap = (vol, (i, j), _deepest(verts, bodies[i], bodies[j]))
             gap = mans[i].min_gap(mans[j], search)
             if gap < tight[0]:
                 tight = (gap, (i, j))
