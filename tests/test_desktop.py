@@ -102,6 +102,14 @@ def test_the_desktop_joint_passes_every_check_with_supports_off(p, tmp_path):
     assert {"watertight", "manifold", "clearance", "motion", "min_feature", "overhang"} <= names
     if slicer:
         assert "slicer" in names
+    # min_feature names real features (#16): the thinnest wall is the spring's strip, the narrowest gap its coils
+    import re as _re
+
+    mf = rep.get("min_feature").detail
+    wall = float(_re.search(r"thinnest wall ([\d.]+) mm in moving", mf).group(1))
+    gap = float(_re.search(r"narrowest gap inside a body ([\d.]+) mm in moving", mf).group(1))
+    assert wall == pytest.approx(p.spring.thickness, abs=0.02)
+    assert gap == pytest.approx(p.spring.to_dict()["print_coil_gap_mm"], abs=0.02)
     m = b.manifest
     assert m["tendon_moment_arm_mm"] == pytest.approx(p.moment_arm, abs=0.05)
     assert m["joints"][0]["layout"]["layout"] == "desktop"
