@@ -30,6 +30,18 @@ def _edge_defects(mesh: trimesh.Trimesh) -> tuple[np.ndarray, bool]:
     return np.stack([bad // n, bad % n], axis=1), bool(mesh.is_winding_consistent)
 
 
+def _inside_out(mesh: trimesh.Trimesh) -> bool:
+    """Whether a closed, consistently wound mesh faces inwards: at its vertex of largest x, the faces around it
+    enclose a cone of the solid on the side x ≤ x_max, so their outward area vectors sum to a positive x
+    component (divergence theorem on that cone); negative means inside out. O(faces), no mass properties."""
+    V = np.asarray(mesh.vertices, dtype=np.float64)
+    F = np.asarray(mesh.faces, dtype=np.int64)
+    k = int(np.argmax(V[:, 0]))
+    around = F[(F == k).any(axis=1)]
+    v0 = V[around[:, 0]]
+    return float(np.cross(V[around[:, 1]] - v0, V[around[:, 2]] - v0)[:, 0].sum()) < 0.0
+
+
 def _misdirected_edge(mesh: trimesh.Trimesh) -> np.ndarray | None:
     """Midpoint of a directed edge a→b that two faces both use (where the winding flips), or None."""
     F = np.asarray(mesh.faces, dtype=np.int64)
@@ -47,7 +59,7 @@ def check_watertight(bodies, names) -> CheckResult:
     bad = []
     for b, n in zip(bodies, names):
         open_edges, wound = _edge_defects(b)
-        inside_out = not len(open_edges) and wound and b.volume < 0
+        inside_out = not len(open_edges) and wound and _inside_out(b)
         if len(open_edges) or not wound or inside_out:
             if len(open_edges):
                 where = b.vertices[open_edges[0]].mean(axis=0)
