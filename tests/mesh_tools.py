@@ -17,6 +17,20 @@ def box(lo, hi) -> trimesh.Trimesh:
     return b
 
 
+def cyl(r, z0, z1, x=0.0, y=0.0, sections=256) -> trimesh.Trimesh:
+    """Vertical cylinder of radius ``r`` from z0 to z1 about (x, y) [mm]; fine facets by default (a 2 mm pin in
+    a 2.25 mm bore then measures within 0.001 mm of 0.25 mm)."""
+    c = trimesh.creation.cylinder(radius=r, height=z1 - z0, sections=sections)
+    c.apply_translation((x, y, (z0 + z1) / 2))
+    return c
+
+
+def difference(a, b) -> trimesh.Trimesh:
+    """Boolean a − b by manifold3d (float64), as a processed trimesh."""
+    m = (manifold(a) - manifold(b)).to_mesh64()
+    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
+
+
 def union(*meshes) -> trimesh.Trimesh:
     """Boolean union by manifold3d (float64), as a processed trimesh."""
     m = m3.Manifold.batch_boolean([manifold(x) for x in meshes], m3.OpType.Add).to_mesh64()

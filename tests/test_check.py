@@ -10,22 +10,7 @@ import trimesh
 
 from rjcad.check import BadInput, run_checks
 
-from mesh_tools import box, union
-
-SEG = 256  # fine facets: a 2 mm pin in a 2.25 mm bore then measures within 0.001 mm of 0.25 mm
-
-
-def cyl(r, z0, z1, x=0.0, y=0.0):
-    c = trimesh.creation.cylinder(radius=r, height=z1 - z0, sections=SEG)
-    c.apply_translation((x, y, (z0 + z1) / 2))
-    return c
-
-
-def difference(a, b):
-    from rjcad.mesh import to_manifold
-
-    m = (to_manifold(a) - to_manifold(b)).to_mesh64()
-    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
+from mesh_tools import box, cyl, difference, union
 
 
 def hinge(obstacle=False):

@@ -13,25 +13,12 @@ import numpy as np
 import pytest
 import trimesh
 
-from mesh_tools import box, union
+from mesh_tools import box, cyl, difference, union
 from rjcad.cad import export as ex
 from rjcad.check import run_checks
 
 SEG = 192
 CLEARANCE = 0.25
-
-
-def cyl(r, z0, z1, x=0.0, y=0.0, sections=SEG):
-    c = trimesh.creation.cylinder(radius=r, height=z1 - z0, sections=sections)
-    c.apply_translation((x, y, (z0 + z1) / 2))
-    return c
-
-
-def difference(a, b):
-    from rjcad.mesh import to_manifold
-
-    m = (to_manifold(a) - to_manifold(b)).to_mesh64()
-    return trimesh.Trimesh(np.asarray(m.vert_properties)[:, :3], np.asarray(m.tri_verts), process=True)
 
 
 def comb(slot=0.6, wall=1.2):
@@ -42,8 +29,8 @@ def comb(slot=0.6, wall=1.2):
 
 def part(slot=0.6, wall=1.2):
     """ground: plate + pin r 2 + comb; moving: a tube (bore r 2.25) with an arm along +X."""
-    ground = union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14), comb(slot, wall))
-    tube = difference(cyl(5.0, 2.4, 12), cyl(2.25, 2.0, 12.5))
+    ground = union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14, sections=SEG), comb(slot, wall))
+    tube = difference(cyl(5.0, 2.4, 12, sections=SEG), cyl(2.25, 2.0, 12.5, sections=SEG))
     moving = union(tube, box((4, -2, 2.4), (16, 2, 12)))
     return {"ground": ground, "moving": moving}
 
@@ -141,7 +128,7 @@ def shift_gap(b):
 
 def thin_wall(b):
     """The comb's first wall 0.2 mm thick."""
-    return part(wall=1.2) | {"ground": union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14),
+    return part(wall=1.2) | {"ground": union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14, sections=SEG),
                                              box((-10, -11, 2), (-4, -10.8, 8)),
                                              box((-10, -10.2, 2), (-4, -9.0, 8)))}, \
         np.array([(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-11.0, -10.8) for z in np.linspace(2, 8, 13)])
@@ -205,13 +192,13 @@ def test_each_mutation_fails_the_right_check_at_the_damage(sound, tmp_path, fmt,
 
 def crease():
     """A ring with a box cutting slightly into its outside (a shallow re-entrant V at the union)."""
-    ring = difference(cyl(6.0, 0, 5), cyl(4.0, -1, 6))
+    ring = difference(cyl(6.0, 0, 5, sections=SEG), cyl(4.0, -1, 6, sections=SEG))
     return union(ring, box((5.6, -2, 0), (12, 2, 5)))
 
 
 def fillet():
     """A block with a rounded (r 2) vertical edge: the box minus the corner plus a quarter cylinder."""
-    body = union(box((0, 0, 0), (8, 8, 5)), box((8, 2, 0), (10, 8, 5)), cyl(2.0, 0, 5, 8, 2))
+    body = union(box((0, 0, 0), (8, 8, 5)), box((8, 2, 0), (10, 8, 5)), cyl(2.0, 0, 5, 8, 2, sections=SEG))
     return body
 
 
@@ -227,14 +214,14 @@ def countersink():
     cone = trimesh.creation.cone(radius=3.4, height=3.4, sections=SEG)  # 45° sink, tip down
     cone.apply_transform(trimesh.transformations.rotation_matrix(np.pi, [1, 0, 0]))
     cone.apply_translation((0, 0, 4.0 + 3.4 - 1.7))
-    return difference(plate, union(cyl(1.7, -1, 5), cone))
+    return difference(plate, union(cyl(1.7, -1, 5, sections=SEG), cone))
 
 
 def near_tangent():
     """A cylinder fused to a block it overlaps by 0.1 mm (a tangent-ish CAD union: the crease opens at 15°;
     min_feature counts a gap only across faces within 10° of facing each other, so a crease sharper than
     that, e.g. a 0.02 mm overlap at 6.6°, would still be reported as a gap)."""
-    return union(box((0, -5, 0), (10, 5, 6)), cyl(3.0, 0, 6, -2.9, 0))
+    return union(box((0, -5, 0), (10, 5, 6)), cyl(3.0, 0, 6, -2.9, 0, sections=SEG))
 
 
 SOUND_SHAPES = [crease, fillet, chamfer, countersink, near_tangent]

@@ -18,7 +18,7 @@ from rjcad.check.load import PARTS_CONFIG, load_bodies
 from rjcad.check.overhang import MAX_BRIDGE_MM, check_overhang
 from rjcad.materials import get_printer
 
-from mesh_tools import box, union
+from mesh_tools import box, difference, union
 
 PRUSA = shutil.which("prusa-slicer")
 PRINTER = get_printer("generic-0.4")
@@ -151,15 +151,9 @@ def test_bridge_over_another_body_fails_the_slicer_check_there():
 
 def holed_block(section: list[tuple[float, float]]) -> trimesh.Trimesh:
     """A 16 × 12 × 10 mm block with a horizontal hole along Y of (x, z) ``section`` through it."""
-    import manifold3d as m3
-
     # both sections are convex: the hole is the hull of the section at y = −1 and at y = 13
     hole = trimesh.convex.convex_hull(np.array([(x, y, z) for x, z in section for y in (-1.0, 13.0)]))
-    block = box((-8, 0, 0), (8, 12, 10))
-    out = m3.Manifold.batch_boolean([m3.Manifold(m3.Mesh(np.asarray(m.vertices, np.float32),
-                                                         np.asarray(m.faces, np.uint32))) for m in (block, hole)],
-                                    m3.OpType.Subtract).to_mesh()
-    return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=True)
+    return difference(box((-8, 0, 0), (8, 12, 10)), hole)
 
 
 def round_section(r=1.7, z=5.0, n=48):

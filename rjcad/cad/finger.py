@@ -33,7 +33,8 @@ from rjcad.cad.joint import (
     support_pin,
     tube_path,
 )
-from rjcad.finger_lengths import base_length_min, link_length_min, shortest_lengths
+from rjcad.cad.parts import CHANNEL_ROOF
+from rjcad.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
 from rjcad.params import JOINT_DEFAULT_END, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
@@ -119,7 +120,8 @@ class FingerParams:
         z_top = max(p.z_mid for p in built)
         built = [replace(p, tendon_lift=z_top - p.z_mid) if p.layout == "desktop" else p for p in built]
         # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
-        base = float(data["base_length_mm"]) if "base_length_mm" in data else shortest_lengths(built)[0]
+        base = (float(data["base_length_mm"]) if "base_length_mm" in data
+                else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH))
         fp = cls(tuple(built), base, source, tuple(requested))
         fp.validate_lengths()
         return fp
@@ -179,8 +181,6 @@ def link_channel_points(p: JointParams, q: JointParams, length: float) -> list[t
 def m3_hole_heights(p: JointParams) -> tuple[float, float]:
     """Heights of the base's two M3 holes: 4 mm above the bed and 4 mm below the top, the upper one moved
     below the tendon's channel when it would come within a wall of it (the holes cross y = r) [mm]."""
-    from rjcad.cad.parts import CHANNEL_ROOF
-
     r_hole, r_t = M3_CLEARANCE_DIAMETER / 2, p.tendon_diameter / 2
     tip, wall = 1.0 / math.cos(CHANNEL_ROOF), p.printer_spec.min_wall_mm + 0.2
     z = p.height - 4.0
