@@ -5,22 +5,18 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-import tomllib
 from pathlib import Path
 from typing import Any
 
-from rjcad.errors import ParameterError, RjcadError
+from rjcad.errors import ParameterError
+from rjcad.untrusted import read_toml
 
 
 def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...]]) -> dict[str, Any]:
-    """Read a flat TOML table and check every key against ``allowed`` (key → type)."""
+    """Read a TOML file (rjcad.untrusted: size, depth, finite numbers) and check every top-level key against
+    ``allowed`` (key → type)."""
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise RjcadError(f"{p}: file not found") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
-        raise RjcadError(f"{p}: not valid TOML ({e})") from None
+    data = read_toml(p)
     for key, value in data.items():
         check_key(f"{p.name}: ", key, value, allowed)
     return data

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
@@ -90,14 +89,10 @@ def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | No
 
 
 def load_manifest(manifest: Manifest | dict | str | Path | None) -> Manifest | None:
-    """The manifest from a JSON file, a JSON object or a Manifest (None stays None)."""
+    """The manifest from a JSON file (``Manifest.read``: errors name the file), a JSON object or a Manifest
+    (None stays None)."""
     if isinstance(manifest, (str, Path)):
-        try:
-            manifest = json.loads(Path(manifest).read_text())
-        except FileNotFoundError:
-            raise BadInput(f"{manifest}: manifest not found") from None
-        except json.JSONDecodeError as e:
-            raise BadInput(f"{manifest}: manifest is not JSON ({e})") from None
+        return Manifest.read(manifest)
     return None if manifest is None else Manifest.coerce(manifest)
 
 

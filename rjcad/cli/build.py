@@ -79,12 +79,28 @@ def finger(template, out_dir, no_png):
     from rjcad.cad.finger import FingerParams
     from rjcad.templates import DEFAULT_FINGER
 
-    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
+    fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     b = write_finger(fp, out_dir, png=not no_png)
     m = b.manifest
     click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
                f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
     print_finger(m)
+
+
+def _template(path: str):
+    """The finger template ``path`` (read through rjcad.untrusted); a bad value names the file and its key."""
+    from pathlib import Path
+
+    from rjcad.cad.finger import FingerParams
+    from rjcad.errors import ParameterError
+
+    try:
+        return FingerParams.from_toml(path)
+    except ParameterError as e:
+        name = Path(path).name
+        if e.parameter.startswith(f"{name}: "):
+            raise
+        raise ParameterError(f"{name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
 
 def print_finger(m: dict) -> None:

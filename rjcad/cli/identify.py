@@ -6,6 +6,7 @@ import json
 
 import click
 
+from rjcad.errors import quote
 from rjcad.paper import JOINT
 
 
@@ -21,7 +22,7 @@ def _key_values(text: str, option: str) -> dict[str, float]:
                 raise ValueError
             out[key.strip()] = float(value)
         except ValueError:
-            raise click.BadParameter(f"{item!r} is not NAME=NUMBER", param_hint=option) from None
+            raise click.BadParameter(f"{quote(item)} is not NAME=NUMBER", param_hint=option) from None
     return out
 
 
@@ -66,14 +67,16 @@ def bench(effects, params, noise, seed, samples, rotation, paper, out_dir):
 @click.argument("campaign", type=click.Path(dir_okay=False))
 @click.option("--json", "json_out", type=click.Path(dir_okay=False), help="Write the result as JSON ('-': stdout).")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False), help="Write report.md and PNG plots here.")
-def identify(campaign, json_out, report_dir):
+@click.option("--allow-outside", is_flag=True,
+              help="Read data files outside the campaign file's folder (default: refused, symlinks followed).")
+def identify(campaign, json_out, report_dir, allow_outside):
     """What the design simulation gets wrong in measured data, which effects cause it, and the gain."""
     from rjcad.config import write_json
     from rjcad.identify.data import load_campaign
     from rjcad.identify.result import to_json
     from rjcad.identify.select import identify as run
 
-    camp = load_campaign(campaign)
+    camp = load_campaign(campaign, allow_outside=allow_outside)
     ident = run(camp)
     js = to_json(ident)
     if json_out == "-":

@@ -321,32 +321,17 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
 
 def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
-    import json
-    import tomllib
     from pathlib import Path
 
-    from rjcad.errors import RjcadError
+    from rjcad.manifest import Manifest
+    from rjcad.untrusted import read_toml
 
     if source is None:
         from rjcad.templates import PAPER_FINGER
 
         return model_from_template(PAPER_FINGER)
-    p = Path(source)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RjcadError(f"{source}: file not found") from None
-    except (IsADirectoryError, UnicodeDecodeError) as e:
-        raise RjcadError(f"{source}: cannot read ({e})") from None
-    if p.suffix.lower() == ".json":
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as e:
-            raise RjcadError(f"{source}: not valid JSON ({e})") from None
-        return model_from_manifest(data, mu_t=mu_t)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RjcadError(f"{source}: not valid TOML ({e})") from None
+    if Path(source).suffix.lower() == ".json":
+        return model_from_manifest(Manifest.read(source), mu_t=mu_t)
+    data = read_toml(source)
     m = model_from_template(data)
     return m if mu_t == 0 else FingerModel(**{**m.__dict__, "mu_t": mu_t})
