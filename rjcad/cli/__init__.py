@@ -15,7 +15,9 @@ identify) stay inside the command functions, so ``rjcad spring`` starts fast.
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 import traceback
 
 import click
@@ -37,11 +39,31 @@ for _command in COMMANDS:
     cli.add_command(_command)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread: a command stops as on Ctrl-C (its clean-up runs, finished work is
+    kept: a sweep writes the rows it has), then exits 143 (128 + SIGTERM) where Ctrl-C exits 130."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Console entry point: run the CLI, turn user errors into one line and exit 2."""
+    """Console entry point: run the CLI, turn user errors into one line and exit 2 (SIGINT 130, SIGTERM 143)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     args = [a for a in args if a != "--debug"]  # accepted anywhere on the line
+    on_main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if on_main else None
+    try:
+        _run(args, debug)
+    finally:
+        if on_main and previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(args: list[str], debug: bool) -> None:
+    """Run the command line ``args``; exit with its code."""
     try:
         rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
     except RjcadError as e:
@@ -49,7 +71,10 @@ def main(argv: list[str] | None = None) -> None:
             traceback.print_exc()
         click.echo(f"rjcad: error: {e}", err=True)
         sys.exit(2)
-    except click.exceptions.Abort:
+    except click.exceptions.Abort as e:
+        if isinstance(e.__cause__, Terminated):
+            click.echo("rjcad: terminated", err=True)
+            sys.exit(143)
         click.echo("rjcad: aborted", err=True)
         sys.exit(130)
     except getattr(click.exceptions, "NoArgsIsHelpError", ()) as e:
