@@ -99,6 +99,7 @@ def _build_rows(todo: list[dict], out: Path, log_path: Path, workers: int | None
     """Build mode: run the tasks, each row appended to the log ``log_path`` as it comes (kept by an
     interrupted run; an earlier interrupted run's rows stay in it too, until a run finishes)."""
     workers = (os.cpu_count() or 1) if workers is None else workers
+    mesh_dir = check_writable(out / "meshes") if keep_meshes else None
     try:
         out.mkdir(parents=True, exist_ok=True)
         cut = log_path.exists() and not _ends_a_line(log_path)
@@ -107,17 +108,22 @@ def _build_rows(todo: list[dict], out: Path, log_path: Path, workers: int | None
             log.write("\n")  # after a line the interruption cut, so that the next row starts a line of its own
     except OSError as e:
         raise cannot_write(log_path, e) from None
-    with log:
-        def keep(row):
-            new_rows.append(row)
-            try:
-                log.write(json.dumps(row, default=str) + "\n")
-                log.flush()
-            except OSError as e:
-                raise cannot_write(log_path, e) from None
 
-        mesh_dir = str(out / "meshes") if keep_meshes else None
-        run_tasks(build_task, todo, workers, scheduler, progress, keep, mesh_dir=mesh_dir)
+    def keep(row):
+        new_rows.append(row)
+        try:
+            log.write(json.dumps(row, default=str) + "\n")
+            log.flush()
+        except OSError as e:
+            raise cannot_write(log_path, e) from None
+
+    try:
+        with log:
+            run_tasks(build_task, todo, workers, scheduler, progress, keep,
+                      mesh_dir=str(mesh_dir) if mesh_dir else None)
+    finally:
+        if log_path.exists() and log_path.stat().st_size == 0:
+            log_path.unlink()  # no row came: leave no empty log behind
 
 
 def _finish(out: Path, points: list[dict], rows: list[dict], build: bool, notes: list[str],
