@@ -16,7 +16,10 @@ identify) stay inside the command functions, so ``rjcad spring`` starts fast.
 
 from __future__ import annotations
 
+import re
+import signal
 import sys
+import threading
 import traceback
 import warnings
 
@@ -43,17 +46,42 @@ for _command in COMMANDS:
 MAX_ERROR_CHARS = 1000
 
 
+LONG_WORD = 120
+
+
 def _line(text: str) -> str:
-    """``text`` on one line, cut to MAX_ERROR_CHARS (click quotes a bad option value whole)."""
+    """``text`` on one line: a word over LONG_WORD characters (click quotes a bad value whole) keeps its
+    first and last 50 (a long path keeps its file name); the whole cut to MAX_ERROR_CHARS."""
     text = " ".join(text.split()) if "\n" in text or "\r" in text else text
+    text = re.sub(rf"\S{{{LONG_WORD + 1},}}", lambda m: m.group(0)[:50] + "…" + m.group(0)[-50:], text)
     return text if len(text) <= MAX_ERROR_CHARS else text[:MAX_ERROR_CHARS] + "…"
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread: a command stops as on Ctrl-C (its clean-up runs, finished work is
+    kept: a sweep writes the rows it has), then exits 143 (128 + SIGTERM) where Ctrl-C exits 130."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Console entry point: run the CLI, turn user errors into one line and exit 2."""
+    """Console entry point: run the CLI, turn user errors into one line and exit 2 (SIGINT 130, SIGTERM 143)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     args = [a for a in args if a != "--debug"]  # accepted anywhere on the line
+    on_main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if on_main else None
+    try:
+        _run(args, debug)
+    finally:
+        if on_main and previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(args: list[str], debug: bool) -> None:
+    """Run the command line ``args``; exit with its code."""
     try:
         with warnings.catch_warnings():
             if not debug:   # a stray library warning is not the user's business; --debug shows it
@@ -64,7 +92,16 @@ def main(argv: list[str] | None = None) -> None:
             traceback.print_exc()
         click.echo(f"rjcad: error: {_line(str(e))}", err=True)
         sys.exit(2)
-    except click.exceptions.Abort:
+    except OSError as e:  # a file the command was given cannot be read (name too long, a device, …)
+        if debug:
+            traceback.print_exc()
+        where = f"{e.filename}: " if e.filename else ""
+        click.echo(f"rjcad: error: {_line(where + (e.strerror or str(e)))}", err=True)
+        sys.exit(2)
+    except click.exceptions.Abort as e:
+        if isinstance(e.__cause__, Terminated):
+            click.echo("rjcad: terminated", err=True)
+            sys.exit(143)
         click.echo("rjcad: aborted", err=True)
         sys.exit(130)
     except getattr(click.exceptions, "NoArgsIsHelpError", ()) as e:

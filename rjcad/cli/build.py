@@ -43,10 +43,13 @@ def _bodies(m: dict) -> tuple[str, str, str]:
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
-    from rjcad.cad.build import write_joint
+    from rjcad.outputs import check_writable
     from rjcad.params import JointParams
 
     params = JointParams(**merge_config(options, config, FIELDS))
+    check_writable(out_dir)  # before CadQuery is even imported
+    from rjcad.cad.build import write_joint
+
     b = write_joint(params, out_dir, png=not no_png)
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     print_joint(b.manifest)
@@ -75,11 +78,14 @@ def print_joint(m: dict) -> None:
 def finger(template, out_dir, no_png):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.cad.build import write_finger
     from rjcad.cad.finger import FingerParams
+    from rjcad.outputs import check_writable
     from rjcad.templates import DEFAULT_FINGER
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
+    check_writable(out_dir)
+    from rjcad.cad.build import write_finger
+
     b = write_finger(fp, out_dir, png=not no_png)
     m = b.manifest
     click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
