@@ -43,6 +43,7 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
     raw = data.encode("utf-8") if isinstance(data, str) else data
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
+        parent = os.stat(path.parent)  # its times come back if the write fails: an earlier run untouched
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     except OSError as e:
         raise cannot_write(path, e) from None
@@ -55,6 +56,10 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
         os.replace(tmp, path)
     except BaseException as e:
         Path(tmp).unlink(missing_ok=True)
+        try:
+            os.utime(path.parent, ns=(parent.st_atime_ns, parent.st_mtime_ns))
+        except OSError:
+            pass
         if isinstance(e, OSError):
             raise cannot_write(path, e) from None
         raise

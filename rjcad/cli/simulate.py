@@ -95,6 +95,12 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
                    f"mean loop width {np.mean(y[d > 0]) - np.mean(y[d < 0]):.3f}")
 
 
+#: Tendon stroke a finger simulation accepts [mm] (a finger closes within tens of mm) and the
+#: tendon friction coefficient (dry polymer on polymer is 0.1–0.5).
+MAX_STROKE_MM = 1000.0
+MAX_MU_T = 2.0
+
+
 @simulate.command("finger")
 @click.argument("source", required=False, type=click.Path(dir_okay=False))
 @click.option("--stroke", type=float, default=FINGER.stroke, show_default=True, help="Tendon displacement [mm].")
@@ -108,8 +114,10 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
 
     from rjcad.physics.finger import load_finger_model, simulate_stroke
 
-    if stroke <= 0:
-        raise click.BadParameter("must be > 0 mm", param_hint="--stroke")
+    from rjcad.validate import in_range
+
+    in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
+    in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
     model = load_finger_model(source, mu_t=mu_t)
     c = simulate_stroke(model, stroke, steps=steps)
     if plot:

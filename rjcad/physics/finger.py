@@ -319,6 +319,20 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
     return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
 
 
+def _check_template_keys(data: dict, name: str) -> None:
+    """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
+    from rjcad.config import check_key
+    from rjcad.templates import FINGER_JOINT_KEYS, FINGER_KEYS
+
+    for key, value in data.items():
+        check_key(f"{name}: ", key, value, FINGER_KEYS)
+    tables = [("defaults.", data.get("defaults", {}))]
+    tables += [(f"joint[{i}].", j) for i, j in enumerate(data.get("joint", []), start=1) if isinstance(j, dict)]
+    for where, table in tables:
+        for key, value in table.items():
+            check_key(f"{name}: {where}", key, value, FINGER_JOINT_KEYS)
+
+
 def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
     from pathlib import Path
@@ -333,5 +347,6 @@ def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     if Path(source).suffix.lower() == ".json":
         return model_from_manifest(Manifest.read(source), mu_t=mu_t)
     data = read_toml(source)
+    _check_template_keys(data, Path(source).name)
     m = model_from_template(data)
     return m if mu_t == 0 else FingerModel(**{**m.__dict__, "mu_t": mu_t})

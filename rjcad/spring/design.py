@@ -91,7 +91,8 @@ class SpringRequirement:
         _angle("preload", self.preload, 0, False, "must be >= 0 and <= 360 deg")
         in_range("safety_factor", self.safety_factor, 1.0, 100.0, limit="must be >= 1 and <= 100")
         for name in ("width_min", "width_max", "inner_radius_min", "inner_radius_max", "outer_radius_max"):
-            in_range(name, getattr(self, name), 0.01, 1000, limit="must be >= 0.01 and <= 1000 mm")
+            shown = "max_outer_radius" if name == "outer_radius_max" else name  # as the CLI and TOML spell it
+            in_range(shown, getattr(self, name), 0.01, 1000, limit="must be >= 0.01 and <= 1000 mm")
         in_range("width_max", self.width_max, self.width_min, limit=f"must be >= width_min = {self.width_min} mm")
         in_range("inner_radius_max", self.inner_radius_max, self.inner_radius_min,
                  limit=f"must be >= inner_radius_min = {self.inner_radius_min} mm")
