@@ -145,7 +145,8 @@ def _pairs(bodies, search: float):
                 yield i, j
 
 
-def check_clearance(bodies, names, mans, clearance: float, allowance: float, copies: Copies | None = None) -> CheckResult:
+def check_clearance(bodies, names, mans, clearance: float, allowance: float,
+                    copies: Copies | None = None) -> CheckResult:
     """Every pair of bodies: min gap ≥ clearance − allowance and no overlap.
 
     Each pair is screened on the coarse copies (``rjcad.check.copies``); pairs that come near are intersected
