@@ -134,22 +134,21 @@ def whole_check(stl: Path, manifest: Path) -> dict:
             "big_check_exit_code": int(code)}
 
 
-def scaling(quick: bool) -> dict:
-    """Each check's seconds on the refined joints, their fitted exponents, and the whole check on the largest."""
+def scaling(d: Path, quick: bool) -> dict:
+    """Each check's seconds on the default joint written in ``d`` and on its refinements, their fitted exponents,
+    and the whole check on the largest."""
     levels = LEVELS[:1] if quick else LEVELS
-    with tempfile.TemporaryDirectory() as d:
-        write_joint(JointParams(), d, png=False)
-        bodies, _ = chk.load_bodies(Path(d) / "joint.stl")
-        manifest, stl = Path(d) / "joint.json", Path(d) / "joint.stl"
-        sizes, rows = [int(sum(len(b.faces) for b in bodies))], [time_checks(stl, manifest)]
-        for lv in levels:
-            stl = Path(d) / "refined.stl"
-            mesh = refined(bodies, lv)
-            mesh.export(stl)
-            sizes.append(len(mesh.faces))
-            del mesh
-            rows.append(time_checks(stl, manifest))
-        whole = whole_check(stl, manifest)
+    bodies, _ = chk.load_bodies(d / "joint.stl")
+    manifest, stl = d / "joint.json", d / "joint.stl"
+    sizes, rows = [int(sum(len(b.faces) for b in bodies))], [time_checks(stl, manifest)]
+    for lv in levels:
+        stl = d / "refined.stl"
+        mesh = refined(bodies, lv)
+        mesh.export(stl)
+        sizes.append(len(mesh.faces))
+        del mesh
+        rows.append(time_checks(stl, manifest))
+    whole = whole_check(stl, manifest)
     names = list(rows[0][0])
     exponent = {k: float(np.polyfit(np.log(sizes), np.log([max(cpu[k], 1e-6) for _, cpu in rows]), 1)[0])
                 for k in names}
@@ -177,6 +176,7 @@ def main() -> None:
         write_joint(JointParams(), d, png=False)
         bodies, _ = chk.load_bodies(Path(d) / "joint.stl")
         manifest = json.loads((Path(d) / "joint.json").read_text())
+        scale = scaling(Path(d), args.quick)
     names = chk.name_bodies(bodies, None, manifest)
     _, mans = chk.check_manifold(bodies, names)
     prn = get_printer("generic-0.4")
@@ -184,7 +184,6 @@ def main() -> None:
     t_clear, _ = median_time(lambda: chk.check_clearance(bodies, names, mans, 0.25, 0.02), args.repeats)
     t_feat, _ = median_time(lambda: chk.check_min_feature(bodies, names, prn, 0.02), args.repeats)
     prints = print_checks(args.quick, args.repeats)
-    scale = scaling(args.quick)
     big = scale["big_mesh_triangles"] >= BIG_TRIANGLES
     out = {
         "solid_mesh_triangles": tris,
