@@ -1,11 +1,22 @@
-"""Check benchmark: watertight + manifold throughput, motion sweep and clearance times, and the two
-printing checks (overhang; slicer with supports off, PrusaSlicer included) on the default finger.
+"""Check benchmark: watertight + manifold throughput, motion sweep and clearance times, the two printing
+checks (overhang; slicer with supports off, PrusaSlicer included) on the default finger, and the whole
+`rjcad check` on a big two-body mesh with how each check's time grows with the triangle count.
 
-Prints one JSON object (medians of --repeats after a warm-up). Targets: watertight + manifold
->= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion sweep <= 2 s; the overhang
-check on the default finger <= 1 s (first call on fresh meshes: ray structures built inside); the
-slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with --quick, nor
-without prusa-slicer).
+The big mesh is the default joint with each body's triangles split at their edge midpoints (same shape,
+4× the triangles per level; levels per body (0, 1), (1, 2), (2, 3), (3, 4): 26 k to 1.7 M triangles), written
+as an STL beside the joint's manifest, so that the motion sweep and the clearance run as for a real build.
+Each check is timed in-process on every size (wall and CPU seconds) and its growth fitted as CPU time ∝
+triangles^exponent (`check_scaling_exponent`: CPU time, which other processes on the cores do not inflate);
+the whole `rjcad check --json` runs as a subprocess on the largest size (wall time, CPU time and peak RSS of
+that process). The slicer is not part of these: `rjcad check` runs PrusaSlicer only
+with `--slicer prusa`.
+
+Prints one JSON object (medians of --repeats after a warm-up; the big-mesh figures are single runs).
+Targets: watertight + manifold >= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion
+sweep <= 2 s; the overhang check on the default finger <= 1 s (first call on fresh meshes: ray structures
+built inside); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
+--quick, nor without prusa-slicer); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
+<= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
 """
 
@@ -14,15 +25,20 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import resource
 import shutil
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import trimesh
 
 from _timing import emit, median_time, parse_args, target
 
 from rjcad import check as chk
+from rjcad.check.copies import simplified
 from rjcad.cad.build import build_finger_model, write_joint
 from rjcad.params import JointParams
 from rjcad.materials import get_printer
@@ -51,6 +67,96 @@ def print_checks(quick: bool, repeats: int) -> dict:
     return out
 
 
+#: Subdivision levels of the default joint's two bodies (largest body first) per size; 26 k … 1.7 M triangles.
+LEVELS = [(0, 1), (1, 2), (2, 3), (3, 4)]
+BIG_TRIANGLES = 1_500_000
+
+
+def refined(bodies: list[trimesh.Trimesh], levels) -> trimesh.Trimesh:
+    """The bodies with each triangle split at its edge midpoints ``levels[k]`` times (same shape), as one mesh."""
+    out = []
+    for b, n in zip(bodies, levels):
+        v, f = b.vertices, b.faces
+        for _ in range(n):
+            v, f = trimesh.remesh.subdivide(v, f)
+        out.append(trimesh.Trimesh(v, f, process=False))
+    return trimesh.util.concatenate(out)
+
+
+def _cpu() -> float:
+    u = resource.getrusage(resource.RUSAGE_SELF)
+    return u.ru_utime + u.ru_stime
+
+
+def time_checks(stl: Path, manifest: Path) -> tuple[dict[str, float], dict[str, float]]:
+    """Wall and CPU seconds of each check (and of loading the file) on one mesh, as `run_checks` runs them (one run
+    each). CPU time is what the check costs; wall time also holds what other processes take from the cores."""
+    man = chk.load_manifest(manifest)
+    wall, cpu = {}, {}
+
+    def run(name, fn):
+        c0 = _cpu()
+        wall[name], out = median_time(fn, 1, warmup=0)
+        cpu[name] = _cpu() - c0
+        return out
+
+    bodies, names = run("load", lambda: chk.load_bodies(stl))
+    names = chk.name_bodies(bodies, names, man)
+    prn, cl = get_printer(man.printer), float(man.clearance_mm)
+    run("watertight", lambda: chk.check_watertight(bodies, names))
+    _, mans = run("manifold", lambda: chk.check_manifold(bodies, names))
+    run("bodies", lambda: chk.check_bodies(bodies, len(man.bodies)))
+    copies = run("simplify", lambda: simplified(mans))
+    run("clearance", lambda: chk.check_clearance(bodies, names, mans, cl, 0.02, copies))
+    run("motion", lambda: chk.check_motion(bodies, names, mans, man, cl, prn, copies))
+    run("min_feature", lambda: chk.check_min_feature(bodies, names, prn, 0.02))
+    run("bed", lambda: chk.check_bed(bodies, prn))
+    run("overhang", lambda: chk.check_overhang(bodies, names, prn))
+    return wall, cpu
+
+
+#: Runs a command and prints its peak RSS [kB], CPU seconds and exit code. A child forked from this small process
+#: measures only itself: Linux keeps the RSS high-water mark across exec, so a child of the benchmark would
+#: inherit the benchmark's size.
+LAUNCH = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL, "
+          "stderr=subprocess.DEVNULL); _, s, u = os.wait4(p.pid, 0); "
+          "print(u.ru_maxrss, u.ru_utime + u.ru_stime, os.waitstatus_to_exitcode(s))")
+
+
+def whole_check(stl: Path, manifest: Path) -> dict:
+    """Wall and CPU seconds, peak RSS [GB] and exit code of `rjcad check STL --manifest M --json` in its own process."""
+    cmd = [sys.executable, "-c", LAUNCH, sys.executable, "-m", "rjcad", "check", str(stl), "--manifest",
+           str(manifest), "--json"]
+    secs, out = median_time(lambda: subprocess.run(cmd, capture_output=True, text=True, check=True).stdout, 1,
+                            warmup=0)
+    rss_kb, cpu, code = out.split()
+    return {"big_check_s": secs, "big_check_cpu_s": float(cpu), "big_check_peak_rss_gb": int(rss_kb) / 2 ** 20,
+            "big_check_exit_code": int(code)}
+
+
+def scaling(d: Path, quick: bool) -> dict:
+    """Each check's seconds on the default joint written in ``d`` and on its refinements, their fitted exponents,
+    and the whole check on the largest."""
+    levels = LEVELS[:1] if quick else LEVELS
+    bodies, _ = chk.load_bodies(d / "joint.stl")
+    manifest, stl = d / "joint.json", d / "joint.stl"
+    sizes, rows = [int(sum(len(b.faces) for b in bodies))], [time_checks(stl, manifest)]
+    for lv in levels:
+        stl = d / "refined.stl"
+        mesh = refined(bodies, lv)
+        mesh.export(stl)
+        sizes.append(len(mesh.faces))
+        del mesh
+        rows.append(time_checks(stl, manifest))
+    whole = whole_check(stl, manifest)
+    names = list(rows[0][0])
+    exponent = {k: float(np.polyfit(np.log(sizes), np.log([max(cpu[k], 1e-6) for _, cpu in rows]), 1)[0])
+                for k in names}
+    return {"check_triangles": sizes, "check_seconds": {k: [w[k] for w, _ in rows] for k in names},
+            "check_cpu_seconds": {k: [c[k] for _, c in rows] for k in names}, "check_scaling_exponent": exponent,
+            "big_mesh_triangles": sizes[-1], **whole}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
@@ -70,6 +176,7 @@ def main() -> None:
         write_joint(JointParams(), d, png=False)
         bodies, _ = chk.load_bodies(Path(d) / "joint.stl")
         manifest = json.loads((Path(d) / "joint.json").read_text())
+        scale = scaling(Path(d), args.quick)
     names = chk.name_bodies(bodies, None, manifest)
     _, mans = chk.check_manifold(bodies, names)
     prn = get_printer("generic-0.4")
@@ -77,6 +184,7 @@ def main() -> None:
     t_clear, _ = median_time(lambda: chk.check_clearance(bodies, names, mans, 0.25, 0.02), args.repeats)
     t_feat, _ = median_time(lambda: chk.check_min_feature(bodies, names, prn, 0.02), args.repeats)
     prints = print_checks(args.quick, args.repeats)
+    big = scale["big_mesh_triangles"] >= BIG_TRIANGLES
     out = {
         "solid_mesh_triangles": tris,
         "watertight_manifold_s": t_solid,
@@ -88,12 +196,15 @@ def main() -> None:
         "joint_min_feature_s": t_feat,
         "min_feature_s_per_100k_triangles": t_feat / (sum(len(b.faces) for b in bodies) / 1e5),
         **prints,
+        **scale,
         "repeats": args.repeats,
         "targets": {
             "watertight_manifold_tri_per_s": target(tris / t_solid if tris >= 1_000_000 else None, at_least=1e6),
             "joint_motion_sweep_s": target(t_motion, at_most=2.0),
             "finger_overhang_s": target(prints["finger_overhang_s"], at_most=1.0),
             "finger_slicer_s": target(prints["finger_slicer_s"], at_most=30.0),
+            "big_check_s": target(scale["big_check_s"] if big else None, at_most=60.0),
+            "big_check_peak_rss_gb": target(scale["big_check_peak_rss_gb"] if big else None, at_most=4.0),
         },
     }
     emit(out)

@@ -5,22 +5,19 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-import tomllib
 from pathlib import Path
 from typing import Any
 
 from rjcad.errors import ParameterError, RjcadError
+from rjcad.outputs import cannot_write
+from rjcad.untrusted import read_toml
 
 
 def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...]]) -> dict[str, Any]:
-    """Read a flat TOML table and check every key against ``allowed`` (key → type)."""
+    """Read a TOML file (rjcad.untrusted: size, depth, finite numbers) and check every top-level key against
+    ``allowed`` (key → type)."""
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise RjcadError(f"{p}: file not found") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
-        raise RjcadError(f"{p}: not valid TOML ({e})") from None
+    data = read_toml(p)
     for key, value in data.items():
         check_key(f"{p.name}: ", key, value, allowed)
     return data
@@ -38,11 +35,18 @@ def check_key(where: str, key: str, value, allowed: dict[str, type | tuple[type,
 
 
 def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
-    """Write ``data`` to a temporary file beside ``path``, then rename it into place."""
+    """Write ``data`` to a temporary file beside ``path``, then rename it into place.
+
+    A path that cannot be written is an ``OutputError`` naming it and the system's reason; nothing is left.
+    """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     raw = data.encode("utf-8") if isinstance(data, str) else data
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        parent = os.stat(path.parent)  # its times come back if the write fails: an earlier run untouched
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as e:
+        raise cannot_write(path, e) from None
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(raw)
@@ -50,8 +54,14 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as e:
         Path(tmp).unlink(missing_ok=True)
+        try:
+            os.utime(path.parent, ns=(parent.st_atime_ns, parent.st_mtime_ns))
+        except OSError:
+            pass
+        if isinstance(e, OSError):
+            raise cannot_write(path, e) from None
         raise
     return path
 

@@ -1,4 +1,42 @@
-"""Errors that the CLI turns into one line on stderr and exit code 2."""
+"""Errors that the CLI turns into one line on stderr and exit code 2; ``quote`` shows a user's value in one."""
+
+import math
+import reprlib
+
+#: Longest value (and parameter name) an error line quotes: a prefix, then "…".
+QUOTE_CHARS = 60
+
+
+class _Short(reprlib.Repr):
+    """reprlib with short strings, few items, shallow nesting, and integers of any length."""
+
+    def __init__(self):
+        super().__init__()
+        self.maxlevel, self.maxlist, self.maxtuple, self.maxdict, self.maxset = 3, 6, 6, 6, 6
+        self.maxstring = self.maxother = self.maxlong = 4 * QUOTE_CHARS
+
+    def repr_int(self, x, level):
+        bits = abs(x).bit_length()
+        if bits <= 200:
+            return repr(x)
+        digits = int((bits - 1) * math.log10(2)) + 1   # Python refuses to print more than 4300 digits
+        return f"<an integer of {digits + (abs(x) >= 10**digits)} digits>"
+
+
+_SHORT = _Short()
+
+
+def quote(value, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
+    """A user's value for an error line: its repr (``str`` if not ``repr_``) on one line, cut to ``limit``
+    characters + "…"; a float as ``%g``; containers shortened (few items, shallow)."""
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, str) and not repr_:
+        text = value[:4 * limit]
+    else:
+        text = _SHORT.repr(value)
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit] + "…"
 
 
 class RjcadError(Exception):
@@ -16,8 +54,8 @@ class ParameterError(RjcadError, ValueError):
         self.value = value
         self.limit = limit
         self.unit = unit
-        shown = f"{value:g}" if isinstance(value, float) else repr(value)
-        super().__init__(f"{parameter} = {shown}{' ' + unit if unit else ''} is invalid: {limit}")
+        super().__init__(f"{quote(parameter, 2 * QUOTE_CHARS, repr_=False)} = {quote(value)}"
+                         f"{' ' + unit if unit else ''} is invalid: {limit}")
 
 
 class InfeasibleDesign(RjcadError):

@@ -13,15 +13,21 @@ Schema versions:
 
 Keys the readers do not need (``spring`` at the top, ``frame``, ``gaps_mm``, ``mesh``, ``print`` …)
 round-trip through ``extra``. ``None`` in a typed field means the key is absent. Lengths in mm,
-angles in the unit their key names.
+angles in the unit their key names. A typed number must be finite and within ``LIMITS`` (a clearance in
+``CLEARANCE_MM``, a rotation in (0, 360] deg, a volume > 0 …); an axis direction must not be zero. A file is
+read through ``Manifest.read`` (rjcad.untrusted): every error names the file and the key.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
+import os
 from dataclasses import dataclass, field
 
-from rjcad.errors import ParameterError
+from rjcad.errors import ParameterError, quote
+from rjcad.untrusted import read_json
+from rjcad.validate import default_limit
 
 #: Version written by ``Manifest.to_json``; ``from_json`` also reads 0 (no version key).
 SCHEMA_VERSION = 1
@@ -54,12 +60,39 @@ KEY_ORDER = {
 }
 
 
-class ManifestError(ParameterError):
-    """A manifest key is missing or has the wrong type: ``manifest: <key path> <problem>``."""
+#: Clearances a manifest may state, and ``rjcad check --clearance`` may ask for [mm]: below 0.1 mm no FDM
+#: printer keeps two bodies apart (and the motion sweep, whose step is half the clearance, would need
+#: thousands of poses); above 5 mm the gap is no print-in-place clearance.
+CLEARANCE_MM = (0.1, 5.0)
 
-    def __init__(self, key: str, value, problem: str):
+#: Range of a typed number: field → (low, high, low open, unit). Absent: any finite number.
+LIMITS = {
+    "clearance_mm": (*CLEARANCE_MM, False, "mm"),
+    "volume_mm3": (0.0, None, True, "mm³"),
+    "mass_g": (0.0, None, False, "g"),
+    "rotation_deg": (0.0, 360.0, True, "deg"),
+    "preload_deg": (-360.0, 360.0, False, "deg"),
+    "joint_stiffness_nmm_per_rad": (0.0, None, True, "N·mm/rad"),
+    "requested_stiffness_nmm_per_rad": (0.0, None, True, "N·mm/rad"),
+    "link_length_mm": (0.0, None, True, "mm"),
+    "tendon_moment_arm_mm": (0.0, None, True, "mm"),
+    "tendon_wrap_angle_rad": (0.0, None, False, "rad"),
+    "height_mm": (0.0, None, True, "mm"),
+}
+
+
+class ManifestError(ParameterError):
+    """A manifest key is missing, has the wrong type or is out of range: ``<source>: <key path> <problem>``
+    (``source`` is the file, or "manifest" for an object given in memory)."""
+
+    def __init__(self, key: str, value, problem: str, source: str = "manifest"):
         super().__init__(key, value, problem)
-        self.args = (f"manifest: {key} {problem}",)
+        self.problem, self.source = problem, source
+        self.args = (f"{source}: {quote(key, 120, repr_=False)} {problem}",)
+
+    def at(self, source: str | os.PathLike) -> "ManifestError":
+        """The same error, naming the file ``source``."""
+        return ManifestError(self.parameter, self.value, self.problem, str(source))
 
 
 # --------------------------------------------------------------------------
@@ -68,7 +101,8 @@ class ManifestError(ParameterError):
 
 
 def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
+    """A finite int or float (not a bool)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
 def _vector(v) -> bool:
@@ -79,7 +113,7 @@ def _vector(v) -> bool:
 #: strings (``from __future__ import annotations`` above): a field's type is its JSON schema.
 _KINDS = {
     "str": (lambda v: isinstance(v, str), "must be a string"),
-    "float": (_is_number, "must be a number"),
+    "float": (_is_number, "must be a finite number"),
     "list[float]": (_vector, "must be a list of 3 numbers"),
     "dict": (lambda v: isinstance(v, dict), "must be an object"),
 }
@@ -96,16 +130,26 @@ def _typed_fields(cls) -> list[tuple[str, str, bool]]:
 
 
 def _check(kind: str, value, path: str):
+    """``value`` if it is of ``kind`` and within the LIMITS of its field (the last part of ``path``)."""
     test, must = _KINDS[kind]
-    if value is not None and not test(value):
-        raise ManifestError(path, value, f"{must}, not {value!r}")
-    return list(value) if kind == "list[float]" and value is not None else value
+    if value is None:
+        return None
+    if not test(value):
+        raise ManifestError(path, value, f"{must}, not {quote(value)}")
+    name = path.rsplit(".", 1)[-1]
+    if name in LIMITS:
+        lo, hi, lo_open, unit = LIMITS[name]
+        if (value <= lo if lo_open else value < lo) or (hi is not None and value > hi):
+            raise ManifestError(path, value, f"{default_limit(lo, hi, unit, lo_open=lo_open)}, not {quote(value)}")
+    if name == "axis_dir" and math.hypot(*value) < 1e-9:
+        raise ManifestError(path, value, f"must be a non-zero direction, not {quote(value)}")
+    return list(value) if kind == "list[float]" else value
 
 
 def _read(cls, data, path: str):
     """``cls`` from a JSON object: typed fields checked, other keys into ``extra``."""
     if not isinstance(data, dict):
-        raise ManifestError(path.rstrip("."), data, f"must be an object, not {data!r}")
+        raise ManifestError(path.rstrip("."), data, f"must be an object, not {quote(data)}")
     values, extra = {}, {}
     kinds = {name: (kind, req) for name, kind, req in _typed_fields(cls)}
     for key, v in data.items():
@@ -219,13 +263,27 @@ class Manifest:
 
     # --- reading ---------------------------------------------------------------
     @classmethod
-    def from_json(cls, data) -> "Manifest":
-        """The manifest of a JSON object of version 1 or 0; one ``ManifestError`` line naming a bad key."""
+    def read(cls, path: str | os.PathLike) -> "Manifest":
+        """The manifest in the JSON file ``path`` (rjcad.untrusted); one error line naming the file (and key)."""
+        return cls.from_json(read_json(path), source=path)
+
+    @classmethod
+    def from_json(cls, data, source: str | os.PathLike | None = None) -> "Manifest":
+        """The manifest of a JSON object of version 1 or 0; one ``ManifestError`` line naming a bad key (and
+        ``source``, the file it came from, if given)."""
+        try:
+            return cls._from_json(data)
+        except ManifestError as e:
+            raise (e.at(source) if source is not None else e) from None
+
+    @classmethod
+    def _from_json(cls, data) -> "Manifest":
         if not isinstance(data, dict):
-            raise ParameterError("manifest", type(data).__name__, "must be a JSON object")
+            raise ManifestError("manifest", type(data).__name__,
+                                f"must be a JSON object, not {_JSON_TYPES.get(type(data), type(data).__name__)}")
         version = data.get("schema_version", 0)
         if not _is_number(version) or version not in (0, SCHEMA_VERSION):
-            raise ManifestError("schema_version", version, f"is {version!r}: this rjcad reads versions 0 to "
+            raise ManifestError("schema_version", version, f"is {quote(version)}: this rjcad reads versions 0 to "
                                 f"{SCHEMA_VERSION} (was the file written by a newer rjcad?)")
         version = int(version)
         if version and "joints" not in data:
@@ -265,6 +323,10 @@ class Manifest:
         return self.to_json().get(key, default)
 
 
+_JSON_TYPES = {list: "an array", str: "a string", int: "a number", float: "a number", bool: "a boolean",
+               type(None): "null"}
+
+
 def _bodies(data) -> list[BodyEntry] | None:
     if data is None:
         return None
@@ -298,4 +360,4 @@ def _drop_mirrored(rest: dict, joints: list[JointEntry]) -> None:
         if k in rest:
             v = rest.pop(k)
             if entry.get(f) != v:
-                raise ManifestError(k, v, f"= {v!r} disagrees with joints[1].{f} = {entry.get(f)!r}")
+                raise ManifestError(k, v, f"= {quote(v)} disagrees with joints[1].{f} = {quote(entry.get(f))}")

@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from rjcad.errors import ParameterError
+from rjcad.validate import in_range
 
 DEFAULT_MATERIAL = "absplus-p430"
 DEFAULT_PRINTER = "generic-0.4"
@@ -61,6 +62,13 @@ class Printer:
     soluble_support: bool
     build_volume_mm: tuple[float, float, float]
     source: str
+
+    def check_gap(self, name: str, gap) -> float:
+        """``gap`` [mm] if this printer prints it between bodies side by side (>= ``min_gap_mm``), else
+        ParameterError naming ``name``."""
+        return in_range(name, gap, self.min_gap_mm, unit="mm", tol=1e-12, not_a_number="must be a number",
+                        limit=f"must be >= {self.min_gap_mm:g} mm on {self.key}: the smallest gap it prints "
+                              "side by side (its min_gap_mm)")
 
     @property
     def bed_length(self) -> float:

@@ -135,6 +135,7 @@ class JointParams:
             _check(name, value, lo, hi, unit)
         object.__setattr__(self, "material", get_material(self.material).key)
         object.__setattr__(self, "printer", get_printer(self.printer).key)
+        self.printer_spec.check_gap("clearance", self.clearance)
         if self.tendon_line_diameter >= self.tendon_diameter:
             raise ParameterError("tendon_diameter", self.tendon_diameter,
                                  f"must be larger than the tendon line ({self.tendon_line_diameter} mm)")

@@ -2,6 +2,18 @@
 
 from rjcad.paper import FINGER
 
+#: A finger template's keys and their types (the builder and the physics read the same files).
+FINGER_KEYS = {
+    "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
+    "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str, "layout": str,
+    "defaults": dict, "joint": list,
+}
+#: Keys of ``[defaults]`` and of each ``[[joint]]``.
+FINGER_JOINT_KEYS = {
+    "stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "rotation_deg": (int, float),
+    "link_length_mm": (int, float), "tendon_moment_arm_mm": (int, float),
+}
+
 #: The paper's finger (Sec. V, rjcad.paper.FINGER) as the paper printed it: 40 mm links on the Dimension
 #: Elite with soluble support, so the stacked layout and its 0.25 mm clearance. The physics commands use it.
 PAPER_FINGER = {

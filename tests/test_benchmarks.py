@@ -15,8 +15,11 @@ import pytest
 BENCHMARKS = {
     "check": ({"solid_mesh_triangles", "watertight_manifold_s", "watertight_manifold_tri_per_s", "joint_triangles",
                "joint_motion_sweep_s", "joint_motion_poses", "joint_clearance_s", "joint_min_feature_s", "repeats",
-               "finger_triangles", "finger_overhang_s", "finger_slicer_s"},
-              {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s"}),
+               "finger_triangles", "finger_overhang_s", "finger_slicer_s", "check_triangles", "check_seconds",
+               "check_cpu_seconds", "check_scaling_exponent", "big_mesh_triangles", "big_check_s", "big_check_cpu_s",
+               "big_check_peak_rss_gb"},
+              {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s",
+               "big_check_s", "big_check_peak_rss_gb"}),
     "finger": ({"median_build_s", "median_build_tessellate_measure_s", "ratio_time_n_over_n_time_1",
                 "ratio_full_n_over_n_full_1", "repeats"},
                {"worst_ratio_time_n_over_n_time_1"}),
@@ -94,6 +97,15 @@ def check_check(d):
     assert d["joint_motion_poses"] > 0
     assert d["targets"]["watertight_manifold_tri_per_s"]["value"] is None  # quick: far below the 1M-triangle mesh
     assert d["targets"]["finger_slicer_s"]["value"] is None  # quick: no slicing
+    sizes = d["check_triangles"]
+    assert sizes == sorted(sizes) and sizes[-1] == d["big_mesh_triangles"] and sizes[-1] > sizes[0]
+    checks = {"load", "watertight", "manifold", "bodies", "simplify", "clearance", "motion", "min_feature", "bed",
+              "overhang"}
+    assert set(d["check_seconds"]) == set(d["check_cpu_seconds"]) == set(d["check_scaling_exponent"]) == checks
+    assert all(len(v) == len(sizes) and min(v) > 0 for v in d["check_seconds"].values())
+    assert all(len(v) == len(sizes) and min(v) >= 0 for v in d["check_cpu_seconds"].values())
+    assert d["big_check_exit_code"] == 0  # the refined joint passes every check
+    assert d["targets"]["big_check_s"]["value"] is None  # quick: far below 1.5 M triangles
 
 
 EXTRA = {"identify": check_identify, "physics": check_physics, "finger": check_finger, "check": check_check}
@@ -104,7 +116,7 @@ def test_benchmark_reports_its_keys_and_targets(root, name):
     keys, targets = BENCHMARKS[name]
     d = quick_run(root, name)
     assert keys <= set(d), keys - set(d)
-    positive_numbers(d, keys - {"scaling_exponent"})  # an exponent may be < 0 on tiny sizes
+    positive_numbers(d, keys - {"scaling_exponent", "check_scaling_exponent"})  # an exponent may be < 0 on tiny sizes
     assert set(d["targets"]) == targets
     doc = ast.get_docstring(ast.parse((root / "benchmarks" / f"{name}.py").read_text()))
     stated = {float(x) for x in NUMBER.findall(doc)}

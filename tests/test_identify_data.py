@@ -306,7 +306,7 @@ def test_angle_range_below_one_degree(tmp_path):
 def test_csv_that_is_not_utf8(tmp_path):
     (tmp_path / "exp1.csv").write_bytes(b"t_s,theta_deg,torque_nmm\n\xff\xfe,1,2\n")
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\n')
-    assert error(toml) == "exp1.csv: not a UTF-8 text file"
+    assert error(toml) == "exp1.csv: not a UTF-8 text file (byte 0xff on line 2)"
 
 
 # ---- TOML errors ----
@@ -367,7 +367,7 @@ def test_unknown_top_level_key(tmp_path):
     ('stiffness_nmm_per_rad = "5.2"', "[design] stiffness_nmm_per_rad = '5.2' is invalid: must be a int or float"),
     ("stiffness_nmm_per_rad = 0", "[design] stiffness_nmm_per_rad = 0 is invalid: must be > 0"),
     ("pulley_radius_mm = -6", "[design] pulley_radius_mm = -6 is invalid: must be > 0"),
-    ("preload_deg = nan", "[design] preload_deg = nan is invalid: must be finite"),
+    ("preload_deg = nan", "design.preload_deg = nan is invalid: must be a finite number"),  # rjcad.untrusted
     ("preload_deg = true", "[design] preload_deg = True is invalid: must be a int or float"),
 ])
 def test_bad_design_values(tmp_path, line, expect):

@@ -131,7 +131,7 @@ def test_random_accepted_joints_build_checked_meshes(summary_line):
 
 
 @pytest.mark.parametrize("rotation_deg, preload_deg, clearance, end", [
-    (110, 30, 0.15, "clamped"), (15, 120, 0.6, "clamped"), (110, 120, 0.6, "clamped"), (110, 30, 0.15, "pinned")])
+    (110, 30, 0.25, "clamped"), (15, 120, 0.6, "clamped"), (110, 120, 0.6, "clamped"), (110, 30, 0.25, "pinned")])
 def test_range_corners_build(rotation_deg, preload_deg, clearance, end):
     layout = "stacked" if end == "pinned" else None  # the desktop layout holds a clamped end only
     check_joint(JointParams(rotation=rotation_deg * DEG, preload=preload_deg * DEG, clearance=clearance, end=end,

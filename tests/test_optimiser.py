@@ -148,7 +148,7 @@ def test_width_binding_error_message():
         (dict(end="glued"), "end"),
         (dict(width_min=5.0, width_max=4.0), "width_max"),
         (dict(inner_radius_min=5.0, inner_radius_max=4.0), "inner_radius_max"),
-        (dict(outer_radius_max=float("inf")), "outer_radius_max"),
+        (dict(outer_radius_max=float("inf")), "max_outer_radius"),
     ],
 )
 def test_bad_requirements_name_the_parameter(kw, param):

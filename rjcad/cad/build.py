@@ -21,6 +21,7 @@ from rjcad.cad.joint import (
 )
 from rjcad.manifest import BodyEntry, JointEntry, Manifest
 from rjcad.mesh import to_manifold
+from rjcad.outputs import check_writable
 from rjcad.params import KEY_ENGAGEMENT, JointParams
 
 GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
@@ -218,10 +219,11 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
 
 
 def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointBuild:
-    """Build the joint and write joint.stl, .3mf, .step, .png and .json into ``out_dir``."""
+    """Build the joint and write joint.stl, .3mf, .step, .png and .json into ``out_dir`` (as one set)."""
+    check_writable(out_dir)
     b = build(p)
     files = render_files(b, "joint", png=png)
-    ex.write_outputs(out_dir, files)
+    ex.write_outputs(out_dir, files, remove=("joint.png",))
     return b
 
 
@@ -323,7 +325,8 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
 
 
 def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,png,json} into ``out_dir``."""
+    """Build the finger and write finger.{stl,3mf,step,png,json} into ``out_dir`` (as one set)."""
+    check_writable(out_dir)
     b = build_finger_model(fp)
-    ex.write_outputs(out_dir, render_finger_files(b, png=png))
+    ex.write_outputs(out_dir, render_finger_files(b, png=png), remove=("finger.png",))
     return b

@@ -15,7 +15,7 @@ import numpy as np
 import trimesh
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-from rjcad.config import write_atomic
+from rjcad.outputs import write_set
 from rjcad.plotting import png_bytes, pyplot
 
 #: Tessellation: absolute chord deviation [mm] and angular deflection [rad].
@@ -228,7 +228,8 @@ def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.n
     return png_bytes(fig)
 
 
-def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str]) -> list[Path]:
-    """Write every file atomically (temp + rename); everything is built before the first write."""
-    out = Path(out_dir)
-    return [write_atomic(out / name, data) for name, data in files.items()]
+def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str],
+                  remove: tuple[str, ...] = ()) -> list[Path]:
+    """Write the files as one set (``rjcad.outputs.write_set``: all or none, an earlier run untouched);
+    everything is built before the first write. ``remove``: names of the set this run does not write."""
+    return write_set(out_dir, files, remove)

@@ -47,15 +47,8 @@ from rjcad.units import DEG
 PAPER_FINGER = templates.PAPER_FINGER
 DEFAULT_FINGER = templates.DEFAULT_FINGER
 
-GLOBAL_KEYS = {
-    "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
-    "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str, "layout": str,
-    "defaults": dict, "joint": list,
-}
-JOINT_KEYS = {
-    "stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "rotation_deg": (int, float),
-    "link_length_mm": (int, float), "tendon_moment_arm_mm": (int, float),
-}
+GLOBAL_KEYS = templates.FINGER_KEYS
+JOINT_KEYS = templates.FINGER_JOINT_KEYS
 MAX_JOINTS = 6
 M3_CLEARANCE_DIAMETER = 3.4
 

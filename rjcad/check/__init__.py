@@ -9,7 +9,8 @@ A body is a connected component of the mesh (STL) or a named part (3MF; else a n
 STL bodies are matched to a manifest's bodies by volume.
 
 Modules: ``load`` (mesh file, manifest, body names), ``mesh_checks`` (the bodies at rest),
-``motion`` (the joints' sweep), ``feature`` (walls, gaps, bed), ``overhang`` (downward surfaces),
+``motion`` (the joints' sweep), ``copies`` (the simplified copies gaps and sweeps are measured on, so that
+their cost follows the shape, not the triangle count), ``feature`` (walls, gaps, bed), ``overhang`` (downward surfaces),
 ``slicer`` (PrusaSlicer, supports off) with ``gcode`` (G-code reader) and ``toolpath`` (its analysis),
 ``report``.
 """
@@ -19,7 +20,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from rjcad.check.feature import CONE_HALF_ANGLE, FEATURE_SAMPLES, check_bed, check_min_feature, feature_sizes
-from rjcad.check.load import load_bodies, load_manifest, name_bodies
+from rjcad.check.load import body_volume, load_bodies, load_manifest, name_bodies
+from rjcad.check.copies import simplified
 from rjcad.check.mesh_checks import check_bodies, check_clearance, check_manifold, check_watertight
 from rjcad.check.motion import check_motion, motion_joints, subtree
 from rjcad.check.overhang import check_overhang
@@ -72,10 +74,11 @@ def run_checks(source, manifest: Manifest | dict | str | Path | None = None, cle
     rep.checks.append(man_check)
     rep.checks.append(check_bodies(meshes, expected))
     rep.checks[-1].detail += f"; {how}: " + ", ".join(
-        f"{n} {abs(m.volume):.0f} mm³" for n, m in zip(names, meshes))
+        f"{n} {abs(body_volume(m)):.0f} mm³" for n, m in zip(names, meshes))
     if rep.checks[0].passed and man_check.passed:
-        rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance))
-        rep.checks.append(check_motion(meshes, names, mans, man, clearance, prn))
+        copies = simplified(mans)  # shared by clearance and motion
+        rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance, copies))
+        rep.checks.append(check_motion(meshes, names, mans, man, clearance, prn, copies))
     else:
         rep.checks += [skipped(n, "skipped: needs watertight, manifold bodies") for n in ("clearance", "motion")]
     rep.checks.append(check_min_feature(meshes, names, prn, allowance) if rep.checks[0].passed else

@@ -56,8 +56,13 @@ def feature_sizes(mesh: trimesh.Trimesh, samples: int = FEATURE_SAMPLES, seed: i
     a flat wall or gap every ray gives the true size; at an edge or a corner some ray escapes. A gap ray
     counts only where it lands on a face that faces the sample (FACING_ANGLE): creases are no gaps.
     """
+    if not mesh.area > 0:  # a flat body: nothing to sample (trimesh would divide by its zero area)
+        empty = np.zeros((0, 3))
+        return empty, empty, np.zeros(0), np.zeros(0)
     pts, fi = trimesh.sample.sample_surface(mesh, samples, seed=seed)
     n = mesh.face_normals[fi]
+    real = np.linalg.norm(n, axis=1) > 0.5  # trimesh gives degenerate faces a zero normal: no direction to cast
+    pts, n = pts[real], n[real]
     eps = 1e-4
     wall = np.zeros(len(pts))
     gap = np.zeros(len(pts))
@@ -75,6 +80,8 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
     worst_gap = (math.inf, None, None, None)  # (ratio-to-limit margin, value, where, name/limit)
     for b, name in zip(bodies, names):
         pts, n, wall, gap = feature_sizes(b)
+        if not len(pts):
+            continue
         k = int(np.argmin(wall))
         if wall[k] < worst_wall[0]:
             worst_wall = (float(wall[k]), pts[k], name)

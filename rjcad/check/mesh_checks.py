@@ -8,6 +8,7 @@ import manifold3d as m3
 import numpy as np
 import trimesh
 
+from rjcad.check.copies import APART_MM, Copies, candidates, min_gap, refined, simplified
 from rjcad.check.report import CheckResult, point
 from rjcad.mesh import to_manifold
 
@@ -101,11 +102,18 @@ def check_bodies(bodies, expected: int | None) -> CheckResult:
                        f"{len(bodies)} separate bodies, {expected} expected")
 
 
-def _closest_points(a: trimesh.Trimesh, b: trimesh.Trimesh) -> np.ndarray:
-    """Midpoint of the nearest vertex pair of two meshes (a location for a gap)."""
+def _closest_points(a: trimesh.Trimesh, b: trimesh.Trimesh, gap: float) -> np.ndarray:
+    """Midpoint of the nearest vertex pair of two meshes (a location for a gap ``gap`` apart). The search radius
+    starts just above the gap and doubles: an unbounded nearest-neighbour query from every vertex is slow where
+    many vertices lie almost equally far (a pin's vertices from its bore's)."""
     from scipy.spatial import cKDTree
 
-    d, i = cKDTree(b.vertices).query(a.vertices)
+    tree, r = cKDTree(b.vertices), max(gap, 0.0) + 0.1
+    while True:
+        d, i = tree.query(a.vertices, distance_upper_bound=r)
+        if np.isfinite(d).any():
+            break
+        r *= 2
     k = int(np.argmin(d))
     return (a.vertices[k] + b.vertices[i[k]]) / 2
 
@@ -127,35 +135,52 @@ def _deepest(verts: np.ndarray, a: trimesh.Trimesh, b: trimesh.Trimesh) -> np.nd
     return best
 
 
-def check_clearance(bodies, names, mans, clearance: float, allowance: float) -> CheckResult:
-    """Every pair of bodies: min gap ≥ clearance − allowance and no overlap."""
+def _pairs(bodies, search: float):
+    """Pairs (i, j) of bodies whose boxes lie within ``search`` of each other."""
+    for i in range(len(bodies)):
+        for j in range(i + 1, len(bodies)):
+            lo = np.maximum(bodies[i].bounds[0], bodies[j].bounds[0])
+            hi = np.minimum(bodies[i].bounds[1], bodies[j].bounds[1])
+            if not np.any(lo - hi > search):
+                yield i, j
+
+
+def check_clearance(bodies, names, mans, clearance: float, allowance: float,
+                    copies: Copies | None = None) -> CheckResult:
+    """Every pair of bodies: min gap ≥ clearance − allowance and no overlap.
+
+    Each pair is screened on the coarse copies (``rjcad.check.copies``); pairs that come near are intersected
+    on the bodies, and the tightest pairs' gaps measured on the fine copies (within 2·FINE_TOL_MM of the bodies').
+    """
     limit = clearance - allowance
     if len(bodies) < 2:
         return CheckResult("clearance", None, None, limit, None, "skipped: a single body")
+    copies = simplified(mans) if copies is None else copies
     search = clearance + 1.0
-    tight = (math.inf, None)
-    overlap = None
-    for i in range(len(mans)):
-        for j in range(i + 1, len(mans)):
-            lo = np.maximum(bodies[i].bounds[0], bodies[j].bounds[0])
-            hi = np.minimum(bodies[i].bounds[1], bodies[j].bounds[1])
-            if np.any(lo - hi > search):
-                continue  # boxes farther apart than the search length
+    overlap, pairs, coarse = None, [], []
+    for i, j in _pairs(bodies, search):
+        g = min_gap(copies.coarse[i], copies.coarse[j], search)
+        if g < APART_MM:
             inter = mans[i] ^ mans[j]
             vol = inter.volume()
             if vol > 1e-6 and (overlap is None or vol > overlap[0]):
                 verts = np.asarray(inter.to_mesh64().vert_properties)[:, :3]
                 overlap = (vol, (i, j), _deepest(verts, bodies[i], bodies[j]))
-            gap = mans[i].min_gap(mans[j], search)
-            if gap < tight[0]:
-                tight = (gap, (i, j))
+        pairs.append((i, j))
+        coarse.append(g)
     if overlap is not None:
         vol, (i, j), where = overlap
         return CheckResult("clearance", False, 0.0, limit, point(where),
                            f"{names[i]} and {names[j]} overlap by {vol:.3f} mm³")
+    tight = (math.inf, None)
+    for k in candidates(coarse) if coarse else []:
+        i, j = pairs[k]
+        gap = refined(coarse[k], copies.fine[i], copies.fine[j], search, copies.same((i, j)))
+        if gap < tight[0]:
+            tight = (gap, (i, j))
     if tight[1] is None:
         return CheckResult("clearance", True, search, limit, None, f"no two bodies within {search:.2f} mm")
     gap, (i, j) = tight
-    where = _closest_points(bodies[i], bodies[j])
+    where = _closest_points(bodies[i], bodies[j], gap)
     return CheckResult("clearance", bool(gap >= limit), round(float(gap), 4), round(limit, 4), point(where),
                        f"tightest pair {names[i]}–{names[j]}: {gap:.3f} mm (allowance {allowance} mm for tessellation)")

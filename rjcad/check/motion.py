@@ -8,6 +8,7 @@ import manifold3d as m3
 import numpy as np
 import trimesh
 
+from rjcad.check.copies import Copies, candidates, min_gap, near, refined, simplified
 from rjcad.check.report import BadInput, CheckResult, point, skipped
 from rjcad.manifest import JointEntry, Manifest, ManifestError
 from rjcad.materials import Printer
@@ -49,51 +50,83 @@ def _union(mans: list[m3.Manifold]) -> m3.Manifold:
     return m3.Manifold.batch_boolean(mans, m3.OpType.Add)
 
 
-def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: Printer):
-    """Sweep joint k over 0..rotation.
+def _poses(j: JointEntry, moving_vertices: np.ndarray, clearance: float, printer: Printer):
+    """Axis point, unit direction, lever (farthest moving vertex from the axis) [mm], step and angles [rad]."""
+    pt = np.asarray(j.axis_point_mm, dtype=float)
+    d = np.asarray(j.axis_dir, dtype=float)
+    d = d / np.linalg.norm(d)
+    rel = moving_vertices - pt
+    lever = float(np.max(np.linalg.norm(rel - np.outer(rel @ d, d), axis=1)))
+    rot = math.radians(float(j.rotation_deg))
+    step = 0.5 * min(clearance, printer.min_wall_mm) / lever
+    return pt, d, lever, step, np.linspace(0.0, rot, max(1, math.ceil(rot / step)) + 1)
 
-    Returns (worst: (overlap volume, angle, posed subtree), first contact angle or None,
-    smallest sampled gap: (gap, angle), detail).
-    """
-    j = joints[k]
+
+def _groups(k: int, joints, names) -> tuple[list[int], list[int]]:
+    """Indices of the bodies that move with joint k, and of the others."""
     moving = subtree(joints, k)
     mi = [i for i, n in enumerate(names) if n in moving]
     si = [i for i, n in enumerate(names) if n not in moving]
     if not mi or not si:
-        raise BadInput(f"manifest joint {k + 1} names bodies the mesh lacks: {j.parent}, {j.child}")
+        raise BadInput(f"manifest joint {k + 1} names bodies the mesh lacks: {joints[k].parent}, {joints[k].child}")
+    return mi, si
+
+
+def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: Printer,
+                copies: Copies | None = None):
+    """Sweep joint k over 0..rotation.
+
+    Each pose is screened on the coarse copies (``rjcad.check.copies``): copies apart prove the bodies apart
+    (overlap 0); near ones are intersected on the bodies. Gaps are sampled on the coarse copies and the smallest
+    measured again on the fine copies (within 2·FINE_TOL_MM of the bodies'). Returns (worst: (overlap volume,
+    angle, posed subtree), first contact angle or None, smallest sampled gap: (gap, angle), detail).
+    """
+    mi, si = _groups(k, joints, names)
+    copies = simplified(mans) if copies is None else copies
     mov, sta = _union([mans[i] for i in mi]), _union([mans[i] for i in si])
-    pt = np.asarray(j.axis_point_mm, dtype=float)
-    d = np.asarray(j.axis_dir, dtype=float)
-    d = d / np.linalg.norm(d)
-    rel = np.vstack([bodies[i].vertices for i in mi]) - pt
-    lever = float(np.max(np.linalg.norm(rel - np.outer(rel @ d, d), axis=1)))
-    rot = math.radians(float(j.rotation_deg))
-    step = 0.5 * min(clearance, printer.min_wall_mm) / lever
-    angles = np.linspace(0.0, rot, max(1, math.ceil(rot / step)) + 1)
+    mov_c, sta_c = _union([copies.coarse[i] for i in mi]), _union([copies.coarse[i] for i in si])
+    pt, d, lever, step, angles = _poses(joints[k], np.vstack([bodies[i].vertices for i in mi]), clearance, printer)
     every = max(1, len(angles) // 24)
-    worst, first, min_gap = (0.0, None, None), None, (math.inf, None)
+    exact = copies.exact(mi + si)  # nothing simplified: every pose is intersected on the bodies
+    worst, first, sampled = (0.0, None, None), None, []
     for a_i, a in enumerate(angles):
-        posed = mov.transform(_rot(pt, d, float(a)))
-        vol = (sta ^ posed).volume()
-        if vol > worst[0]:
-            worst = (vol, float(a), posed)
+        transform = _rot(pt, d, float(a))
+        posed_c = mov_c.transform(transform)
+        vol = 0.0
+        if exact or near(sta_c, posed_c):
+            posed = mov.transform(transform)
+            vol = (sta ^ posed).volume()
+            if vol > worst[0]:
+                worst = (vol, float(a), posed)
         if vol > 0 and first is None:
             first = float(a)
         if a_i % every == 0 or a_i == len(angles) - 1:
-            g = sta.min_gap(posed, clearance + 1.0)
-            if g < min_gap[0]:
-                min_gap = (g, float(a))
+            sampled.append((0.0 if vol > 0 else min_gap(sta_c, posed_c, clearance + 1.0), float(a)))
+    gap = _smallest_gap(sampled, [copies.fine[i] for i in mi], [copies.fine[i] for i in si], pt, d,
+                        clearance + 1.0, copies.same(mi + si))
     detail = f"joint {k + 1}: {len(angles)} poses, step {math.degrees(step):.3f}° (lever {lever:.1f} mm)"
-    return worst, first, min_gap, detail
+    return worst, first, gap, detail
+
+
+def _smallest_gap(sampled, mov_f, sta_f, pt, d, search: float, same: bool) -> tuple[float, float]:
+    """(gap, angle) of the smallest sampled gap on the fine copies, from the coarse copies' (gap, angle) samples."""
+    mov_u, sta_u = _union(mov_f), _union(sta_f)
+    best = (math.inf, None)
+    for k in candidates([g for g, _ in sampled]):
+        g_c, a = sampled[k]
+        g = refined(g_c, sta_u, mov_u.transform(_rot(pt, d, a)), search, same)
+        if g < best[0]:
+            best = (g, a)
+    return best
 
 
 def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearance: float,
-                 printer: Printer) -> CheckResult:
+                 printer: Printer, copies: Copies | None = None) -> CheckResult:
     """Each joint's subtree swept over 0..rotation about its axis never intersects the other bodies.
 
     Step Δθ = 0.5·min(clearance, min wall)/lever, the lever being the farthest moving vertex from the
     axis: no point moves more than half the clearance (or half the thinnest wall) between two poses,
-    so a collision cannot hide between them.
+    so a collision cannot hide between them. ``copies``: the bodies' simplified copies (see sweep_joint).
     """
     if manifest is None:
         return skipped("motion", "skipped: no manifest")
@@ -101,17 +134,19 @@ def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearanc
     if not joints:
         return skipped("motion", "skipped: the manifest has no joints")
     worst = (0.0, None, None, None)  # (overlap volume, joint, angle, posed subtree)
-    min_gap = (math.inf, None, None)
+    smallest = (math.inf, None, None)  # (gap, joint, angle)
     first = None  # (joint, angle) of the first pose that intersects
     details = []
+    copies = simplified(mans) if copies is None else copies
     for k in range(len(joints)):
-        (vol, a, posed), first_a, (g, g_a), detail = sweep_joint(k, joints, bodies, names, mans, clearance, printer)
+        (vol, a, posed), first_a, (g, g_a), detail = sweep_joint(k, joints, bodies, names, mans, clearance, printer,
+                                                                 copies)
         if vol > worst[0]:
             worst = (vol, k, a, posed)
         if first is None and first_a is not None:
             first = (k, first_a)
-        if g < min_gap[0]:
-            min_gap = (g, k, g_a)
+        if g < smallest[0]:
+            smallest = (g, k, g_a)
         details.append(detail)
     if worst[1] is not None:
         vol, k, a, posed = worst
@@ -121,7 +156,7 @@ def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearanc
                            f"joint {k + 1} collides, worst at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap), "
                            f"first contact at joint {first[0] + 1}, {math.degrees(first[1]):.1f}°; "
                            + "; ".join(details))
-    g, k, a = min_gap
+    g, k, a = smallest
     return CheckResult("motion", True, round(float(g), 4), 0.0, None,
                        f"free over the whole range; smallest sampled gap {g:.3f} mm at joint {k + 1}, "
                        f"{math.degrees(a):.1f}°; " + "; ".join(details))

@@ -1,7 +1,8 @@
 """Command line: parse, call, print. Degrees here, radians inside.
 
 Every user-facing error is one line on stderr and exit code 2; ``--debug``
-adds the traceback.
+adds the traceback. Python warnings are not printed (``--debug`` prints them): stderr holds the error
+line and nothing else. User files are read through ``rjcad.untrusted``.
 
 One module per command group, each thin (parse, call the library, print) with
 its printers beside it: ``spring``, ``build`` (joint, finger), ``check``,
@@ -15,8 +16,12 @@ identify) stay inside the command functions, so ``rjcad spring`` starts fast.
 
 from __future__ import annotations
 
+import re
+import signal
 import sys
+import threading
 import traceback
+import warnings
 
 import click
 
@@ -37,19 +42,66 @@ for _command in COMMANDS:
     cli.add_command(_command)
 
 
+#: Longest error line printed (a safety net: messages quote at most a short prefix of a value, rjcad.errors.quote).
+MAX_ERROR_CHARS = 1000
+
+
+LONG_WORD = 120
+
+
+def _line(text: str) -> str:
+    """``text`` on one line: a word over LONG_WORD characters (click quotes a bad value whole) keeps its
+    first and last 50 (a long path keeps its file name); the whole cut to MAX_ERROR_CHARS."""
+    text = " ".join(text.split()) if "\n" in text or "\r" in text else text
+    text = re.sub(rf"\S{{{LONG_WORD + 1},}}", lambda m: m.group(0)[:50] + "…" + m.group(0)[-50:], text)
+    return text if len(text) <= MAX_ERROR_CHARS else text[:MAX_ERROR_CHARS] + "…"
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread: a command stops as on Ctrl-C (its clean-up runs, finished work is
+    kept: a sweep writes the rows it has), then exits 143 (128 + SIGTERM) where Ctrl-C exits 130."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Console entry point: run the CLI, turn user errors into one line and exit 2."""
+    """Console entry point: run the CLI, turn user errors into one line and exit 2 (SIGINT 130, SIGTERM 143)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     args = [a for a in args if a != "--debug"]  # accepted anywhere on the line
+    on_main = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if on_main else None
     try:
-        rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
+        _run(args, debug)
+    finally:
+        if on_main and previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(args: list[str], debug: bool) -> None:
+    """Run the command line ``args``; exit with its code."""
+    try:
+        with warnings.catch_warnings():
+            if not debug:   # a stray library warning is not the user's business; --debug shows it
+                warnings.simplefilter("ignore")
+            rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
     except RjcadError as e:
         if debug:
             traceback.print_exc()
-        click.echo(f"rjcad: error: {e}", err=True)
+        click.echo(f"rjcad: error: {_line(str(e))}", err=True)
         sys.exit(2)
-    except click.exceptions.Abort:
+    except OSError as e:  # a file the command was given cannot be read (name too long, a device, …)
+        if debug:
+            traceback.print_exc()
+        where = f"{e.filename}: " if e.filename else ""
+        click.echo(f"rjcad: error: {_line(where + (e.strerror or str(e)))}", err=True)
+        sys.exit(2)
+    except click.exceptions.Abort as e:
+        if isinstance(e.__cause__, Terminated):
+            click.echo("rjcad: terminated", err=True)
+            sys.exit(143)
         click.echo("rjcad: aborted", err=True)
         sys.exit(130)
     except getattr(click.exceptions, "NoArgsIsHelpError", ()) as e:
@@ -60,7 +112,7 @@ def main(argv: list[str] | None = None) -> None:
             traceback.print_exc()
         ctx = getattr(e, "ctx", None)
         where = f" (see '{ctx.command_path} --help')" if ctx is not None and ctx.info_name != "rjcad" else ""
-        click.echo(f"rjcad: error: {e.format_message()}{where}", err=True)
+        click.echo(f"rjcad: error: {_line(e.format_message())}{where}", err=True)
         sys.exit(2)
     sys.exit(rv if isinstance(rv, int) else 0)
 

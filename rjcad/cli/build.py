@@ -44,10 +44,13 @@ def _bodies(m: dict) -> tuple[str, str, str]:
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
-    from rjcad.cad.build import write_joint
+    from rjcad.outputs import check_writable
     from rjcad.params import JointParams
 
     params = JointParams(**merge_config(options, config, FIELDS))
+    check_writable(out_dir)  # before CadQuery is even imported
+    from rjcad.cad.build import write_joint
+
     b = write_joint(params, out_dir, png=not no_png)
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     print_joint(b.manifest)
@@ -76,16 +79,35 @@ def print_joint(m: dict) -> None:
 def finger(template, out_dir, no_png):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.cad.build import write_finger
     from rjcad.cad.finger import FingerParams
+    from rjcad.outputs import check_writable
     from rjcad.templates import DEFAULT_FINGER
 
-    fp = FingerParams.from_toml(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
+    fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
+    check_writable(out_dir)
+    from rjcad.cad.build import write_finger
+
     b = write_finger(fp, out_dir, png=not no_png)
     m = b.manifest
     click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
                f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
     print_finger(m)
+
+
+def _template(path: str):
+    """The finger template ``path`` (read through rjcad.untrusted); a bad value names the file and its key."""
+    from pathlib import Path
+
+    from rjcad.cad.finger import FingerParams
+    from rjcad.errors import ParameterError
+
+    try:
+        return FingerParams.from_toml(path)
+    except ParameterError as e:
+        name = Path(path).name
+        if e.parameter.startswith(f"{name}: "):
+            raise
+        raise ParameterError(f"{name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
 
 def print_finger(m: dict) -> None:

@@ -6,6 +6,7 @@ import json
 
 import click
 
+from rjcad.errors import quote
 from rjcad.paper import JOINT
 
 
@@ -21,7 +22,7 @@ def _key_values(text: str, option: str) -> dict[str, float]:
                 raise ValueError
             out[key.strip()] = float(value)
         except ValueError:
-            raise click.BadParameter(f"{item!r} is not NAME=NUMBER", param_hint=option) from None
+            raise click.BadParameter(f"{quote(item)} is not NAME=NUMBER", param_hint=option) from None
     return out
 
 
@@ -66,28 +67,34 @@ def bench(effects, params, noise, seed, samples, rotation, paper, out_dir):
 @click.argument("campaign", type=click.Path(dir_okay=False))
 @click.option("--json", "json_out", type=click.Path(dir_okay=False), help="Write the result as JSON ('-': stdout).")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False), help="Write report.md and PNG plots here.")
-def identify(campaign, json_out, report_dir):
+@click.option("--allow-outside", is_flag=True,
+              help="Read data files outside the campaign file's folder (default: refused, symlinks followed).")
+def identify(campaign, json_out, report_dir, allow_outside):
     """What the design simulation gets wrong in measured data, which effects cause it, and the gain."""
+    from pathlib import Path
+
     from rjcad.config import write_json
     from rjcad.identify.data import load_campaign
+    from rjcad.identify.report import write_report
     from rjcad.identify.result import to_json
     from rjcad.identify.select import identify as run
+    from rjcad.outputs import check_writable
 
-    camp = load_campaign(campaign)
+    places = ([Path(json_out).parent] if json_out and json_out != "-" else []) + ([report_dir] if report_dir else [])
+    for place in places:
+        check_writable(place)  # before the fit, not after it
+    camp = load_campaign(campaign, allow_outside=allow_outside)
     ident = run(camp)
     js = to_json(ident)
+    written = [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
+    if json_out and json_out != "-":
+        written.insert(0, str(write_json(json_out, js)))
     if json_out == "-":
         click.echo(json.dumps(js, indent=2))
     else:
         print_identification(js)
-    if json_out and json_out != "-":
-        write_json(json_out, js)
-        click.echo(f"wrote {json_out}")
-    if report_dir:
-        from rjcad.identify.report import write_report
-
-        for path in write_report(ident, js, report_dir):
-            click.echo(f"wrote {path}")
+    for path in written:
+        click.echo(f"wrote {path}")
 
 
 def print_identification(js: dict) -> None:

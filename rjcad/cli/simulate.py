@@ -10,6 +10,7 @@ import math
 
 import click
 
+from rjcad.errors import quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
 from rjcad.units import DEG
@@ -29,6 +30,14 @@ def _plot(path, draw):
     ax.grid(alpha=0.3)
     fig.tight_layout()
     save_png(fig, path, dpi=100)
+
+
+#: ``rjcad simulate joint``'s ranges: (low, high, unit); wide, but finite (the loop's exponentials overflow beyond).
+JOINT_LIMITS = {
+    "normal_load": (0.0, 1e3, "N"), "stiffness": (0.0, 1e4, "N·mm/rad"), "preload": (-360.0, 360.0, "deg"),
+    "mu_j": (0.0, 100.0, "mm"), "gamma_pos": (-1e4, 1e4, "N·mm/rad"), "gamma_neg": (-1e4, 1e4, "N·mm/rad"),
+    "beta_pos": (1.0, 100.0, ""), "beta_neg": (0.01, 1.0, ""), "pulley_radius": (0.01, 100.0, "mm"),
+}
 
 
 @simulate.command("joint")
@@ -55,8 +64,14 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
 
     from rjcad.physics.joint import JointModel, Setup, cycle, simulate as run
 
+    from rjcad.validate import in_range
+
     if not 0 < rotation <= 360:
         raise click.BadParameter("must be in (0, 360] deg", param_hint="--rotation")
+    given = dict(normal_load=normal_load, stiffness=stiffness, preload=preload, mu_j=mu_j, gamma_pos=gamma_pos,
+                 gamma_neg=gamma_neg, beta_pos=beta_pos, beta_neg=beta_neg, pulley_radius=pulley_radius)
+    for name, (lo, hi, unit) in JOINT_LIMITS.items():
+        in_range("--" + name.replace("_", "-"), given[name], lo, hi, unit=unit)
     m = JointModel(stiffness=stiffness, preload=preload * DEG, mu_j=mu_j, gamma_pos=gamma_pos,
                    gamma_neg=gamma_neg, beta_pos=beta_pos, beta_neg=beta_neg, pulley_radius=pulley_radius)
     setup = Setup(drive, normal_load, routed)
@@ -80,6 +95,12 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
                    f"mean loop width {np.mean(y[d > 0]) - np.mean(y[d < 0]):.3f}")
 
 
+#: Tendon stroke a finger simulation accepts [mm] (a finger closes within tens of mm) and the
+#: tendon friction coefficient (dry polymer on polymer is 0.1–0.5).
+MAX_STROKE_MM = 1000.0
+MAX_MU_T = 2.0
+
+
 @simulate.command("finger")
 @click.argument("source", required=False, type=click.Path(dir_okay=False))
 @click.option("--stroke", type=float, default=FINGER.stroke, show_default=True, help="Tendon displacement [mm].")
@@ -93,8 +114,10 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
 
     from rjcad.physics.finger import load_finger_model, simulate_stroke
 
-    if stroke <= 0:
-        raise click.BadParameter("must be > 0 mm", param_hint="--stroke")
+    from rjcad.validate import in_range
+
+    in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
+    in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
     model = load_finger_model(source, mu_t=mu_t)
     c = simulate_stroke(model, stroke, steps=steps)
     if plot:
@@ -136,7 +159,8 @@ def finger_design(target, stroke, sequence, base_stiffness, material, printer, o
     try:
         angles = [float(v) for v in target.split(",")]
     except ValueError:
-        raise click.BadParameter(f"{target!r} is not a list of angles like 65,50,50", param_hint="--target") from None
+        raise click.BadParameter(f"{quote(target)} is not a list of angles like 65,50,50",
+                                 param_hint="--target") from None
     d = design_finger(angles, stroke, sequence, base_stiffness, material, printer)
     write_atomic(out_path, d.template(material, printer))
     rep = d.report()

@@ -53,12 +53,13 @@ def spring(config, as_json, plot, **options):
     the rod model."""
     design = design_spring(spring_requirement(options, config))
     if plot:
+        from rjcad.outputs import OutputError
         from rjcad.spring.plot import write_plot
 
         try:
             write_plot(design, plot)
-        except OSError as e:
-            raise RjcadError(f"--plot {plot}: cannot write it: {e.strerror or e}") from None
+        except OutputError as e:
+            raise RjcadError(f"--plot {e}") from None
     if as_json:
         click.echo(json.dumps(design.to_dict(), indent=2))
     else:

@@ -13,19 +13,28 @@ import click
 @click.option("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786.")
 @click.option("--build", is_flag=True, help="Build and check the joint of every feasible design.")
 @click.option("--keep-meshes", is_flag=True, help="With --build: keep each design's STL in OUT/meshes.")
-@click.option("--resume", is_flag=True, help="Skip designs already in OUT/results.csv.")
+@click.option("--resume", is_flag=True, help="Keep the intact rows of an earlier run in OUT (results.csv, and the "
+              "log of an interrupted build) and compute the other designs.")
 def sweep(sweep_file, out_dir, workers, scheduler, build, keep_meshes, resume):
     """Sweep design parameters (analytic by default; --build for CAD + checks)."""
     from rjcad.sweep import SweepSpec, run_sweep
 
     spec = SweepSpec.from_toml(sweep_file)
-    res = run_sweep(spec, out_dir, build=build, workers=workers, scheduler=scheduler, resume=resume,
-                    keep_meshes=keep_meshes)
+    try:
+        res = run_sweep(spec, out_dir, build=build, workers=workers, scheduler=scheduler, resume=resume,
+                        keep_meshes=keep_meshes)
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the earlier outputs are untouched
+        if build:
+            click.echo(f"sweep: stopped; the designs built so far are in {out_dir}/results.partial.jsonl: "
+                       "--resume continues from them")
+        raise
     print_sweep(res, out_dir)
 
 
 def print_sweep(res, out_dir: str) -> None:
-    """Designs computed and resumed, the time, the count per status, and the files written."""
+    """What --resume kept and dropped, designs computed and resumed, the time, the count per status, the files."""
+    for note in res.notes:
+        click.echo(f"sweep: {note}")
     status: dict[str, int] = {}
     for r in res.rows:
         status[r.get("status", "")] = status.get(r.get("status", ""), 0) + 1

@@ -9,17 +9,14 @@ Units in files: s, deg, N·mm, N (as the column names say).
 from __future__ import annotations
 
 import json
-import os
 import re
-import shutil
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from rjcad.config import write_atomic
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify import catalogue as cat
+from rjcad.outputs import write_set
 from rjcad.paper import JOINT
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
 from rjcad.units import DEG
@@ -382,26 +379,6 @@ def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noi
     }
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"
     files["README.md"] = _readme(truth)
-    files["campaign.toml"] = _toml(truth)  # last: a reader never sees a campaign.toml without its data
-    _write_all(out, files)
+    files["campaign.toml"] = _toml(truth)
+    write_set(out, files)
     return truth
-
-
-def _write_all(out: Path, files: dict[str, str]) -> None:
-    """Write ``files`` into ``out``: a fresh directory renamed into place, else file by file, each atomically."""
-    if out.is_dir():
-        for name, text in files.items():
-            write_atomic(out / name, text)
-        return
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.", suffix=".tmp"))
-    try:
-        for name, text in files.items():
-            write_atomic(tmp / name, text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o777 & ~umask)
-        os.rename(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise

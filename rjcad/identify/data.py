@@ -7,7 +7,7 @@ RjcadError line naming the file and the problem.
 from __future__ import annotations
 
 import math
-import tomllib
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -15,10 +15,11 @@ import numpy as np
 from scipy.ndimage import median_filter
 
 from rjcad.config import check_key
-from rjcad.errors import ParameterError, RjcadError
+from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.signal import noise_sigma
 from rjcad.physics.joint import Setup
 from rjcad.units import DEG
+from rjcad.untrusted import confined, read_text, read_toml
 from rjcad.validate import in_range
 
 
@@ -80,10 +81,18 @@ MIN_SAMPLES = 50
 MAX_BAD_FRACTION = 0.02
 MIN_RANGE_DEG = 1.0
 REASONS = ("non-numeric", "NaN", "infinite", "empty")   # why a row is dropped, in report order
+#: Angles in radians in a theta_deg column: the campaign's |θ| stays below this "deg" (π rad: a joint's range
+#: under 180°) and its load rises with the angle, within the moves (apparent_stiffness), at least
+#: RADIAN_SLOPE_RATIO times faster than the design's stiffness explains: 57 times for radians (49 to 107 on
+#: `rjcad bench` campaigns of every effect, 90–180°), at most 2.2 times in degrees (6.4 for a 1.5° motion
+#: under 0.1° of noise).
+RADIAN_MAX_DEG = 3.2
+RADIAN_SLOPE_RATIO = 15.0
 
 
-def load_campaign(path) -> Campaign:
-    """Read and validate a campaign TOML and its CSV files (paths relative to the TOML).
+def load_campaign(path, allow_outside: bool = False) -> Campaign:
+    """Read and validate a campaign TOML and its CSV files (paths relative to the TOML, inside its folder
+    unless ``allow_outside``; symlinks followed). Files are read through rjcad.untrusted.
 
     Raises RjcadError (ParameterError for TOML values) with one line naming the file and the problem.
     """
@@ -91,13 +100,14 @@ def load_campaign(path) -> Campaign:
     doc = _read_toml(path)
     where = f"{path}: "
     design = _design(doc, where)
-    specs = _experiment_specs(doc, path, design)
+    specs = _experiment_specs(doc, path, design, allow_outside)
     experiments, notes = [], []
     for spec in specs:
         exp, note = _load_experiment(spec)
         experiments.append(exp)
         if note:
             notes.append(note)
+    _check_units(design, experiments)
     return Campaign(path=path, design=design, experiments=tuple(experiments), notes=tuple(notes))
 
 
@@ -105,22 +115,11 @@ def load_campaign(path) -> Campaign:
 
 
 def _read_toml(path: Path) -> dict:
-    """The parsed TOML document; RjcadError if it is missing, unreadable or not TOML."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RjcadError(f"{path}: file not found") from None
-    except UnicodeDecodeError:
-        raise RjcadError(f"{path}: not a UTF-8 text file") from None
-    except OSError as e:
-        raise RjcadError(f"{path}: cannot read ({e.strerror or e})") from None
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RjcadError(f"{path}: not valid TOML ({_one_line(str(e))})") from None
+    """The parsed TOML document (rjcad.untrusted); RjcadError if it is missing, unreadable or not TOML."""
+    doc = read_toml(path)
     for key in doc:
         if key not in ("design", "experiment"):
-            raise RjcadError(f"{path}: unknown key or table '{key}'; known: [design], [[experiment]]")
+            raise RjcadError(f"{path}: unknown key or table {quote(key)}; known: [design], [[experiment]]")
     return doc
 
 
@@ -161,8 +160,23 @@ def _design(doc: dict, where: str) -> Design:
                   pulley_radius=_number(w, "pulley_radius_mm", table["pulley_radius_mm"], positive=True))
 
 
-def _experiment_specs(doc: dict, toml: Path, design: Design) -> list[dict]:
-    """The [[experiment]] tables, checked, with defaults filled in and the CSV path resolved."""
+def _data_path(toml: Path, i: int, file: str, allow_outside: bool) -> Path:
+    """Experiment ``i``'s CSV file, relative to the campaign file and inside its folder (unless
+    ``allow_outside``); RjcadError if it is outside, missing or not a file."""
+    label = f"{toml}: experiment {i}"
+    path = confined(toml.parent, file, label, allow_outside)
+    try:
+        if path.is_file():
+            return path
+        problem = "is not a file" if path.exists() else "not found"
+    except (OSError, ValueError) as e:
+        problem = f"cannot be opened ({getattr(e, 'strerror', None) or e})"
+    raise RjcadError(f"{label}: file {quote(file)} {problem} (looked for {quote(str(path), 120, repr_=False)})")
+
+
+def _experiment_specs(doc: dict, toml: Path, design: Design, allow_outside: bool = False) -> list[dict]:
+    """The [[experiment]] tables, checked, with defaults filled in and the CSV path resolved (inside the
+    campaign's folder unless ``allow_outside``)."""
     tables = doc.get("experiment")
     if tables is None or tables == []:
         raise RjcadError(f"{toml}: no [[experiment]] tables; add one per CSV file")
@@ -176,7 +190,7 @@ def _experiment_specs(doc: dict, toml: Path, design: Design) -> list[dict]:
         file = _check(where, "file", table["file"], EXPERIMENT_KEYS)
         if not file.strip():
             raise ParameterError(f"{where}file", file, "must name a CSV file")
-        where = f"{toml}: experiment {i} ({file}): "
+        where = f"{toml}: experiment {i} ({quote(file, repr_=False)}): "
         for key, value in table.items():
             _check(where, key, value, EXPERIMENT_KEYS)
         if "drive" not in table:
@@ -191,14 +205,11 @@ def _experiment_specs(doc: dict, toml: Path, design: Design) -> list[dict]:
         radius = table.get("pulley_radius_mm")
         radius = design.pulley_radius if radius is None else _number(where, "pulley_radius_mm", radius,
                                                                        positive=True)
-        csv_path = toml.parent / file
-        if not csv_path.is_file():
-            problem = "is not a file" if csv_path.exists() else "not found"
-            raise RjcadError(f"{toml}: experiment {i}: file '{file}' {problem} (looked for {csv_path})")
+        csv_path = _data_path(toml, i, file, allow_outside)
         name = Path(file).stem
         if name in names:
             j, other = names[name]
-            raise RjcadError(f"{where}name '{name}' is already used by experiment {j} ({other}); "
+            raise RjcadError(f"{where}name {quote(name)} is already used by experiment {j} ({quote(other)}); "
                              "experiment file names must differ")
         names[name] = (i, file)
         specs.append(dict(file=file, path=csv_path, drive=drive, normal_load=normal_load, routed=routed,
@@ -231,13 +242,7 @@ def _read_csv(file: str, path: Path, columns: tuple[str, ...], drive: str):
 
     Returns (arrays, file line number of each kept row (1-based), data rows, {reason: count}, note or None).
     """
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError:
-        raise RjcadError(f"{file}: not a UTF-8 text file") from None
-    except OSError as e:
-        raise RjcadError(f"{file}: cannot read ({e.strerror or e})") from None
-    lines = text.split("\n")
+    lines = read_text(path, "CSV", file).split("\n")
     idx = [i for i, line in enumerate(lines) if (s := line.lstrip()) and s[0] != "#"]
     if not idx:
         raise RjcadError(f"{file}: only 0 usable samples (the file is empty); at least {MIN_SAMPLES} are needed")
@@ -284,7 +289,6 @@ def _column_indices(file: str, header: str, columns: tuple[str, ...], drive: str
     if missing:
         label = "column" if len(missing) == 1 else "columns"
         drive_note = f" (drive '{drive}')" if COLUMNS[drive] in missing else ""
-        found = ", ".join(names)
         hint = ""
         if len(names) == 1 and (";" in header or "\t" in header):
             hint = " (the file must be comma-separated)"
@@ -293,8 +297,21 @@ def _column_indices(file: str, header: str, columns: tuple[str, ...], drive: str
             if COLUMNS[other] in names:
                 hint = f" (the file has '{COLUMNS[other]}': is the drive '{other}'?)"
         raise RjcadError(f"{file}: missing {label} {', '.join(repr(c) for c in missing)}{drive_note}; "
-                         f"columns found: {found}{hint}")
+                         f"{_found(names)}{hint}")
     return [names.index(c) for c in columns]
+
+
+#: What a column name in a CSV header looks like (``t_s``, ``force (N)``, ``frame``); a header otherwise is
+#: not listed in an error: the file may not be a data file at all (``/etc/passwd``).
+_COLUMN_NAME = re.compile(r"[A-Za-z_][\w .()\[\]%/·-]{0,39}")
+
+
+def _found(names: list[str], most: int = 12) -> str:
+    """'columns found: a, b, c' if the first line is a header of column names, else a sentence without its text."""
+    if len(names) < 2 or not all(_COLUMN_NAME.fullmatch(n) for n in names):
+        return "its first line is not a header of comma-separated column names"
+    more = f", … ({len(names)} columns)" if len(names) > most else ""
+    return f"columns found: {', '.join(names[:most])}{more}"
 
 
 def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np.ndarray], list]:
@@ -365,10 +382,6 @@ def _show(cell: str, limit: int = 30) -> str:
     return repr(cell if len(cell) <= limit else cell[:limit] + "...")
 
 
-def _one_line(s: str) -> str:
-    return " ".join(s.split())
-
-
 # ---- plausibility of the samples ----
 
 
@@ -421,3 +434,44 @@ def _check_motion(file: str, theta_deg: np.ndarray) -> None:
     if not _has_reversal(smooth, a):
         raise RjcadError(f"{file}: no reversal: the joint must move forward and back (range {lo:.1f}–{hi:.1f} deg, "
                          f"monotonic; a reversal needs a return of at least {a:.1f} deg)")
+
+
+# ---- units ----
+
+
+def apparent_stiffness(exp: Experiment) -> float:
+    """Slope of the joint torque over the angle as read, within the moves [N·mm/rad].
+
+    Torque τ = y (bar) or y·pulley radius (tendon). A move is a run of samples whose (median-filtered) angle
+    changes by more than a quarter of its largest step, in one sense; the slope is pooled over the moves,
+    each about its own means, so that friction (a constant offset along a move) drops out.
+    """
+    tau = exp.y if exp.drive == "bar" else exp.y * exp.pulley_radius
+    theta = _smooth_angle(exp.theta)
+    step = np.diff(theta, prepend=theta[0])
+    sense = np.where(np.abs(step) > 0.25 * np.max(np.abs(step)), np.sign(step), 0.0)
+    run = np.cumsum(np.diff(sense, prepend=0.0) != 0)          # a new id at every change of sense
+    moving = sense != 0
+    if not moving.any():
+        return 0.0
+    ids, th, ta = run[moving], theta[moving], tau[moving]
+    counts = np.bincount(ids)
+    mean = lambda v: (np.bincount(ids, v) / np.maximum(counts, 1))[ids]  # noqa: E731
+    dth, dta = th - mean(th), ta - mean(ta)
+    den = float(dth @ dth)
+    return float(dth @ dta) / den if den > 0 else 0.0
+
+
+def _check_units(design: Design, experiments: list[Experiment]) -> None:
+    """Refuse a campaign whose theta_deg columns hold radians (RADIAN_MAX_DEG, RADIAN_SLOPE_RATIO); one line
+    naming the first such file and its column."""
+    top = max(float(np.max(np.abs(e.theta))) for e in experiments) / DEG
+    if top > RADIAN_MAX_DEG:
+        return
+    for e in experiments:
+        ratio = abs(apparent_stiffness(e)) / design.stiffness
+        if ratio >= RADIAN_SLOPE_RATIO:
+            raise RjcadError(f"{e.file}: column theta_deg looks like radians: every angle of the campaign is within "
+                             f"±{top:.2f}, and {e.quantity} rises {ratio:.0f} times faster with it than the design's "
+                             f"{design.stiffness:g} N·mm/rad explain: are the angles in radians? theta_deg must be in "
+                             "degrees")

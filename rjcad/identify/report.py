@@ -10,11 +10,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from rjcad.config import write_atomic
-from rjcad.errors import RjcadError
 from rjcad.identify.catalogue import EFFECTS, PARAMS
 from rjcad.identify.formatting import QUANTITY, fmt, quantity_unit, unit_of
 from rjcad.identify.plots import plot_diagnostics, plot_fit, plot_residuals, plot_steps
 from rjcad.identify.select import BIC_GATE, Identification
+from rjcad.outputs import output_set
 
 __all__ = ["FLOOR_RATIO", "QUANTITY", "fmt", "plot_diagnostics", "plot_fit", "plot_residuals", "plot_steps",
            "quantity_unit", "render_markdown", "unit_of", "write_report"]
@@ -292,15 +292,14 @@ def render_markdown(js: dict, plots: dict[str, str] | None = None) -> str:
 
 
 def write_report(ident: Identification, js: dict, out_dir) -> list[Path]:
-    """Write report.md, fit.png, residuals.png, steps.png and diagnostics.png into ``out_dir``; return their paths."""
+    """Write report.md, fit.png, residuals.png, steps.png and diagnostics.png into ``out_dir`` as one set
+    (all or none; an earlier report untouched); return their paths."""
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise RjcadError(f"{out}: exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
-    paths = [plot_fit(ident, js, out / "fit.png"),
-             plot_residuals(ident, js, out / "residuals.png"),
-             plot_steps(js, out / "steps.png"),
-             plot_diagnostics(ident, js, out / "diagnostics.png")]
-    md = render_markdown(js, {p.stem: p.name for p in paths})
-    paths.append(write_atomic(out / "report.md", md))
-    return paths
+    with output_set(out) as stage:
+        plots = [plot_fit(ident, js, stage / "fit.png"),
+                 plot_residuals(ident, js, stage / "residuals.png"),
+                 plot_steps(js, stage / "steps.png"),
+                 plot_diagnostics(ident, js, stage / "diagnostics.png")]
+        md = render_markdown(js, {p.stem: p.name for p in plots})
+        write_atomic(stage / "report.md", md)
+    return [out / p.name for p in plots] + [out / "report.md"]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -14,6 +13,7 @@ from rjcad.life.effects import EFFECTS, ROAD_WIDTH
 from rjcad.life.likelihood import LEVEL
 from rjcad.life.table import TABLE_I_END, TABLE_I_INNER_RADIUS, read_table, table_i, table_i_peaks
 from rjcad.materials import get_material
+from rjcad.outputs import check_writable, output_set
 from rjcad.plotting import pyplot, save_png
 from rjcad.spring import factors
 from rjcad.spring.formulas import turns_for_length, windup_stress
@@ -320,10 +320,11 @@ def _design_section() -> list[str]:
 
 def write_doc(c: Critique, out_dir, n_sim: int = 200, seed: int = 0) -> None:
     """docs/life.md and life.png; every number is computed here."""
-    out = Path(out_dir)
+    out = check_writable(out_dir)  # before the bootstrap, not after it
     d = c.to_dict()
     freq = selection_frequencies(c, n_sim, seed)
     lines = (_data_section(d, n_sim, seed) + _laws_section(d) + _choice_section(c, d)
              + _bootstrap_section(c, d, freq, n_sim) + _design_section())
-    write_plot(c, out / "life.png")
-    write_atomic(out / "life.md", "\n".join(lines) + "\n")
+    with output_set(out) as stage:
+        write_plot(c, stage / "life.png")
+        write_atomic(stage / "life.md", "\n".join(lines) + "\n")

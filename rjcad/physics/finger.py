@@ -319,34 +319,34 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
     return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
 
 
+def _check_template_keys(data: dict, name: str) -> None:
+    """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
+    from rjcad.config import check_key
+    from rjcad.templates import FINGER_JOINT_KEYS, FINGER_KEYS
+
+    for key, value in data.items():
+        check_key(f"{name}: ", key, value, FINGER_KEYS)
+    tables = [("defaults.", data.get("defaults", {}))]
+    tables += [(f"joint[{i}].", j) for i, j in enumerate(data.get("joint", []), start=1) if isinstance(j, dict)]
+    for where, table in tables:
+        for key, value in table.items():
+            check_key(f"{name}: {where}", key, value, FINGER_JOINT_KEYS)
+
+
 def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
-    import json
-    import tomllib
     from pathlib import Path
 
-    from rjcad.errors import RjcadError
+    from rjcad.manifest import Manifest
+    from rjcad.untrusted import read_toml
 
     if source is None:
         from rjcad.templates import PAPER_FINGER
 
         return model_from_template(PAPER_FINGER)
-    p = Path(source)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RjcadError(f"{source}: file not found") from None
-    except (IsADirectoryError, UnicodeDecodeError) as e:
-        raise RjcadError(f"{source}: cannot read ({e})") from None
-    if p.suffix.lower() == ".json":
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as e:
-            raise RjcadError(f"{source}: not valid JSON ({e})") from None
-        return model_from_manifest(data, mu_t=mu_t)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RjcadError(f"{source}: not valid TOML ({e})") from None
+    if Path(source).suffix.lower() == ".json":
+        return model_from_manifest(Manifest.read(source), mu_t=mu_t)
+    data = read_toml(source)
+    _check_template_keys(data, Path(source).name)
     m = model_from_template(data)
     return m if mu_t == 0 else FingerModel(**{**m.__dict__, "mu_t": mu_t})

@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from scipy.optimize import least_squares
 
-from rjcad.config import write_atomic
 from rjcad.errors import ParameterError
+from rjcad.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
 from rjcad.params import JointParams
 from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
@@ -325,13 +324,12 @@ def _friction_verdict(fric: Explanation) -> str:
 
 def write_doc(out_dir, manifest: str | None = None):
     """docs/paper-finger.md and its plot, every number and every verdict computed here; nothing written on error."""
-    out = Path(out_dir)
+    out = check_writable(out_dir)  # before the fits, not after them
     arms, arm_source = builder_arms(manifest)
     end0, onset0, c0 = end_and_onset(design_model(list(arms)))
     exps = explanations()
     best = min(exps, key=lambda e: (not e.sequence_ok, round(e.rms_deg, 1), e.n_params))
     png = _plot(c0, best, arm_source)
     lines = _design_section(arms, arm_source, end0, onset0) + _candidates_section(exps) + _verdict_section(exps)
-    write_atomic(out / "paper-finger.png", png)
-    write_atomic(out / "paper-finger.md", "\n".join(lines) + "\n")
+    write_set(out, {"paper-finger.png": png, "paper-finger.md": "\n".join(lines) + "\n"})
     return exps

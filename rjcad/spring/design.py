@@ -83,13 +83,16 @@ class SpringRequirement:
     min_gap: float | None = None
 
     def __post_init__(self):
-        in_range("stiffness", self.joint_stiffness, 0, 1e4, lo_open=True,
-                 limit="must be > 0 and <= 10000 N·mm/rad (joint, both springs)")
-        _angle("rotation", self.rotation, 0, True, "must be > 0 and <= 360 deg")
+        # lower bounds far below any printable spring (a 1 m strip of 0.4 × 1 mm ABS is 0.01 N·mm/rad), but
+        # away from 0: the optimiser divides by them
+        in_range("stiffness", self.joint_stiffness, 0.01, 1e4,
+                 limit="must be >= 0.01 and <= 10000 N·mm/rad (joint, both springs)")
+        _angle("rotation", self.rotation, math.radians(1.0), False, "must be >= 1 and <= 360 deg")
         _angle("preload", self.preload, 0, False, "must be >= 0 and <= 360 deg")
         in_range("safety_factor", self.safety_factor, 1.0, 100.0, limit="must be >= 1 and <= 100")
         for name in ("width_min", "width_max", "inner_radius_min", "inner_radius_max", "outer_radius_max"):
-            in_range(name, getattr(self, name), 0, 1000, lo_open=True, limit="must be > 0 and <= 1000 mm")
+            shown = "max_outer_radius" if name == "outer_radius_max" else name  # as the CLI and TOML spell it
+            in_range(shown, getattr(self, name), 0.01, 1000, limit="must be >= 0.01 and <= 1000 mm")
         in_range("width_max", self.width_max, self.width_min, limit=f"must be >= width_min = {self.width_min} mm")
         in_range("inner_radius_max", self.inner_radius_max, self.inner_radius_min,
                  limit=f"must be >= inner_radius_min = {self.inner_radius_min} mm")

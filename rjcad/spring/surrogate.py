@@ -145,7 +145,7 @@ def error_margin(column: str, theta, end: str = "clamped", sense: str = "tighten
     f = load(path)
     name = f"{end}_{sense}_{arms}"
     floor = _multilinear(f[f"margin_{column}_{name}"], [_axis(np.asarray(theta, float), f["theta"])])
-    return floor + f[f"beta_h_{name}"] * spread if column == "h" else floor
+    return floor + float(np.ravel(f[f"beta_h_{name}"])[0]) * spread if column == "h" else floor  # stored 1-d
 
 
 def gap_ratio_min(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "tighten", arms: int = 1,

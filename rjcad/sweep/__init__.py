@@ -15,81 +15,124 @@ from __future__ import annotations
 import json
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
+from rjcad.outputs import cannot_write, check_writable, output_set
 from rjcad.sweep.analytic import analytic_rows
 from rjcad.sweep.build import build_task
 from rjcad.sweep.execute import Progress, run_tasks
 from rjcad.sweep.report import pareto_front, read_results, write_report, write_results
+from rjcad.sweep.resume import Earlier, read_earlier
 from rjcad.sweep.spec import DESIGN_KEYS, INPUTS, SweepSpec, point_id
 
 __all__ = [
     "DESIGN_KEYS", "INPUTS", "Progress", "SweepResult", "SweepSpec", "analytic_rows", "build_task", "pareto_front",
-    "point_id", "read_results", "run_sweep", "run_tasks", "write_report", "write_results",
+    "point_id", "read_earlier", "read_results", "run_sweep", "run_tasks", "write_report", "write_results",
 ]
-
-
-def _done_rows(csv_path: Path, partial: Path) -> list[dict]:
-    """Rows of an earlier run (for --resume): results.csv, then the rows an interrupted build-mode run logged."""
-    done_rows = read_results(csv_path)
-    if partial.exists():
-        seen = {r["id"] for r in done_rows}
-        for line in partial.read_text().splitlines():
-            try:
-                r = json.loads(line)
-            except json.JSONDecodeError:
-                continue  # a line cut by the interruption
-            if r.get("id") not in seen:
-                done_rows.append(r)
-                seen.add(r["id"])
-    return done_rows
 
 
 @dataclass
 class SweepResult:
-    """A finished sweep: its rows in point order, how many were computed and resumed, wall time [s]."""
+    """A finished sweep: its rows in point order, how many were computed and resumed, wall time [s], and
+    notes for the user (what --resume kept and dropped)."""
 
     rows: list[dict]
     computed: int
     skipped: int
     seconds: float
+    notes: list[str] = field(default_factory=list)
 
 
 def run_sweep(spec: SweepSpec, out_dir: str | Path, *, build: bool = False, workers: int | None = None,
               scheduler: str | None = None, resume: bool = False, keep_meshes: bool = False,
               stream=None) -> SweepResult:
-    """Run a sweep and write results.csv (+ .parquet), pareto.png and summary.md into ``out_dir``."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    """Run a sweep and write results.csv (+ .parquet), pareto.png and summary.md into ``out_dir`` (one set).
+
+    ``resume``: keep the intact rows of an earlier run (``rjcad.sweep.resume``) and compute the other designs.
+    Interrupted (Ctrl-C; SIGTERM through the CLI) or failing, it leaves the earlier output set as it was;
+    the rows a build-mode run finished are in ``results.partial.jsonl``, for ``--resume``.
+    """
+    out = check_writable(out_dir)
     points = spec.points()
-    csv_path = out / "results.csv"
-    partial = out / "results.partial.jsonl"
-    done_rows = _done_rows(csv_path, partial) if resume else []
-    done_ids = {r["id"] for r in done_rows}
-    todo = [pt for pt in points if point_id(pt) not in done_ids]
+    log_path = out / "results.partial.jsonl"
+    earlier = read_earlier(out / "results.csv", log_path) if resume else Earlier()
+    notes = [earlier.note()] if resume else []
+    done = {r["id"] for r in earlier.rows}
+    todo = _todo(points, done)
     t0 = time.perf_counter()
     progress = Progress(len(todo), stream=stream)
     new_rows: list[dict] = []
-    workers = (os.cpu_count() or 1) if workers is None else workers
     if build:
-        with partial.open("a") as log:
-            def keep(row):
-                new_rows.append(row)
-                log.write(json.dumps(row, default=str) + "\n")
-                log.flush()
-            mesh_dir = str(out / "meshes") if keep_meshes else None
-            run_tasks(build_task, todo, workers, scheduler, progress, keep, mesh_dir=mesh_dir)
+        _build_rows(todo, out, log_path, workers, scheduler, keep_meshes, progress, new_rows)
     else:
-        chunk = 100_000
-        for k in range(0, len(todo), chunk):
-            part = analytic_rows(todo[k:k + chunk])
+        for k in range(0, len(todo), 100_000):
+            part = analytic_rows(todo[k:k + 100_000])
             new_rows.extend(part)
             progress.update(len(part))
+    rows = _finish(out, points, earlier.rows + new_rows, build, notes, log_path)
+    return SweepResult(rows, len(new_rows), len(earlier.rows), time.perf_counter() - t0, notes)
+
+
+def _todo(points: list[dict], done: set[str]) -> list[dict]:
+    """The points still to compute, each design once (a sweep file may name one twice)."""
+    todo, seen = [], set(done)
+    for pt in points:
+        pid = point_id(pt)
+        if pid not in seen:
+            seen.add(pid)
+            todo.append(pt)
+    return todo
+
+
+def _ends_a_line(path: Path) -> bool:
+    """True if the file is empty or ends with a line break."""
+    with path.open("rb") as f:
+        if f.seek(0, os.SEEK_END) == 0:
+            return True
+        f.seek(-1, os.SEEK_END)
+        return f.read(1) == b"\n"
+
+
+def _build_rows(todo: list[dict], out: Path, log_path: Path, workers: int | None, scheduler: str | None,
+                keep_meshes: bool, progress: Progress, new_rows: list[dict]) -> None:
+    """Build mode: run the tasks, each row appended to the log ``log_path`` as it comes (kept by an
+    interrupted run; an earlier interrupted run's rows stay in it too, until a run finishes)."""
+    workers = (os.cpu_count() or 1) if workers is None else workers
+    mesh_dir = check_writable(out / "meshes") if keep_meshes else None
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        cut = log_path.exists() and not _ends_a_line(log_path)
+        log = log_path.open("a", encoding="utf-8")
+        if cut:
+            log.write("\n")  # after a line the interruption cut, so that the next row starts a line of its own
+    except OSError as e:
+        raise cannot_write(log_path, e) from None
+
+    def keep(row):
+        new_rows.append(row)
+        try:
+            log.write(json.dumps(row, default=str) + "\n")
+            log.flush()
+        except OSError as e:
+            raise cannot_write(log_path, e) from None
+
+    try:
+        with log:
+            run_tasks(build_task, todo, workers, scheduler, progress, keep,
+                      mesh_dir=str(mesh_dir) if mesh_dir else None)
+    finally:
+        if log_path.exists() and log_path.stat().st_size == 0:
+            log_path.unlink()  # no row came: leave no empty log behind
+
+
+def _finish(out: Path, points: list[dict], rows: list[dict], build: bool, notes: list[str],
+            log_path: Path) -> list[dict]:
+    """Rows in point order, written as one set (results.csv, .parquet, pareto.png, summary.md); the log goes."""
     order = {point_id(pt): i for i, pt in enumerate(points)}
-    rows = done_rows + new_rows
     rows.sort(key=lambda r: order.get(r["id"], len(order)))
-    write_results(out, rows)
-    write_report(out, rows, build=build)
-    partial.unlink(missing_ok=True)
-    return SweepResult(rows, len(new_rows), len(done_rows), time.perf_counter() - t0)
+    with output_set(out, remove=("results.parquet",)) as stage:
+        write_results(stage, rows)
+        write_report(stage, rows, build=build, notes=notes)
+    log_path.unlink(missing_ok=True)
+    return rows

@@ -13,9 +13,11 @@ import numpy as np
 from rjcad.errors import RjcadError
 from rjcad.life.constraint import predict_cycles
 from rjcad.materials import get_material, get_printer
+from rjcad.params import RANGES
 from rjcad.spring.design import SpringRequirement
 from rjcad.spring.optimise import CONSTRAINTS, optimise_arrays, row_message
 from rjcad.sweep.spec import point_id
+from rjcad.validate import in_range
 
 
 def _life_columns(rows: list[dict]) -> None:
@@ -42,6 +44,10 @@ def analytic_rows(points: list[dict]) -> list[dict]:
             SpringRequirement(float(pt["stiffness_nmm_per_rad"]), math.radians(float(pt["rotation_deg"])),
                               math.radians(float(pt["preload_deg"])), pt["material"], pt["printer"],
                               float(pt["safety_factor"]), pt["end"])
+            # the joint's own inputs, as the builder checks them (its link's lower bound needs the CAD layout)
+            in_range("clearance_mm", pt["clearance_mm"], *RANGES["clearance"][:2], unit="mm")
+            get_printer(pt["printer"]).check_gap("clearance_mm", pt["clearance_mm"])
+            in_range("link_length_mm", pt["link_length_mm"], 0.0, RANGES["link_length"][1], lo_open=True, unit="mm")
         except RjcadError as e:
             rows[i] = {**pt, "id": point_id(pt), "status": "failed", "feasible": False, "error": str(e)}
             continue

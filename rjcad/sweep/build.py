@@ -8,6 +8,7 @@ from pathlib import Path
 
 from rjcad.config import write_atomic
 from rjcad.errors import RjcadError
+from rjcad.outputs import OutputError
 from rjcad.sweep.spec import DESIGN_KEYS, point_id
 
 
@@ -35,6 +36,8 @@ def build_task(point: dict, mesh_dir: str | None = None) -> dict:
             files = render_files(b, "joint", png=False)
             write_atomic(Path(mesh_dir) / f"{row['id']}.stl", files["joint.stl"])
         row.update(status="ok" if row["checks_passed"] else "check_failed", feasible=True, error="")
+    except OutputError:
+        raise  # a mesh that cannot be written stops the sweep (a full disk): it is not the design's fault
     except RjcadError as e:
         row.update(status="infeasible", feasible=False, error=str(e), build_s=time.perf_counter() - t0)
     except Exception as e:  # a design that raises is a failed row, never a crashed sweep

@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+import os
+import signal
 import sys
+import threading
 import time
 from typing import Callable
 
 
 class Progress:
-    """A progress bar with rate and ETA on a terminal; plain periodic lines otherwise."""
+    """A progress bar with rate and ETA on a terminal (stderr); plain periodic lines otherwise, on stdout, so
+    that stderr carries only an error line."""
 
     def __init__(self, total: int, stream=None, every_s: float = 5.0):
         self.total, self.done, self.t0 = total, 0, time.perf_counter()
-        self.stream = stream or sys.stderr
+        self.stream = stream or (sys.stderr if sys.stderr.isatty() else sys.stdout)
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
         self.every_s, self.last = every_s, 0.0
 
@@ -55,6 +59,18 @@ def run_tasks(fn: Callable, points: list[dict], workers: int, scheduler: str | N
             on_row(fn(pt, **kw))
             progress.update()
         return
+    _pool_tasks(fn, points, workers, progress, on_row, **kw)
+
+
+def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progress,
+                on_row: Callable[[dict], None], **kw) -> None:
+    """Run the tasks on a local process pool whose workers never outlive this process.
+
+    Each worker holds the read end of a pipe whose only write end is here (its lifeline): when this process
+    dies, even by SIGKILL, the pipe closes and the workers exit at once; then the forkserver and the resource
+    tracker, which wait only for them, exit too. On an interrupt or error the lifeline is closed on purpose:
+    the running designs are dropped (``--resume`` redoes them), the queued ones cancelled.
+    """
     from concurrent.futures import ProcessPoolExecutor, as_completed as done
     import multiprocessing as mp
 
@@ -65,8 +81,33 @@ def run_tasks(fn: Callable, points: list[dict], workers: int, scheduler: str | N
         ctx.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
     else:
         ctx = mp.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+    lifeline_r, lifeline_w = ctx.Pipe(duplex=False)
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_start,
+                               initargs=(lifeline_r,))
+    try:
         futs = [pool.submit(fn, pt, **kw) for pt in points]
         for fut in done(futs):
             on_row(fut.result())
             progress.update()
+    except BaseException:
+        lifeline_w.close()
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    finally:
+        pool.shutdown(wait=True)
+        lifeline_w.close()
+        lifeline_r.close()
+
+
+def _worker_start(lifeline) -> None:
+    """In each worker: leave Ctrl-C to the main process, and exit as soon as the lifeline closes."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch() -> None:
+        try:
+            lifeline.recv_bytes()  # nothing is ever sent: returns only by EOF, when the main process is gone
+        except (EOFError, OSError):
+            pass
+        os._exit(1)
+
+    threading.Thread(target=watch, name="rjcad-lifeline", daemon=True).start()

@@ -14,7 +14,8 @@ from rjcad.sweep.spec import INPUTS
 
 
 def read_results(path: Path) -> list[dict]:
-    """The rows of a results.csv (none if it does not exist)."""
+    """The rows of a results.csv as written (none if it does not exist); ``--resume`` reads an earlier run
+    with ``rjcad.sweep.resume.read_earlier``, which keeps only intact rows."""
     if not path.exists():
         return []
     with path.open(newline="") as f:
@@ -30,14 +31,14 @@ def _columns(rows: list[dict]) -> list[str]:
     return cols
 
 
-
 def write_results(out: Path, rows: list[dict]) -> None:
+    """results.csv (a line per row, line breaks in values made spaces) and results.parquet (with pyarrow)."""
     cols = _columns(rows)
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=cols, extrasaction="ignore")
     w.writeheader()
     for r in rows:
-        w.writerow({k: r.get(k, "") for k in cols})
+        w.writerow({k: _one_line(r.get(k, "")) for k in cols})
     write_atomic(out / "results.csv", buf.getvalue())
     try:
         import pyarrow as pa
@@ -48,6 +49,11 @@ def write_results(out: Path, rows: list[dict]) -> None:
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink)
     write_atomic(out / "results.parquet", sink.getvalue().to_pybytes())
+
+
+def _one_line(v):
+    """A value as one line: an error message's line breaks become spaces (so a damaged file loses no neighbour)."""
+    return " ".join(v.splitlines()) if isinstance(v, str) and ("\n" in v or "\r" in v) else v
 
 
 def pareto_front(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -61,8 +67,8 @@ def pareto_front(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
-def write_report(out: Path, rows: list[dict], build: bool) -> None:
-    """pareto.png (outer radius vs stress margin, and vs life when known) and summary.md."""
+def write_report(out: Path, rows: list[dict], build: bool, notes: list[str] = ()) -> None:
+    """pareto.png (outer radius vs stress margin, and vs life when known) and summary.md (with ``notes``)."""
     ok = [r for r in rows
           if str(r.get("feasible")) in ("True", "true", "1") and r.get("outer_radius_mm") not in ("", None)]
     has_life = any(r.get("predicted_cycles") not in ("", None) for r in ok)
@@ -110,6 +116,8 @@ def write_report(out: Path, rows: list[dict], build: bool) -> None:
                 "or build mode winds each one with the full rod model")
     lines = [f"# Sweep summary ({'build' if build else 'analytic'} mode)", "", f"Spring physics: {verified}.", "",
              f"- designs: {n}", *[f"- {k or 'unknown'}: {v}" for k, v in sorted(by_status.items())]]
+    if notes:
+        lines += ["", "## This run", "", *[f"- {note}" for note in notes]]
     if binding:
         lines += ["", "## Binding constraints of the infeasible designs", "",
                   *[f"- {k}: {v}" for k, v in sorted(binding.items(), key=lambda kv: -kv[1])]]

@@ -50,6 +50,70 @@ DESIGN_KEYS = ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitc
                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm")
 
 
+#: Most design points one sweep may name (a grid's product of steps and value counts, or lhs samples).
+MAX_POINTS = 10_000_000
+#: Largest lhs seed (numpy takes any non-negative integer; 63 bits keep it an int64).
+MAX_SEED = 2**63 - 1
+
+
+def _whole(name: str, value, lo: int, hi: int) -> int:
+    """A TOML integer (not a bool, not a float) in [lo, hi]; else ParameterError naming ``name``."""
+    limit = f"must be a whole number in [{lo}, {hi}]"
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ParameterError(name, value, limit)
+    return int(in_range(name, value, lo, hi, limit=limit))
+
+
+def _typed(name: str, input_: str, value):
+    """``value`` if it has the type of sweep input ``input_`` (a finite number, not a bool; or a string)."""
+    if INPUTS[input_][0] is str:
+        if not isinstance(value, str):
+            raise ParameterError(name, value, f"must be a string ({input_} is a name)")
+        return value
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ParameterError(name, value, "must be a number")
+    in_range(name, value, limit="must be a finite number")
+    return value
+
+
+def _table(name: str, value) -> dict:
+    if not isinstance(value, dict):
+        raise ParameterError(name, value, "must be a table")
+    return value
+
+
+def _param(name: str, spec, mode: str) -> int:
+    """Check ``[params.NAME]``; the number of values it gives a grid (0 for an lhs range)."""
+    where = f"params.{name}"
+    spec = _table(where, spec)
+    if ("values" in spec) == ("range" in spec):
+        raise ParameterError(where, spec, "give exactly one of values = [...] or range = [lo, hi]")
+    extra = set(spec) - {"values", "range", "steps"}
+    if extra:
+        raise ParameterError(f"{where}.{sorted(extra)[0]}", spec[sorted(extra)[0]], "unknown key; known keys: "
+                             "values, range, steps")
+    if "values" in spec:
+        values = spec["values"]
+        if not isinstance(values, list) or not values:
+            raise ParameterError(f"{where}.values", values, "must be a non-empty list of values")
+        for i, v in enumerate(values, 1):
+            _typed(f"{where}.values[{i}]", name, v)
+        return len(values)
+    rng = spec["range"]
+    if INPUTS[name][0] is str:
+        raise ParameterError(f"{where}.range", rng, f"{name} is a name: give values = [...]")
+    if not isinstance(rng, list) or len(rng) != 2:
+        raise ParameterError(f"{where}.range", rng, "must be [lo, hi]: two numbers")
+    lo, hi = (_typed(f"{where}.range[{i}]", name, v) for i, v in enumerate(rng, 1))
+    if lo > hi:
+        raise ParameterError(f"{where}.range", rng, "must be [lo, hi] with lo <= hi")
+    if "steps" in spec:
+        return _whole(f"{where}.steps", spec["steps"], 1, MAX_POINTS)
+    if mode == "grid":
+        raise ParameterError(f"{where}.steps", None, "a grid range needs steps >= 1")
+    return 0
+
+
 @dataclass(frozen=True)
 class SweepSpec:
     """Parsed sweep: varied parameters, fixed ones, and the sampling plan."""
@@ -62,39 +126,46 @@ class SweepSpec:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "SweepSpec":
+        """The sweep file ``path`` (rjcad.untrusted); a bad file is one error line naming it and the key."""
         data = load_toml(path, {"sweep": dict, "fixed": dict, "params": dict})
-        return cls.from_dict(data)
+        try:
+            return cls.from_dict(data)
+        except ParameterError as e:
+            raise ParameterError(f"{Path(path).name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
     @classmethod
     def from_dict(cls, data: dict) -> "SweepSpec":
-        sweep = data.get("sweep", {})
+        """Check types and structure (a wrong type is a bad file); values out of range are bad designs (rows)."""
+        data = _table("sweep file", data)
+        sweep = _table("sweep", data.get("sweep", {}))
         for k in sweep:
             if k not in ("mode", "samples", "seed"):
                 raise ParameterError(f"sweep.{k}", sweep[k], "unknown key; known keys: mode, samples, seed")
         mode = sweep.get("mode", "grid")
         if mode not in ("grid", "lhs"):
             raise ParameterError("sweep.mode", mode, "must be 'grid' or 'lhs'")
-        samples = int(sweep.get("samples", 0))
-        if mode == "lhs":
-            in_range("sweep.samples", samples, 1, 10_000_000, limit="an lhs sweep needs 1 to 10000000 samples")
-        fixed = dict(data.get("fixed", {}))
-        params = dict(data.get("params", {}))
-        for name in list(fixed) + list(params):
-            if name not in INPUTS:
-                raise ParameterError(name, None, f"unknown parameter; known: {', '.join(INPUTS)}")
+        samples = _whole("sweep.samples", sweep["samples"], 1, MAX_POINTS) if "samples" in sweep else 0
+        if mode == "lhs" and not samples:
+            raise ParameterError("sweep.samples", None, f"an lhs sweep needs 1 to {MAX_POINTS} samples")
+        seed = _whole("sweep.seed", sweep.get("seed", 0), 0, MAX_SEED)
+        fixed = dict(_table("fixed", data.get("fixed", {})))
+        params = dict(_table("params", data.get("params", {})))
+        for where, names in (("fixed", fixed), ("params", params)):
+            for name in names:
+                if name not in INPUTS:
+                    raise ParameterError(f"{where}.{name}", names[name],
+                                         f"unknown parameter; known: {', '.join(INPUTS)}")
+        for name, value in fixed.items():
+            if name in params:
+                raise ParameterError(f"fixed.{name}", value, "is also in [params]: fix it or vary it, not both")
+            _typed(f"fixed.{name}", name, value)
+        total = 1
         for name, spec in params.items():
-            if not isinstance(spec, dict) or not (("values" in spec) ^ ("range" in spec)):
-                raise ParameterError(f"params.{name}", spec, "give exactly one of values = [...] or range = [lo, hi]")
-            extra = set(spec) - {"values", "range", "steps"}
-            if extra:
-                raise ParameterError(f"params.{name}.{sorted(extra)[0]}", None, "known keys: values, range, steps")
-            if "range" in spec:
-                lo, hi = spec["range"]
-                if not (isinstance(lo, (int, float)) and isinstance(hi, (int, float)) and lo <= hi):
-                    raise ParameterError(f"params.{name}.range", spec["range"], "must be [lo, hi] numbers, lo <= hi")
-                if mode == "grid":
-                    in_range(f"params.{name}.steps", spec.get("steps"), 1, limit="a grid range needs steps >= 1")
-        return cls(params, fixed, mode, samples, int(sweep.get("seed", 0)))
+            n = _param(name, spec, mode)
+            total *= n if mode == "grid" else 1
+            if total > MAX_POINTS:
+                raise ParameterError(f"params.{name}", n, f"makes the grid {total} designs; at most {MAX_POINTS}")
+        return cls(params, fixed, mode, samples, seed)
 
     def points(self) -> list[dict]:
         """Every design point (fixed values, then varied ones), in a deterministic order."""

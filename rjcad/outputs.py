@@ -1,0 +1,197 @@
+"""Output places and output sets: a write that cannot happen is one error line, and a set of files is whole.
+
+An output set (a joint's STL, 3MF, STEP, PNG and JSON; a report and its plots; a sweep's results) is
+written whole or not at all: every file goes into a temporary directory inside the output directory (the
+same filesystem), then each is renamed into place. The files it replaces are set aside until the last
+rename and put back if one fails, so an earlier run's files are left byte for byte, mtime for mtime.
+Single files: ``rjcad.config.write_atomic`` (temporary file + rename), with the same error.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import shutil
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+from rjcad.errors import RjcadError
+
+#: Inside a stage: the files a commit replaces, until it is done.
+_ASIDE = ".replaced"
+
+
+class OutputError(RjcadError):
+    """An output path that cannot be written: ``path`` and the system's ``reason``."""
+
+    def __init__(self, path: str | os.PathLike, reason: str):
+        self.path, self.reason = Path(path), reason
+        super().__init__(f"{path}: cannot write: {reason}")
+
+    def __reduce__(self):  # raised in a sweep worker, it crosses to the main process
+        return OutputError, (self.path, self.reason)
+
+
+def cannot_write(path: str | os.PathLike, err: OSError) -> OutputError:
+    """The ``OutputError`` for ``path`` from the OSError that stopped its write (names a file in the way)."""
+    path = Path(path)
+    if isinstance(err, (NotADirectoryError, FileExistsError)):
+        block = next((a for a in (path, *path.parents) if a.exists() or a.is_symlink()), None)
+        if block is not None and not block.is_dir():
+            return OutputError(path, "not a directory" if block == path else f"{block} is not a directory")
+    return OutputError(path, err.strerror or str(err))
+
+
+def check_writable(out_dir: str | os.PathLike) -> Path:
+    """Refuse, before a long computation, an output directory that cannot be made or written; creates nothing.
+
+    A full disk shows only when writing (``output_set`` then leaves the directory as it was).
+    """
+    out = Path(out_dir)
+    near = next(a for a in (out, *out.parents, Path(".")) if a.exists() or a.is_symlink())
+    if not near.is_dir():
+        raise OutputError(out, "not a directory" if near == out else f"{near} is not a directory")
+    if not os.access(near, os.W_OK | os.X_OK):
+        read_only = bool(os.statvfs(near).f_flag & getattr(os, "ST_RDONLY", 1))
+        raise OutputError(out, os.strerror(errno.EROFS if read_only else errno.EACCES))
+    return out
+
+
+@contextmanager
+def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iterator[Path]:
+    """Stage an output set: yield a fresh directory inside ``out_dir`` to write the set's files into.
+
+    On a clean exit every file staged there moves into ``out_dir``, replacing earlier ones (the names in
+    ``remove`` that this set does not write are removed too, so a set never mixes runs). On any error or
+    interrupt ``out_dir`` is left as it was (and removed if this call made it). Write errors are
+    ``OutputError``s naming the file in ``out_dir``, never the stage.
+    """
+    out = Path(out_dir)
+    made = _make_dirs(out)
+    try:
+        times = os.stat(out)
+        stage = Path(tempfile.mkdtemp(dir=out, prefix=".rjcad-", suffix=".tmp"))
+    except OSError as e:
+        _unmake(made)
+        raise cannot_write(out, e) from None
+    done = False
+    try:
+        yield stage
+        _commit(stage, out, remove)
+        done = True
+    except OutputError as e:
+        raise OutputError(_target(e.path, stage, out), e.reason) from None
+    except OSError as e:
+        raise cannot_write(_target(Path(e.filename or out), stage, out), e) from None
+    finally:
+        aside = stage / _ASIDE
+        if done or not (aside.is_dir() and any(aside.iterdir())):  # else: earlier files that could not go back
+            shutil.rmtree(stage, ignore_errors=True)
+        if not done:
+            _unmake(made)
+            _restore_times(out, times)
+
+
+def write_set(out_dir: str | os.PathLike, files: dict[str, bytes | str],
+              remove: tuple[str, ...] = ()) -> list[Path]:
+    """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``)."""
+    out = Path(out_dir)
+    for name in files:
+        if Path(name).name != name or name.startswith("."):
+            raise ValueError(f"output set member {name!r}: must be a plain file name")
+    with output_set(out, remove) as stage:
+        for name, data in files.items():
+            try:
+                (stage / name).write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
+            except OSError as e:
+                raise cannot_write(out / name, e) from None
+    return [out / name for name in files]
+
+
+def _make_dirs(out: Path) -> list[Path]:
+    """Make ``out`` and its missing parents; return the ones made, deepest first."""
+    missing = []
+    for d in (out, *out.parents):
+        if d.exists() or d.is_symlink():
+            break
+        missing.append(d)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        _unmake(missing)
+        raise cannot_write(out, e) from None
+    return missing
+
+
+def _unmake(made: list[Path]) -> None:
+    """Remove the directories ``_make_dirs`` made, if still empty."""
+    for d in made:
+        try:
+            d.rmdir()
+        except OSError:
+            pass
+
+
+def _restore_times(out: Path, st: os.stat_result) -> None:
+    """Give ``out`` back the times it had before the stage came and went (best effort)."""
+    try:
+        os.utime(out, ns=(st.st_atime_ns, st.st_mtime_ns))
+    except OSError:
+        pass
+
+
+def _target(path: Path, stage: Path, out: Path) -> Path:
+    """Where a staged path goes in ``out`` (errors name the target, never the stage)."""
+    try:
+        parts = Path(path).relative_to(stage).parts
+    except ValueError:
+        return Path(path)
+    return out / parts[-1] if parts else out
+
+
+def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
+    """Move the staged files into ``out``, each file they replace set aside first; undo all on a failure."""
+    new = sorted(p.name for p in stage.iterdir())
+    old = [n for n in dict.fromkeys([*new, *remove]) if os.path.lexists(out / n)]
+    for n in old:
+        if (out / n).is_dir() and not (out / n).is_symlink():
+            raise OutputError(out / n, os.strerror(errno.EISDIR))
+    aside = stage / _ASIDE
+    aside.mkdir()
+    saved: list[str] = []
+    moved: list[str] = []
+    current = out
+    try:
+        for n in old:
+            current = out / n
+            os.replace(out / n, aside / n)
+            saved.append(n)
+        for n in new:
+            current = out / n
+            os.replace(stage / n, out / n)
+            moved.append(n)
+    except BaseException as e:
+        if not _undo(stage, out, moved, saved):
+            raise OutputError(current, f"{getattr(e, 'strerror', None) or e!r}; earlier files kept in {aside}") \
+                from None
+        if isinstance(e, OSError):
+            raise cannot_write(current, e) from None
+        raise
+
+
+def _undo(stage: Path, out: Path, moved: list[str], saved: list[str]) -> bool:
+    """Put the earlier files back after a failed commit; False if one could not be restored."""
+    ok = True
+    for n in reversed(moved):
+        try:
+            os.replace(out / n, stage / n)
+        except OSError:
+            ok = False
+    for n in reversed(saved):
+        try:
+            os.replace(stage / _ASIDE / n, out / n)
+        except OSError:
+            ok = False
+    return ok
