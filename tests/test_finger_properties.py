@@ -169,9 +169,9 @@ def test_random_accepted_fingers_build_checked_meshes(summary_line):
 
 def test_a_finger_longer_than_the_bed_is_refused():
     """Five joints of 40 mm links on a 29 mm base lie 229 mm along the bed: more than generic-0.4's 220 mm (rjcad
-    check's bed failed on such fingers), even with the last link at its shortest (37 mm: 226 mm); four fit."""
+    check's bed failed on such fingers), even with the last link at its shortest whole mm (38 mm: 227 mm); four fit."""
     joints = [{"stiffness_nmm_per_rad": 5.2, "link_length_mm": 40.0}] * 5
-    for last, total in ((40.0, 229.0), (37.0, 226.0)):
+    for last, total in ((40.0, 229.0), (38.0, 227.0)):
         with pytest.raises(ParameterError) as e:
             FingerParams.from_dict({"joint": joints[:4] + [{**joints[4], "link_length_mm": last}], "base_length_mm": 29})
         assert e.value.parameter == "base_length_mm + link_length_mm" and "220 mm" in e.value.limit
