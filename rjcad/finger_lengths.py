@@ -1,8 +1,10 @@
 """The shortest base and link lengths that hold a finger's joints (pure: from JointParams, no CAD) [mm].
 
 A link from joint i to joint i+1 holds joint i's moving block (from X_m), the tendon slot with its support
-pin, and joint i+1's ground block (from L − X_g); the distal link ends past the slot in a rounded tip of
-radius W/2 with the tendon's anchor; the base holds joint 1's ground block and two M3 holes.
+pin, the tendon's channel (which, between joints of different moment arms, runs straight out of the slot,
+shifts to the next arm at 45° at most and runs straight into the next fork), and joint i+1's ground block (from
+L − X_g); the distal link ends past the slot in a rounded tip of radius W/2 with the tendon's anchor; the base
+holds joint 1's ground block and two M3 holes.
 """
 
 from __future__ import annotations
@@ -21,11 +23,24 @@ def base_length_min(p) -> float:
     return p.ground_block_start + BASE_LAND
 
 
+#: Straight runs of a link's tendon channel out of the slot and into the next fork, around its shift between two
+#: moment arms (rjcad.cad.finger.link_channel_points) [mm].
+CHANNEL_RUNS = (2.0, 3.5)
+
+
+def channel_shift(p, q) -> float:
+    """How far the tendon's channel moves across a link, from joint ``p``'s moment arm and plane to ``q``'s [mm]."""
+    return math.hypot(q.moment_arm - p.moment_arm, q.z_mid - p.z_mid)
+
+
 def link_length_min(p, q=None) -> float:
-    """Shortest link after joint ``p``: X_m + slot + X_g(q) + 0.5 to the next joint ``q``, or, distal,
-    X_m + slot + W/2 + 6 [mm]."""
+    """Shortest link after joint ``p``: X_m + slot + X_g(q) + 0.5 to the next joint ``q`` (+ 4 + the channel's
+    shift when the moment arms differ: its runs and a shift at 45° at most, from the slot's end at X_m + slot − 0.5
+    to the fork's face at L − X_g + 0.5), or, distal, X_m + slot + W/2 + 6 [mm]."""
     if q is not None:
-        return p.block_start + p.slot_length + q.ground_block_start + 0.5
+        shift = channel_shift(p, q)
+        extra = 0.5 if shift < 1e-9 else sum(CHANNEL_RUNS) - 1.0 + shift
+        return p.block_start + p.slot_length + q.ground_block_start + extra
     return p.block_start + p.slot_length + p.link_width / 2 + 6.0
 
 

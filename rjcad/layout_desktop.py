@@ -43,8 +43,11 @@ FLARE_OVERLAP = 0.8
 #: Added to the clearance between facing cones and at the bore: two tessellated curved faces facing each
 #: other can each come a chord's sagitta closer than modelled [mm].
 FACET_MARGIN = 0.05
-#: Width of a stop lug [mm].
+#: Width of a stop lug, and its least length along its ray [mm].
 LUG_WIDTH = 2.0
+#: A stop lug starts this far outside the roof's bore, and its outer corner ends this far inside the cup's
+#: outer radius [mm].
+LUG_INSET = 0.5, 0.1
 #: Ray of the seated key's socket on the ground cup [rad] (towards the ground link).
 SOCKET_RAY = math.pi
 
@@ -81,16 +84,22 @@ class DesktopLayout:
         cz = (c + FACET_MARGIN) * SEC
         seat = min(b, max(1.5, min(2.0, 0.3 * b)))
         r_h = p.pin_radius
-        R_ci = max(math.hypot(p.key_tip_radius, p.key_width) + c + 0.1, p.wound_radius + p.gap_internal)
-        R_co = R_ci + 2.0 * p.printer_spec.min_wall_mm
         groove_half = p.tendon_line_diameter / 2 + 0.1
         R_band = p.eye_radius + p.tendon_line_diameter + 0.5
         depth = R_band - p.eye_radius
+        R_bore = R_band + c + FACET_MARGIN
+        R_f = R_bore + FLARE_OVERLAP
+        w_arm = min(4.5, p.moment_arm - p.tendon_diameter / 2 - 0.4)
+        wall = 2.0 * p.printer_spec.min_wall_mm
+        # the cup holds the key and the wound spring, clears the flare's rim, and its roof holds the stop lugs
+        # (LUG_WIDTH square at least, beside the arm at the clearance; see lug_span)
+        lug_corner = math.hypot(R_bore + LUG_INSET[0] + LUG_WIDTH, w_arm + c + LUG_WIDTH) + LUG_INSET[1]
+        R_ci = max(math.hypot(p.key_tip_radius, p.key_width) + c + 0.1, p.wound_radius + p.gap_internal,
+                   R_f + c + FACET_MARGIN, lug_corner - wall)
+        R_co = R_ci + wall
         # roof underside z_ru(r) = z_w0 + (R_ci − r)·T; flare top = z_ru − cz; the flare leaves the hub
         # (r_h) at b + gap_z: z_w0 + (R_ci − R_f)·T − cz − (R_f − r_h)·T ≥ b + gap_z
         gz = p.gap_z
-        R_bore = R_band + c + FACET_MARGIN
-        R_f = R_bore + FLARE_OVERLAP
         z_w0 = max(b + seat + c + 0.2,  # the lifted key passes under the roof
                    b + cz + gz + 2 * T * R_f - (R_ci + r_h) * T)  # the flare clears the spring
         roof_top_bore = z_w0 + (R_ci - R_bore) * T + ROOF_NORMAL * SEC
@@ -100,7 +109,6 @@ class DesktopLayout:
         z_t = z_step + flank + groove_half + 0.3
         half = groove_half + flank + 0.3
         height = z_t + half + 1.0
-        w_arm = min(4.5, p.moment_arm - p.tendon_diameter / 2 - 0.4)
         W = p.link_width
         theta_m = p.rotation + math.radians(5.0)
         X_g = R_co + 1.0
@@ -140,6 +148,15 @@ class DesktopLayout:
     def flare_bottom(self) -> float:
         """Height where the flare leaves the hub (r = r_h) [mm]."""
         return self.flare_top(self.R_flare) - (self.R_flare - self.r_h) * T
+
+    @property
+    def lug_span(self) -> tuple[float, float, float]:
+        """(x0, x1, y0) of a stop lug along its ray: from LUG_INSET[0] outside the bore to where its outer corner
+        (y0 + LUG_WIDTH off the ray) comes LUG_INSET[1] inside the cup's outer radius; its inner side y0 is the
+        arm's side plus the clearance [mm]."""
+        y0 = self.w_arm + self.c
+        x1 = math.sqrt((self.R_co - LUG_INSET[1]) ** 2 - (y0 + LUG_WIDTH) ** 2)
+        return self.R_bore + LUG_INSET[0], x1, y0
 
     @property
     def lug_top(self) -> float:

@@ -71,6 +71,16 @@ class Printer:
                               "side by side (its min_gap_mm)")
 
     @property
+    def bed_length(self) -> float:
+        """The bed's longest side, along which a joint or a straight finger lies [mm]."""
+        return max(self.build_volume_mm[:2])
+
+    def fits(self, dx: float, dy: float, dz: float) -> bool:
+        """An object of extent dx × dy × dz [mm] fits the build volume (X and Y may swap)."""
+        vx, vy, vz = self.build_volume_mm
+        return dz <= vz and ((dx <= vx and dy <= vy) or (dy <= vx and dx <= vy))
+
+    @property
     def thickness_is_road_multiple(self) -> bool:
         """True when t must be a whole number of extrusion roads."""
         return abs(self.thickness_step_mm - self.extrusion_width_mm) < 1e-12

@@ -114,6 +114,9 @@ class JointParams:
     post_radius: float = field(default=1.2, repr=False)
     tendon_line_diameter: float = field(default=0.6, repr=False)
     support_pin_radius: float = field(default=0.9, repr=False)
+    #: a joint module printed on its own (two links long, checked against the bed here); False for a joint of a
+    #: finger, whose whole length FingerParams checks
+    standalone: bool = field(default=True, repr=False)
 
     def __post_init__(self):
         if self.layout is None:
@@ -141,6 +144,10 @@ class JointParams:
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
         lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
+        if self.standalone:  # the joint lies on the bed, two links long
+            half = self.printer_spec.bed_length / 2
+            in_range("link_length", self.link_length, hi=half, unit="mm", tol=1e-12,
+                     limit=f"must be <= {half:g} mm on {self.printer}: the joint, two links long, must fit its bed")
         in_range("preload", self.preload, self.min_preload, deg=True, tol=1e-12,
                  limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
                        "end must clear its socket (or post) by the clearance")
@@ -479,20 +486,3 @@ class JointParams:
     def stop_angle(self) -> float:
         """Angle between the post's centre line and a stop face at clearance, asin((ρ+c)/R_h) [rad]."""
         return math.asin((self.post_radius + self.clearance) / self.post_ring_radius)
-
-    def summary(self) -> dict:
-        """Input parameters as manifest keys (degrees where the key says so)."""
-        return {
-            "stiffness_nmm_per_rad": self.stiffness,
-            "rotation_deg": math.degrees(self.rotation),
-            "preload_deg": math.degrees(self.preload),
-            "material": self.material,
-            "printer": self.printer,
-            "clearance_mm": self.clearance,
-            "link_length_mm": self.link_length,
-            "tendon_diameter_mm": self.tendon_diameter,
-            "tendon_moment_arm_mm_requested": self.tendon_moment_arm,
-            "pin_radius_mm": self.pin_radius,
-            "safety_factor": self.safety_factor,
-            "end": self.end,
-        }

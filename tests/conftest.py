@@ -1,4 +1,5 @@
-"""Shared test set-up: Hypothesis profiles, the `root`, `cli` and `cli_process` fixtures, and the `slow` auto-mark.
+"""Shared test set-up: Hypothesis profiles, the `root`, `cli`, `cli_process` and `summary_line` fixtures, the
+`slow` auto-mark, and the "designs built" section at the end of the run.
 
 Slow tests are found, not listed: at collection every test's code is read (with the helpers and fixtures it
 reaches in tests/), and a test is marked `slow` when it builds a joint or a finger in CadQuery, runs a
@@ -9,6 +10,8 @@ runs the rest, plus the tests marked `fast_lane` (one real joint build, kept on 
 from __future__ import annotations
 
 import ast
+import collections
+import functools
 import inspect
 import os
 import subprocess
@@ -79,6 +82,52 @@ def cli_process():
                               timeout=timeout, cwd=ROOT)
 
     return run
+
+
+# ---------------------------------------------------------------- designs built (the terminal summary's section)
+
+_SUMMARY = pytest.StashKey[list]()
+#: CAD builds in this process: "joint modules" (rjcad.cad.joint.build_joint), "fingers" (rjcad.cad.finger.build_finger).
+_BUILT: collections.Counter = collections.Counter()
+
+
+@pytest.fixture
+def summary_line(request):
+    """``summary_line(text)``: a line for the "designs built" section of the terminal summary, which pytest shows at
+    the end of the run without ``-s`` (the property tests report how many random designs they built)."""
+    return request.config.stash.setdefault(_SUMMARY, []).append
+
+
+def _count_calls(module, name: str, kind: str) -> None:
+    """Replace ``module.name`` by a wrapper that counts its calls in _BUILT[kind]."""
+    fn = getattr(module, name)
+
+    @functools.wraps(fn)
+    def counted(*args, **kwargs):
+        _BUILT[kind] += 1
+        return fn(*args, **kwargs)
+
+    setattr(module, name, counted)
+
+
+def pytest_sessionstart(session):
+    # before any test module imports the builders (rjcad.cad.build binds build_joint when it is imported)
+    import rjcad.cad.finger
+    import rjcad.cad.joint
+
+    _count_calls(rjcad.cad.joint, "build_joint", "joint modules")
+    _count_calls(rjcad.cad.finger, "build_finger", "fingers")
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    lines = config.stash.get(_SUMMARY, [])
+    if _BUILT:
+        lines = lines + [f"CAD builds in this run (random and fixed designs; not those in CLI subprocesses or sweep "
+                         f"workers): {', '.join(f'{kind} {n}' for kind, n in sorted(_BUILT.items()))}"]
+    if lines:
+        terminalreporter.write_sep("=", "designs built")
+        for line in lines:
+            terminalreporter.write_line(line)
 
 
 # ---------------------------------------------------------------- the slow auto-mark

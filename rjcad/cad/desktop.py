@@ -65,14 +65,13 @@ def hub_profile(p: JointParams) -> list[tuple[float, float]]:
 def lug_parts(p: JointParams) -> list[cq.Shape]:
     """Extension and flexion stop lugs on the roof, beside the arm's faces at the clearance, below the tendon."""
     L = p.desktop
-    r0, r1 = L.R_bore + 0.5, L.R_co - 0.05
-    zone = revolved([(r0 - 0.3, L.roof_top(r0) - 0.5), (r1, L.roof_top(r1) - 0.5), (r1, L.lug_top),
-                     (r0 - 0.3, L.lug_top)])
-    y0 = L.w_arm + L.c
-    y1 = y0 + LUG_WIDTH
-    # plane ends (x from r0 to where the far corner reaches r1 − 0.05): no knife edge where a curved end
+    # plane ends (L.lug_span: the far corner inside the cup's outer radius): no knife edge where a curved end
     # would meet the lug's side
-    x0, x1 = r0, math.sqrt((r1 - 0.05) ** 2 - y1 ** 2)
+    x0, x1, y0 = L.lug_span
+    y1 = y0 + LUG_WIDTH
+    r1 = L.R_co - 0.05
+    zone = revolved([(x0 - 0.3, L.roof_top(x0) - 0.5), (r1, L.roof_top(r1) - 0.5), (r1, L.lug_top),
+                     (x0 - 0.3, L.lug_top)])
     ext = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, -y1, -1.0))
     flex = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, y0, -1.0)).rotate(
         ORIGIN, Z, math.degrees(p.rotation))

@@ -34,7 +34,8 @@ from rjcad.cad.joint import (
     tube_path,
 )
 from rjcad.cad.parts import CHANNEL_ROOF
-from rjcad.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
+from rjcad.finger_lengths import (CHANNEL_RUNS, DEFAULT_BASE_LENGTH, base_length_min, channel_shift, link_length_min,
+                                  whole_mm)
 from rjcad.params import JOINT_DEFAULT_END, JointParams
 from rjcad.config import check_key as _typed
 from rjcad.config import load_toml
@@ -64,6 +65,18 @@ class FingerParams:
     @classmethod
     def from_dict(cls, data: dict, source: str = "<dict>") -> "FingerParams":
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
+        built, requested = cls.joints_from_dict(data)
+        # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
+        base = (float(data["base_length_mm"]) if "base_length_mm" in data
+                else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH))
+        fp = cls(tuple(built), base, source, tuple(requested))
+        fp.validate_lengths()
+        return fp
+
+    @staticmethod
+    def joints_from_dict(data: dict) -> tuple[list[JointParams], list[dict]]:
+        """A template's joints, validated, with one eye (or tendon) plane for the whole finger, and each joint's
+        table as given; the lengths are checked by :meth:`validate_lengths`."""
         for k, v in data.items():
             _typed("", k, v, GLOBAL_KEYS)
         defaults = {k: _typed("defaults.", k, v, JOINT_KEYS) for k, v in data.get("defaults", {}).items()}
@@ -93,7 +106,7 @@ class FingerParams:
                                    if "tendon_moment_arm_mm" in merged else None),
             )
             try:
-                built.append(JointParams(**kw, **common))
+                built.append(JointParams(**kw, **common, standalone=False))
             except ParameterError as e:
                 name = {"stiffness": "stiffness_nmm_per_rad", "rotation": "rotation_deg",
                         "preload": "preload_deg", "link_length": "link_length_mm",
@@ -112,12 +125,7 @@ class FingerParams:
         # desktop: each joint's tendon plane is raised to the highest one's (its band and arm grow)
         z_top = max(p.z_mid for p in built)
         built = [replace(p, tendon_lift=z_top - p.z_mid) if p.layout == "desktop" else p for p in built]
-        # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
-        base = (float(data["base_length_mm"]) if "base_length_mm" in data
-                else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH))
-        fp = cls(tuple(built), base, source, tuple(requested))
-        fp.validate_lengths()
-        return fp
+        return built, requested
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "FingerParams":
@@ -133,8 +141,13 @@ class FingerParams:
         for i, p in enumerate(js, start=1):
             need = link_length_min(p, js[i] if i < len(js) else None)
             if p.link_length < need - 1e-9:
-                raise ParameterError(f"joint[{i}].link_length_mm", p.link_length,
-                                     f"must be >= {need:.1f} mm for these springs", unit="mm")
+                raise ParameterError(f"joint[{i}].link_length_mm", p.link_length, f"must be >= {need:.1f} mm for "
+                                     "these joints (their blocks, the slot, the tendon's channel)", unit="mm")
+        length, bed = self.base_length + sum(p.link_length for p in js), js[0].printer_spec.bed_length
+        if length > bed + 1e-9:
+            raise ParameterError("base_length_mm + link_length_mm", length,
+                                 f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer}",
+                                 unit="mm")
 
     @property
     def n(self) -> int:
@@ -166,9 +179,10 @@ def link_channel_points(p: JointParams, q: JointParams, length: float) -> list[t
     """Channel through link i: from joint i's slot to joint i+1's fork face (x = L − X_g of q)."""
     s = moving_channel_start(p)
     e = (length - q.ground_block_start + 0.5, q.moment_arm, q.z_mid)
-    if abs(p.moment_arm - q.moment_arm) < 1e-9 and abs(p.z_mid - q.z_mid) < 1e-9:
+    if channel_shift(p, q) < 1e-9:
         return [s, e]
-    return [s, (s[0] + 2.0, s[1], s[2]), (e[0] - 3.5, e[1], e[2]), e]
+    out, into = CHANNEL_RUNS
+    return [s, (s[0] + out, s[1], s[2]), (e[0] - into, e[1], e[2]), e]
 
 
 def m3_hole_heights(p: JointParams) -> tuple[float, float]:
@@ -215,9 +229,14 @@ def distal_anchor_x(p: JointParams) -> float:
 
 
 def distal_body(p: JointParams) -> cq.Shape:
-    """Moving side of the last joint, ending in a rounded fingertip, with the tendon's cross-hole anchor."""
+    """Moving side of the last joint, ending in a rounded fingertip, with the tendon's cross-hole anchor.
+
+    The tip is a cylinder of the link's width cut at the block's start: a wide, short link's whole cylinder
+    would reach back behind it, into the joint's clearance."""
     L, W, H = p.link_length, p.link_width, p.height
     tip = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
+    if L - W < p.block_start:
+        tip = tip.intersect(link_block(p.block_start, L, W, H))
     body = _fuse(moving_side(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")
     xa = distal_anchor_x(p)
     anchor = cq.Solid.makeCylinder(max(1.0, p.tendon_diameter), H + 2, cq.Vector(xa, p.moment_arm, -1), Z)

@@ -116,7 +116,7 @@ def check_bed(bodies, printer: Printer) -> CheckResult:
     hi = np.max([b.bounds[1] for b in bodies], axis=0)
     ext = hi - lo
     vol = np.asarray(printer.build_volume_mm)
-    fits = (ext[2] <= vol[2]) and ((ext[0] <= vol[0] and ext[1] <= vol[1]) or (ext[1] <= vol[0] and ext[0] <= vol[1]))
+    fits = printer.fits(*ext)
     on_bed = abs(lo[2]) < 1e-3
     detail = (f"extent {ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm in a {vol[0]:g} × {vol[1]:g} × {vol[2]:g} mm "
               f"volume; " + ("lies on z = 0" if on_bed else f"bottom at z = {lo[2]:.3f}: move it by {-lo[2]:.3f} mm"))

@@ -13,7 +13,8 @@ FIELDS = requirement(
               "clearance, PLA 0.35, ABS 0.40, PETG 0.45; stacked 0.25)."),
         Field("--layout", "layout", str, "desktop (default without soluble support: one spring on the bed under nested 50° "
               "cones, no support) or stacked (the paper's, two springs; default on dimension-elite)."),
-        Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40)."),
+        Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40; at most half the "
+              "bed's longest side)."),
         Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
         Field("--tendon-moment-arm", "tendon_moment_arm_mm", float,
               "Tendon moment arm about the axis [mm] (default 6)."),
