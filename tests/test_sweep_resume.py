@@ -173,9 +173,10 @@ def test_an_error_message_with_line_breaks_is_one_line(tmp_path, monkeypatch):
 
 # ---------------------------------------------------------------- stopping a build-mode sweep
 
-#: Two infeasible designs (no CAD: their rows come at once), then two that build (~3-5 s each): stopped
-#: after two rows, both workers are building.
-VALUES = [500.0, 600.0, 4.0, 5.0]
+#: Two infeasible designs (no CAD: their rows come at once), then six that build (1.3-5 s each, two at a time):
+#: stopped after two rows, both workers are building and four designs wait (with only two, a quiet machine
+#: finished both builds before the signal arrived, and the sweep exited 0).
+VALUES = [500.0, 600.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
 BUILD_SWEEP = f"[params.stiffness_nmm_per_rad]\nvalues = {VALUES}\n"
 
 
