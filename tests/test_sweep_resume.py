@@ -185,8 +185,11 @@ def _start(tmp_path: Path, out: Path, *extra: str) -> subprocess.Popen:
     f.write_text(BUILD_SWEEP)
     # output to files, not pipes: a worker left behind would hold a pipe open and hang the test
     with open(tmp_path / "stdout", "ab") as o, open(tmp_path / "stderr", "ab") as e:
+        # SIGINT at its default: a job a non-interactive shell starts in the background (CI's `make test`)
+        # inherits SIGINT ignored, and Python then installs no KeyboardInterrupt for it
         return subprocess.Popen([sys.executable, "-m", "rjcad", "sweep", str(f), "--out", str(out), "--build",
-                                 "--workers", "2", *extra], stdout=o, stderr=e)
+                                 "--workers", "2", *extra], stdout=o, stderr=e,
+                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def _rows_logged(out: Path) -> int:
