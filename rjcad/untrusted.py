@@ -86,11 +86,9 @@ def parse_toml(text: str, label: str) -> dict[str, Any]:
     """``text`` parsed as TOML and checked (:func:`check_tree`); RjcadError naming ``label``."""
     try:
         data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise RjcadError(f"{label}: not valid TOML ({_one_line(e)})") from None
     except RecursionError:
         raise RjcadError(f"{label}: not valid TOML (nested deeper than {MAX_DEPTH} tables or arrays)") from None
-    except ValueError as e:   # e.g. an integer of more than 4300 digits
+    except ValueError as e:   # TOMLDecodeError is one; so is an integer of more than 4300 digits
         raise RjcadError(f"{label}: not valid TOML ({_one_line(e)})") from None
     return check_tree(data, label)
 
