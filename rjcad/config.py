@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from rjcad.errors import ParameterError, RjcadError
-from rjcad.outputs import cannot_write
+from rjcad.outputs import cannot_write, restore_times
 from rjcad.untrusted import read_toml
 
 
@@ -56,10 +56,7 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
         os.replace(tmp, path)
     except BaseException as e:
         Path(tmp).unlink(missing_ok=True)
-        try:
-            os.utime(path.parent, ns=(parent.st_atime_ns, parent.st_mtime_ns))
-        except OSError:
-            pass
+        restore_times(path.parent, parent)
         if isinstance(e, OSError):
             raise cannot_write(path, e) from None
         raise

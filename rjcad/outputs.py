@@ -91,7 +91,7 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
             shutil.rmtree(stage, ignore_errors=True)
         if not done:
             _unmake(made)
-            _restore_times(out, times)
+            restore_times(out, times)
 
 
 def write_set(out_dir: str | os.PathLike, files: dict[str, bytes | str],
@@ -134,8 +134,8 @@ def _unmake(made: list[Path]) -> None:
             pass
 
 
-def _restore_times(out: Path, st: os.stat_result) -> None:
-    """Give ``out`` back the times it had before the stage came and went (best effort)."""
+def restore_times(out: Path, st: os.stat_result) -> None:
+    """Give ``out`` back the times it had before a temporary file or stage came and went (best effort)."""
     try:
         os.utime(out, ns=(st.st_atime_ns, st.st_mtime_ns))
     except OSError:
