@@ -34,10 +34,13 @@ def _key_values(text: str, option: str) -> dict[str, float]:
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed (same seed, same files).")
 @click.option("--samples", type=int, default=3000, show_default=True, help="Samples per experiment (>= 100).")
 @click.option("--rotation", type=float, default=90.0, show_default=True, help="Joint rotation from rest [deg].")
+@click.option("--trajectory", type=click.Choice(["paper", "one-speed", "one-speed-holds", "two-speeds"]),
+              default="paper", show_default=True,
+              help="Angle path of every experiment: the paper-like three speeds with holds, or a simpler one.")
 @click.option("--paper", is_flag=True,
               help=f"The paper's campaign: its design and measured parameters, F_n {JOINT.normal_load:g} N in A-C.")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True, help="Campaign directory.")
-def bench(effects, params, noise, seed, samples, rotation, paper, out_dir):
+def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, out_dir):
     """Write a SYNTHETIC campaign (experiments A-E of the paper) simulated from the joint model, with noise."""
     from pathlib import Path
 
@@ -54,7 +57,7 @@ def bench(effects, params, noise, seed, samples, rotation, paper, out_dir):
         chosen, design = list(PAPER_PRESET["effects"]), PAPER_PRESET["design"]
         overrides = {**PAPER_PRESET["params"], **overrides}
     truth = write_campaign(out_dir, chosen, overrides, design=design, seed=seed, noise=_key_values(noise, "--noise"),
-                           samples=samples, rotation_deg=rotation)
+                           samples=samples, rotation_deg=rotation, trajectory_name=trajectory)
     out = Path(out_dir)
     click.echo(f"wrote {out / 'campaign.toml'}")
     for e in truth["experiments"]:

@@ -55,18 +55,33 @@ SEGMENTS = (
     (3.0, 0.0, 1.0), (3.0, 1.0, 1.0), (1.8, 1.0, 0.4), (1.8, 0.4, 1.0), (3.0, 1.0, 0.0), (3.0, 0.0, 0.0),
     (6.0, 0.0, 1.0), (3.0, 1.0, 1.0), (6.0, 1.0, 0.0), (3.0, 0.0, 0.0),
 )
+#: Named trajectories (``--trajectory``): segments and a sentence for the README. "paper" is SEGMENTS.
+#: one-speed: four 2 s up/down cycles, no hold (viscous damping and a fast relaxation look alike);
+#: one-speed-holds: the same ramps with 4 s holds at top and bottom (relaxation shows in the holds);
+#: two-speeds: two cycles of 2 s ramps and two of 5 s, no hold (viscous damping scales with speed).
+TRAJECTORIES = {
+    "paper": SEGMENTS,
+    "one-speed": ((1.0, 0.0, 0.0),) + ((2.0, 0.0, 1.0), (2.0, 1.0, 0.0)) * 4,
+    "one-speed-holds": ((1.0, 0.0, 0.0),) + ((2.0, 0.0, 1.0), (4.0, 1.0, 1.0), (2.0, 1.0, 0.0), (4.0, 0.0, 0.0)) * 2,
+    "two-speeds": ((1.0, 0.0, 0.0),) + ((2.0, 0.0, 1.0), (2.0, 1.0, 0.0)) * 2 + ((5.0, 0.0, 1.0), (5.0, 1.0, 0.0)) * 2,
+}
+TRAJECTORY_TEXT = {
+    "one-speed": "four cycles with minimum-jerk ramps of 2 s, one speed, no hold",
+    "one-speed-holds": "two cycles with minimum-jerk ramps of 2 s and 4 s holds at the top and the bottom",
+    "two-speeds": "two cycles with minimum-jerk ramps of 2 s, then two of 5 s (two speeds), no hold",
+}
 MIN_SAMPLES, MAX_SAMPLES = 100, 2_000_000
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_-]*$")
 
 
-def trajectory(samples: int, rotation: float) -> tuple[np.ndarray, np.ndarray]:
-    """Uniform times t [s] over SEGMENTS and the true joint angle θ_j(t) [rad], 0 → ``rotation`` [rad].
+def trajectory(samples: int, rotation: float, segments=SEGMENTS) -> tuple[np.ndarray, np.ndarray]:
+    """Uniform times t [s] over ``segments`` and the true joint angle θ_j(t) [rad], 0 → ``rotation`` [rad].
 
     Ramps are minimum-jerk: θ = a + (b − a)·(10u³ − 15u⁴ + 6u⁵), u = (t − t₀)/T.
     """
-    dur = np.array([s[0] for s in SEGMENTS])
-    start = np.array([s[1] for s in SEGMENTS]) * rotation
-    end = np.array([s[2] for s in SEGMENTS]) * rotation
+    dur = np.array([s[0] for s in segments])
+    start = np.array([s[1] for s in segments]) * rotation
+    end = np.array([s[2] for s in segments]) * rotation
     t0 = np.concatenate([[0.0], np.cumsum(dur)])
     t = np.linspace(0.0, t0[-1], samples)
     k = np.clip(np.searchsorted(t0, t, side="right") - 1, 0, len(dur) - 1)
@@ -222,6 +237,8 @@ def _command(truth: dict) -> str:
                  if cat.PARAMS[k][0].id in truth["effects"]]
     if truth["noise"] != DEFAULT_NOISE:
         args.append("--noise " + ",".join(f"{k}={v!r}" for k, v in truth["noise"].items()))
+    if truth["trajectory"].get("name", "paper") != "paper":
+        args.append(f"--trajectory {truth['trajectory']['name']}")
     args += [f"--seed {truth['seed']}", f"--samples {truth['samples']}", f"--rotation {truth['rotation_deg']!r}",
              "--out DIR"]
     return " ".join(args)
@@ -272,15 +289,18 @@ def _readme(truth: dict) -> str:
     out += [f"| `{e['file']}` | {e['drive']} | {e['normal_load_n']:g} | {'yes' if e['routed'] else 'no'} | "
             f"`{e['quantity']}` |" for e in truth["experiments"]]
     ramps = sorted({s[0] for s in SEGMENTS if s[1] != s[2] and abs(s[2] - s[1]) == 1.0})
+    name = tr.get("name", "paper")
+    shape = TRAJECTORY_TEXT.get(name) or (
+        f"three cycles with minimum-jerk ramps of {', '.join(f'{r:g}' for r in ramps)} s (three speeds) and 3 s "
+        "holds at the top and the bottom; the 3 s cycle reverses at 40 % of the rotation on its way down and goes up "
+        "again before returning to 0")
     out += [
         "",
         "## Trajectory (the same in every experiment)",
         "",
         f"{truth['samples']} samples at {tr['sample_rate_hz']:.4g} Hz over {tr['duration_s']:g} s; "
-        f"rotation 0 → {truth['rotation_deg']:g}° from rest. A {SEGMENTS[0][0]:g} s hold at 0, then three cycles "
-        f"with minimum-jerk ramps of {', '.join(f'{r:g}' for r in ramps)} s (three speeds) and 3 s holds at the top "
-        "and the bottom; the 3 s cycle reverses at 40 % of the rotation on its way down and goes up again before "
-        "returning to 0. The motion direction is held through holds.",
+        f"rotation 0 → {truth['rotation_deg']:g}° from rest. A {SEGMENTS[0][0]:g} s hold at 0, then {shape}. "
+        "The motion direction is held through holds.",
     ]
     out += _readme_slack(truth)
     cmd = _command(truth)
@@ -325,13 +345,16 @@ def _readme_slack(truth: dict) -> list[str]:
 
 
 def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noise=None, samples=3000,
-                   rotation_deg=90.0, experiments="paper") -> dict:
+                   rotation_deg=90.0, experiments="paper", trajectory_name="paper") -> dict:
     """Write a SYNTHETIC campaign (campaign.toml, one CSV per experiment, truth.json, README.md); return the truth.
 
     Everything is validated and simulated before anything is written. ``params`` (JSON names)
     override the chosen effects' typical values; ``noise`` σ per column (torque_nmm [N·mm],
-    tendon_force_n [N], theta_deg [deg]); ``rotation_deg`` [deg].
+    tendon_force_n [N], theta_deg [deg]); ``rotation_deg`` [deg]; ``trajectory_name`` one of TRAJECTORIES.
     """
+    if trajectory_name not in TRAJECTORIES:
+        raise ParameterError("trajectory", trajectory_name, f"unknown; known: {', '.join(TRAJECTORIES)}")
+    segments = TRAJECTORIES[trajectory_name]
     design = _design(design)
     effects = _effects(effects)
     values = _true_params(design, effects, params)
@@ -348,7 +371,7 @@ def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noi
         raise RjcadError(f"{out}: exists and is not a directory")
 
     model = JointModel(pulley_radius=design["pulley_radius_mm"], **cat.model_kwargs(values))
-    t, theta = trajectory(samples, rotation_deg * DEG)
+    t, theta = trajectory(samples, rotation_deg * DEG, segments)
     direction = motion_direction(theta)
     rng = np.random.default_rng(seed)
     files: dict[str, str] = {}
@@ -374,7 +397,8 @@ def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noi
         "samples": samples,
         "rotation_deg": rotation_deg,
         "trajectory": {"duration_s": float(t[-1]), "sample_rate_hz": (samples - 1) / float(t[-1]),
-                       "ramp": "minimum-jerk", "segments_s_start_end": [list(s) for s in SEGMENTS]},
+                       "ramp": "minimum-jerk", "segments_s_start_end": [list(s) for s in segments],
+                       **({"name": trajectory_name} if trajectory_name != "paper" else {})},
         "experiments": exps,
     }
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"

@@ -102,6 +102,22 @@ def _summary(js: dict) -> list[str]:
     return out
 
 
+def _ambiguous_section(js: dict) -> list[str]:
+    """The effect sets the data cannot tell from the answer, and the experiment that would."""
+    amb = js.get("ambiguous") or []
+    if not amb:
+        return []
+    out = ["## What the data cannot decide", "",
+           f"The answer above (`{'`, `'.join(js['effects'])}`) is the simplest of the sets below, which explain "
+           "this campaign about as well (|ΔBIC| < 10, or one needs a parameter the data only bound while the other "
+           "fits to within 10 % of the noise). Do not trust the choice between them; the last column names the "
+           "experiment that would settle it.", ""]
+    rows = [[", ".join(f"`{e}`" for e in a["effects"]), fmt(a["delta_bic"], 3), a["free_parameters"],
+             ", ".join(a["only_bounded"]) or "none", a["separate_by"]] for a in amb]
+    return out + _table(["other set", "ΔBIC vs the answer", "free parameters", "only bounded", "separate them by"],
+                        rows)
+
+
 def _param_text(js: dict, name: str) -> str:
     """'mu_j_mm = 6.919 mm (95%: 6.917–6.921)'."""
     u = unit_of(name)
@@ -275,6 +291,9 @@ def render_markdown(js: dict, plots: dict[str, str] | None = None) -> str:
 
     out = ["# Identification report", ""]
     out += _summary(js)
+    amb = _ambiguous_section(js)
+    if amb:
+        out += [""] + amb
     out += img("fit", "measured data, design simulation and final model")
     out += [""] + _steps_section(js)
     out += img("steps", "error after each step")

@@ -75,6 +75,7 @@ def to_json(ident: Identification) -> dict:
         "heldout_rmse_design": _r(ident.heldout_design),
         "heldout_rmse_final": _r(ident.heldout_final),
         "design": ident.campaign.design.as_json(),
+        "ambiguous": [{**a, "delta_bic": _r(a["delta_bic"])} for a in ident.ambiguous],
         "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
         "units": {"heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
                   "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",

@@ -16,7 +16,9 @@ from functools import cached_property
 import numpy as np
 
 from rjcad.identify.catalogue import CATALOGUE, EFFECTS
+from rjcad.identify.ambiguity import find as rival_sets
 from rjcad.identify.data import Campaign
+from rjcad.identify.eiv import correct_viscous
 from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, param_names, \
     predict, prepare, unidentifiable
 
@@ -61,6 +63,7 @@ class Identification:
     heldout_design: float | None
     heldout_final: float | None
     notes: list[str] = field(default_factory=list)
+    ambiguous: list[dict] = field(default_factory=list)  # rival effect sets the data cannot tell apart
 
     def predictions(self, values=None) -> list[np.ndarray]:
         v = self.final.values if values is None else values
@@ -318,7 +321,17 @@ class Selector:
         current, ho_cur = self.backward(accepted, current, ho_cur, steps, design)
 
         current, not_ident = self.final_identifiability(accepted, current)
+        best, ambiguous = rival_sets(self, accepted, current, cands)
         notes = []
+        if best.effects != accepted:
+            notes.append(f"the data cannot tell {', '.join(accepted)} from {', '.join(best.effects)}: "
+                         f"the simpler set is kept (see ambiguous)")
+            accepted = list(best.effects)
+            current, not_ident = self.final_identifiability(accepted, best.fit)
+        current, note = correct_viscous(current, Problem(self.campaign, self.prepared, {**self.base, **current.values}),
+                                        *self.bounds(current.names))
+        if note:
+            notes.append(note)
         if not self._fold_ids:
             notes.append("no experiment has two whole cycles: the held-out check was skipped")
         for n, why in self.post_check(current).items():
@@ -327,7 +340,7 @@ class Selector:
             else:
                 not_ident.setdefault(n, why)
         return Identification(self.campaign, self.prepared, design, current, accepted, steps, cands,
-                              not_ident, confidence(current, self.prob), ho_design, ho_cur, notes)
+                              not_ident, confidence(current, self.prob), ho_design, ho_cur, notes, ambiguous)
 
 
 def identify(campaign: Campaign) -> Identification:

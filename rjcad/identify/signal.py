@@ -45,6 +45,7 @@ class Motion:
     window: int             # smoothing window [samples]
     glitches: np.ndarray = None  # bool: camera outliers, replaced by the running median
     at_reversal: np.ndarray = None  # bool: masked because the direction is ambiguous there
+    velocity_sigma: float = 0.0  # σ of the velocity estimate from the angle noise alone [rad/s]
 
     @property
     def n_cycles(self) -> int:
@@ -75,6 +76,9 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     th = savgol_filter(raw, w, 2, mode="interp") if n >= w else raw.copy()
     wv = _window(t, span_v_s)  # velocity: a wider window, local slope (noise ∝ w^−3/2, bias ∝ θ‴·w²)
     vel = (savgol_filter(raw, wv, 2, deriv=1, mode="interp") if n >= wv else np.gradient(raw)) / np.gradient(t)
+    # σ of the velocity: white angle noise through the derivative kernel, σ_v = σ_θ·√Σh²/Δt
+    sig_v = (sig * math.sqrt(float(np.sum(savgol_coeffs(wv, 2, deriv=1) ** 2))) if n >= wv else sig / math.sqrt(2)) \
+        / max(float(np.median(np.diff(t))), 1e-12) if n > 1 else 0.0
     # σ of the smoothed angle: white noise through the SG kernel (Σh² of its central row)
     sig_s = sig * math.sqrt(float(np.sum(savgol_coeffs(w, 2) ** 2))) if n >= w else sig
     # the range of n Gaussian samples stays below 2·√(2 ln n)·σ: a hold never trips the trigger
@@ -87,7 +91,8 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     at_reversal = ~valid
     valid = valid & ~_widen(glitch, w)
     return Motion(theta=th, velocity=vel, direction=direction, valid=valid, hold=hold, cycle=cycle,
-                  reversals=reversals, sigma_theta=sig, step=h, window=w, glitches=glitch, at_reversal=at_reversal)
+                  reversals=reversals, sigma_theta=sig, step=h, window=w, glitches=glitch, at_reversal=at_reversal,
+                  velocity_sigma=sig_v)
 
 
 def spikes(x, sigma: float, k: float = 8.0) -> np.ndarray:
