@@ -13,7 +13,8 @@ def test_simulate_joint_bar_defaults_are_the_papers_joint(cli_process):
     r = cli_process("simulate", "joint", "--drive", "bar", "--rotation", "90", "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
-    assert set(d) == {"theta_deg", "direction", "torque_nmm"}
+    assert set(d) == {"theta_deg", "direction", "torque_nmm", "slack", "slack_samples", "loop_width"}
+    assert d["slack_samples"] == 0 and not r.stderr
     th, s, tau = (np.array(d[k]) for k in ("theta_deg", "direction", "torque_nmm"))
     assert th[0] == 0 and th.max() == pytest.approx(90) and th[-1] == 0 and set(s) == {1, -1}
     up, dn = s > 0, s < 0
@@ -26,6 +27,32 @@ def test_simulate_joint_flags_change_the_loop(cli_process):
     b = json.loads(cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json", "--routed",
                                "--normal-load", "0", "--pulley-radius", "8").stdout)
     assert len(a["tendon_force_n"]) == len(b["tendon_force_n"]) and a["tendon_force_n"] != b["tendon_force_n"]
+
+
+def test_simulate_joint_slack_tendon(cli_process):
+    """The paper's joint on a tendon under the default 1.5 N load: (K − γ⁻)·θ < μ_j·F_n over the whole release, so
+    the tendon would have to push. The JSON carries the mask, stderr one warning, and no loop width is made up."""
+    r = cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "90", "--json")
+    assert r.returncode == 0
+    d = json.loads(r.stdout)
+    s, slack = np.array(d["direction"]), np.array(d["slack"])
+    assert slack[s < 0].all() and not slack[s > 0].any() and d["slack_samples"] == int((s < 0).sum())
+    assert d["loop_width"] is None
+    assert len(r.stderr.strip().splitlines()) == 1 and "slack over the whole release" in r.stderr
+    text = cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "90")
+    assert "no loop width" in text.stdout and "200 slack" in text.stdout
+    # unloaded: taut throughout, a loop width, no warning
+    r0 = cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "90", "--normal-load", "0", "--json")
+    d0 = json.loads(r0.stdout)
+    assert d0["slack_samples"] == 0 and d0["loop_width"] > 0 and not r0.stderr
+
+
+def test_simulate_finger_mu_t_needs_wrap_angles(tmp_path, cli_process):
+    """A template carries no wrap angle: --mu-t would silently do nothing, so it is refused (one line, exit 2)."""
+    for args in (["simulate", "finger", "--mu-t", "0.2"], ["simulate", "finger", "templates/finger.toml", "--mu-t", "0.2"]):
+        r = cli_process(*args)
+        assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--mu-t" in r.stderr and "wrap" in r.stderr
+    assert cli_process("simulate", "finger", "templates/finger.toml", "--mu-t", "0").returncode == 0
 
 
 def test_simulate_finger_from_a_manifest(tmp_path, cli_process):
@@ -99,7 +126,7 @@ def test_cli_simulate_joint_json(tmp_path, cli_process):
                     "--plot", str(tmp_path / "loop.png"))
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
-    assert set(d) == {"theta_deg", "direction", "tendon_force_n"}
+    assert set(d) == {"theta_deg", "direction", "tendon_force_n", "slack", "slack_samples", "loop_width"}
     assert len(d["theta_deg"]) == len(d["direction"]) == len(d["tendon_force_n"])
     assert (tmp_path / "loop.png").stat().st_size > 1000
 

@@ -26,22 +26,22 @@ def frictional_finger(**kw):
 def check_conditions(m: fm.FingerModel, c: fm.Closure):
     """The solver's answer must satisfy, at every step and joint, the conditions the model states."""
     K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
-    f0, gam = np.array(m.friction), np.array(m.gamma)
+    f0, gp, gn = np.array(m.friction), np.array(m.gamma_pos), np.array(m.gamma_neg)
     for k in range(len(c.tendon_mm)):
         th = c.theta[k]
         drive = r * c.joint_tension[k]  # torque the tendon gives each joint
         spring = K * (th + th0)
-        band = f0 + gam * (th + th0)
+        hi, lo = f0 + gp * (th + th0), f0 + gn * (th + th0)  # the band: closing needs hi, opening −lo
         net = drive - spring
         inside = (th > 1e-9) & (th < thmax - 1e-9)
-        assert np.all(np.abs(net[inside]) <= band[inside] + TOL), (k, net, band)
-        assert np.all(net[th <= 1e-9] <= band[th <= 1e-9] + TOL)  # the rest stop can only push back
-        assert np.all(net[th >= thmax - 1e-9] >= -band[th >= thmax - 1e-9] - TOL)
+        assert np.all((net[inside] <= hi[inside] + TOL) & (net[inside] >= -lo[inside] - TOL)), (k, net, hi, lo)
+        assert np.all(net[th <= 1e-9] <= hi[th <= 1e-9] + TOL)  # the rest stop can only push back
+        assert np.all(net[th >= thmax - 1e-9] >= -lo[th >= thmax - 1e-9] - TOL)
         if k:  # a joint that moved sits on the edge of its band, on the side of its motion
             moved = c.theta[k] - c.theta[k - 1]
             up, dn = (moved > 1e-9) & (th < thmax - 1e-9), (moved < -1e-9) & (th > 1e-9)
-            assert np.allclose(net[up], band[up], atol=1e-6)
-            assert np.allclose(net[dn], -band[dn], atol=1e-6)
+            assert np.allclose(net[up], hi[up], atol=1e-6)
+            assert np.allclose(net[dn], -lo[dn], atol=1e-6)
         # the tendon: taut → Σ r·θ = t_d (inextensible); slack → T = 0 and the finger holds at least t_d
         if c.tension[k] > 0:
             assert r @ th == pytest.approx(c.tendon_mm[k], abs=1e-6)
@@ -197,11 +197,30 @@ def test_fit_uncertainty_says_not_identified_when_it_is_not():
     J = rng.normal(size=(3, 2))
     lb, ub = np.zeros(2), np.full(2, 10.0)
     x = np.array([2.0, 3.0])
-    assert _std(J, x, lb, ub) == pytest.approx(np.sqrt(np.diag(np.linalg.inv(J.T @ J))))
-    assert np.isnan(_std(np.c_[J[:, :1], np.zeros(3)], x, lb, ub)[1])  # no effect on the fit
-    both = _std(np.c_[J[:, :1], 2 * J[:, :1], J[:, 1:]], np.r_[x, 1.0], np.zeros(3), np.full(3, 10.0))
+    std, why = _std(J, x, lb, ub, ["a", "b"])
+    assert std == pytest.approx(np.sqrt(np.diag(np.linalg.inv(J.T @ J)))) and why == ["", ""]
+    std, why = _std(np.c_[J[:, :1], np.zeros(3)], x, lb, ub, ["a", "b"])
+    assert np.isnan(std[1]) and why[1] == "no effect"  # no effect on the fit
+    both, why = _std(np.c_[J[:, :1], 2 * J[:, :1], J[:, 1:]], np.r_[x, 1.0], np.zeros(3), np.full(3, 10.0),
+                     ["a", "b", "c"])
     assert np.isnan(both[0]) and np.isnan(both[1]) and np.isfinite(both[2])  # two that trade off exactly
-    assert np.isnan(_std(J, np.array([0.0, 3.0]), lb, ub)[0])  # on its bound
+    assert why == ["trades off with b", "trades off with a", ""]
+    std, why = _std(J, np.array([0.0, 3.0]), lb, ub, ["a", "b"])
+    assert np.isnan(std[0]) and why[0] == "at its bound"  # on its bound: rejected by the data
+
+
+def test_paper_finger_interval_scaled_by_the_misfit():
+    """A fit that leaves 21.7° RMS against an assumed 2° error: its Jacobian σ is multiplied by √(χ²/dof)."""
+    from rjcad.physics import paper_finger as pf
+
+    common = pf._fit("moment arm (common)", *pf.FAMILIES["moment arm (common)"])
+    chi2 = float(np.sum(((np.array(common.end_deg) - pf.MEASURED_DEG) / pf.ANGLE_SIGMA_DEG) ** 2))
+    assert common.scale == pytest.approx(np.sqrt(chi2 / 2), rel=1e-3) and common.scale > 10
+    assert "(σ ×" in pf._fmt_param(common, "r_mm")
+    per_joint = pf._fit("moment arms per joint", *pf.FAMILIES["moment arms per joint"])
+    assert per_joint.scale == 1.0  # three numbers, three parameters: no dof, the interval stays as computed
+    along = pf._fit(pf.CAPSTAN_ALONG, *pf.FAMILIES[pf.CAPSTAN_ALONG])
+    assert "rejected by the data" in pf._fmt_param(along, "mu_alpha")
 
 
 def test_paper_finger_capstan_and_friction_verdicts():
@@ -322,3 +341,48 @@ def test_paper_finger_doc_regenerates_identically(tmp_path, root):
 
     write_doc(tmp_path)
     assert (tmp_path / "paper-finger.md").read_text() == (root / "docs" / "paper-finger.md").read_text()
+
+
+def test_asymmetric_bands_every_step_is_an_equilibrium():
+    m = frictional_finger(gamma=(), gamma_pos=(1.0, 0.5, 0.5), gamma_neg=(2.5, 1.5, 3.0))
+    check_conditions(m, fm.simulate_stroke(m, 22.0, 300))
+
+
+def test_asymmetric_tendon_friction_one_joint():
+    """One joint, no pin friction: the tendon fixes θ = t_d/r, and the tension is (K + γ⁺)(θ + θ0)/r while
+    pulling, (K − γ⁻)(θ + θ0)/r while releasing (paper Eq. 4 with the paper's γ⁺ 1.89, γ⁻ 3.15 N·mm/rad)."""
+    K, th0, r, gp, gn = 5.2, 60 * DEG, 6.0, 1.89, 3.15
+    m = fm.FingerModel((K,), (th0,), (90 * DEG,), (r,), gamma_pos=(gp,), gamma_neg=(gn,))
+    c = fm.simulate_stroke(m, 6.0, steps=50)
+    pull = np.array([p == "pull" for p in c.phase])
+    th = c.tendon_mm / r
+    assert c.theta[:, 0] == pytest.approx(th, abs=1e-9)
+    k = pull & (th > 0.05)
+    assert c.tension[k] == pytest.approx((K + gp) * (th[k] + th0) / r, rel=1e-9)
+    k = ~pull & (th > 0.05) & (th < th.max() - 0.2)  # past the stick zone at the turn
+    assert c.tension[k] == pytest.approx((K - gn) * (th[k] + th0) / r, rel=1e-9)
+
+
+def test_gamma_shorthand_and_contradiction():
+    sym = fm.FingerModel((5.2,), (1.0,), (1.5,), (6.0,), gamma=(1.0,))
+    assert sym.gamma_pos == sym.gamma_neg == (1.0,)
+    asym = fm.FingerModel((5.2,), (1.0,), (1.5,), (6.0,), gamma_pos=(1.0,), gamma_neg=(2.0,))
+    from dataclasses import replace
+
+    assert replace(asym, mu_t=0.1).gamma_neg == (2.0,)  # rebuilt from its own fields
+    with pytest.raises(ParameterError, match="gamma"):
+        fm.FingerModel((5.2,), (1.0,), (1.5,), (6.0,), gamma=(1.0,), gamma_neg=(2.0,))
+    with pytest.raises(ParameterError, match="gamma_neg"):
+        fm.FingerModel((5.2,), (1.0,), (1.5,), (6.0,), gamma_neg=(5.2,))
+
+
+def test_larger_gamma_neg_opens_later_on_release():
+    """Two joints: a larger γ⁻ narrows the opening band's lower edge, so joints stay closed longer on release."""
+    base = dict(stiffness=(5.2, 7.8), preload=(90 * DEG,) * 2, rotation=(90 * DEG,) * 2, moment_arm=(6.0, 6.0),
+                friction=(1.0, 1.0))
+    lo = fm.simulate_stroke(fm.FingerModel(**base, gamma_pos=(1.89,) * 2, gamma_neg=(1.89,) * 2), 12.0, 200)
+    hi = fm.simulate_stroke(fm.FingerModel(**base, gamma_pos=(1.89,) * 2, gamma_neg=(3.15,) * 2), 12.0, 200)
+    pull = np.array([p == "pull" for p in lo.phase])
+    assert lo.theta[pull] == pytest.approx(hi.theta[pull])  # γ⁻ plays no part while pulling
+    assert (hi.tension[~pull] <= lo.tension[~pull] + 1e-12).all()
+    assert (hi.tension[~pull] < lo.tension[~pull] - 1e-3).any()

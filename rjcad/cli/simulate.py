@@ -10,7 +10,7 @@ import math
 
 import click
 
-from rjcad.errors import quote
+from rjcad.errors import ParameterError, quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
 from rjcad.units import DEG
@@ -62,7 +62,7 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
     """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7)."""
     import numpy as np
 
-    from rjcad.physics.joint import JointModel, Setup, cycle, simulate as run
+    from rjcad.physics.joint import JointModel, Setup, cycle, loop_width, simulate as run, tendon_slack
 
     from rjcad.validate import in_range
 
@@ -77,6 +77,16 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
     setup = Setup(drive, normal_load, routed)
     th, d = cycle(rotation * DEG)
     y = run(m, setup, th, direction=d)
+    slack = tendon_slack(m, setup, th, direction=d)
+    if slack.any():
+        rel = slack & (d < 0)
+        where = (f"the whole release" if rel.sum() == (d < 0).sum() else
+                 f"{int(rel.sum())} of {int((d < 0).sum())} release samples" if rel.any() else
+                 f"{int(slack.sum())} samples")
+        below = (f" (the required force is negative below {math.degrees(th[rel].max()):.0f}° while releasing)"
+                 if rel.any() else "")
+        click.echo(f"rjcad: warning: the tendon is slack over {where}{below}: the joint is held by friction "
+                   "and the model's force there is 0; loop figures use the taut samples only", err=True)
     if plot:
         def draw(ax):
             for sgn, lab in ((1, "flexing"), (-1, "extending")):
@@ -87,12 +97,18 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
             ax.legend()
         _plot(plot, draw)
     if as_json:
+        width = loop_width(th, y, d, ~slack)
         out = {"theta_deg": [math.degrees(v) for v in th], "direction": [int(v) for v in d],
-               setup.quantity: y.tolist()}
+               setup.quantity: y.tolist(), "slack": [bool(v) for v in slack], "slack_samples": int(slack.sum()),
+               "loop_width": width}
         click.echo(json.dumps(out))
     else:
-        click.echo(f"{setup.quantity}: {len(th)} samples, from {np.min(y):.3f} to {np.max(y):.3f}; "
-                   f"mean loop width {np.mean(y[d > 0]) - np.mean(y[d < 0]):.3f}")
+        width = loop_width(th, y, d, ~slack)
+        taut = y[~slack] if (~slack).any() else y
+        text = (f"mean loop width {width:.3f}" + (" (taut samples only)" if slack.any() else "") if width is not None
+                else "no loop width: the tendon is slack on one branch at every angle")
+        click.echo(f"{setup.quantity}: {len(th)} samples, from {np.min(taut):.3f} to {np.max(taut):.3f}"
+                   + (f" where taut ({int(slack.sum())} slack)" if slack.any() else "") + f"; {text}")
 
 
 #: Tendon stroke a finger simulation accepts [mm] (a finger closes within tens of mm) and the
@@ -119,6 +135,10 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
     in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
     model = load_finger_model(source, mu_t=mu_t)
+    if mu_t > 0 and not any(model.wrap):
+        raise ParameterError("--mu-t", mu_t, "has nothing to act on: this finger's joints carry no tendon wrap "
+                                             "angle (a template has none); give a finger manifest (.json) that "
+                                             "`rjcad finger` wrote, whose joints carry their measured wraps")
     c = simulate_stroke(model, stroke, steps=steps)
     if plot:
         def draw(ax):

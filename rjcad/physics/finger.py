@@ -2,7 +2,8 @@
 
 Per joint i (proximal first): stiffness K_i, preload θ0_i, range [0, θmax_i],
 tendon moment arm r_i, Coulomb band f_i = f0_i + γ_i·(θ_i + θ0_i) (pin friction
-from an external load, and from the tendon's own load as in paper Eq. 4),
+from an external load, and from the tendon's own load as in paper Eq. 4; γ_i = γ⁺_i while the
+joint closes, γ⁻_i while it opens: the paper measured γ⁺ 1.89 and γ⁻ 3.15 N·mm/rad),
 capstan wrap α_i of the tendon before joint i (in the channel that feeds it)
 with coefficient μ_t, and optionally gravity on the links.
 
@@ -40,28 +41,36 @@ class FingerModel:
     wrap: tuple[float, ...] = ()
     mu_t: float = 0.0
     friction: tuple[float, ...] = ()  # f0_i [N·mm]
-    gamma: tuple[float, ...] = ()  # γ_i [N·mm/rad]
+    gamma: tuple[float, ...] = ()  # γ_i [N·mm/rad], both directions (shorthand for gamma_pos = gamma_neg)
     link_length: tuple[float, ...] = ()  # axis i to axis i+1 (or the tip) [mm]
     link_mass: tuple[float, ...] = ()  # mass of the child link of joint i [g]
     gravity: tuple[float, float] | None = None  # unit direction of gravity in the finger plane (x, y)
     tendon_stiffness: float = math.inf  # k_t: the tendon stretches T/k_t [N/mm]
+    gamma_pos: tuple[float, ...] = ()  # γ⁺_i while joint i closes [N·mm/rad] (default: gamma)
+    gamma_neg: tuple[float, ...] = ()  # γ⁻_i while joint i opens [N·mm/rad] (default: gamma)
 
     def __post_init__(self):
         n = len(self.stiffness)
+        for name in ("gamma_pos", "gamma_neg"):  # gamma is the shorthand for both; all zeros: not given
+            if not getattr(self, name):
+                object.__setattr__(self, name, tuple(self.gamma))
+            elif any(self.gamma) and tuple(getattr(self, name)) != tuple(self.gamma):
+                raise ParameterError("gamma", self.gamma, f"contradicts {name}: give gamma (both directions) "
+                                                          "or gamma_pos and gamma_neg")
         if not 1 <= n <= 12:
             raise ParameterError("joints", n, "a finger has 1 to 12 joints")
         for name in ("preload", "rotation", "moment_arm"):
             if len(getattr(self, name)) != n:
                 raise ParameterError(name, len(getattr(self, name)), f"needs {n} values, one per joint")
-        for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("link_length", 40.0),
-                              ("link_mass", 0.0)):
+        for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("gamma_pos", 0.0),
+                              ("gamma_neg", 0.0), ("link_length", 40.0), ("link_mass", 0.0)):
             v = getattr(self, name)
             if not v:
                 object.__setattr__(self, name, tuple([default] * n))
             elif len(v) != n:
                 raise ParameterError(name, len(v), f"needs {n} values, one per joint")
-        for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "link_length",
-                     "link_mass"):
+        for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "gamma_pos",
+                     "gamma_neg", "link_length", "link_mass"):
             v = getattr(self, name)
             if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
                 raise ParameterError(name, v, "must be finite numbers")
@@ -77,8 +86,9 @@ class FingerModel:
             raise ParameterError("stiffness", min(self.stiffness), "must be > 0 N·mm/rad")
         if any(r <= 0 for r in self.moment_arm):
             raise ParameterError("moment_arm", min(self.moment_arm), "must be > 0 mm")
-        if any(g >= k for g, k in zip(self.gamma, self.stiffness)):
-            raise ParameterError("gamma", max(self.gamma), "must stay below each joint's stiffness")
+        for name in ("gamma_pos", "gamma_neg"):
+            if any(g >= k for g, k in zip(getattr(self, name), self.stiffness)):
+                raise ParameterError(name, max(getattr(self, name)), "must stay below each joint's stiffness")
 
     @property
     def n(self) -> int:
@@ -87,7 +97,7 @@ class FingerModel:
     def arrays(self):
         f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
         return (f(self.stiffness), f(self.preload), f(self.rotation), f(self.moment_arm), f(self.wrap),
-                f(self.friction), f(self.gamma))
+                f(self.friction), (f(self.gamma_pos), f(self.gamma_neg)))
 
 
 @dataclass
@@ -140,23 +150,28 @@ def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
 
 
 def _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg):
-    """θ_i(T) for every joint given the previous angles (vectorised over joints; T may be a column of tensions)."""
+    """θ_i(T) for every joint given the previous angles (vectorised over joints; T may be a column of tensions).
+
+    ``gam`` = (γ⁺, γ⁻): the band's edge while closing uses γ⁺, while opening γ⁻.
+    """
+    gp, gn = gam
     rc = r * c
-    up_T = (K * (prev + th0) + tg + f0 + gam * (prev + th0)) / rc
-    dn_T = (K * (prev + th0) + tg - f0 - gam * (prev + th0)) / rc
-    up = (rc * T - tg - f0) / (K + gam) - th0
-    dn = (rc * T - tg + f0) / (K - gam) - th0
+    up_T = (K * (prev + th0) + tg + f0 + gp * (prev + th0)) / rc
+    dn_T = (K * (prev + th0) + tg - f0 - gn * (prev + th0)) / rc
+    up = (rc * T - tg - f0) / (K + gp) - th0
+    dn = (rc * T - tg + f0) / (K - gn) - th0
     th = np.where(T >= up_T, np.maximum(up, prev), np.where(T <= dn_T, np.minimum(dn, prev), prev))
     return np.clip(th, 0.0, thmax)
 
 
 def _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg):
+    gp, gn = gam
     rc = r * c
     return np.concatenate([
-        (K * (prev + th0) + tg + f0 + gam * (prev + th0)) / rc,
-        (K * (prev + th0) + tg - f0 - gam * (prev + th0)) / rc,
-        ((K + gam) * (thmax + th0) + tg + f0) / rc,
-        ((K - gam) * th0 + tg - f0) / rc,
+        (K * (prev + th0) + tg + f0 + gp * (prev + th0)) / rc,
+        (K * (prev + th0) + tg - f0 - gn * (prev + th0)) / rc,
+        ((K + gp) * (thmax + th0) + tg + f0) / rc,
+        ((K - gn) * th0 + tg - f0) / rc,
     ])
 
 
@@ -249,7 +264,7 @@ def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
 
 
 def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
-                        gravity: tuple[float, float] | None = None) -> FingerModel:
+                        gravity: tuple[float, float] | None = None, gamma_pos=None, gamma_neg=None) -> FingerModel:
     """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
     preload, range, measured arms and wraps, and each joint's child body's mass."""
     from rjcad.manifest import Manifest
@@ -278,6 +293,8 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
         mu_t=mu_t,
         friction=tuple(friction) if friction is not None else (),
         gamma=tuple(gamma) if gamma is not None else (),
+        gamma_pos=tuple(gamma_pos) if gamma_pos is not None else (),
+        gamma_neg=tuple(gamma_neg) if gamma_neg is not None else (),
         link_length=num("link_length_mm", 40.0),
         link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
         gravity=gravity,

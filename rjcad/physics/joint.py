@@ -173,11 +173,46 @@ def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None, veloc
             tau = tau + relaxation_torque(theta_j, t, m.relaxation_stiffness, m.relaxation_time)
     if setup.drive == "bar":
         return tau
+    return np.maximum(_tendon_torque(m, setup, theta_j, s, tau), 0.0) / m.pulley_radius
+
+
+def _tendon_torque(m: JointModel, setup: Setup, theta_j, s, tau) -> np.ndarray:
+    """β_s·(τ + γ_s-term): the torque the tendon must give [N·mm]; negative where it would have to push."""
     th = theta_j + m.preload
     tau = tau + np.where(s > 0, m.gamma_pos * th, -m.gamma_neg * th)
     if setup.routed:
         tau = tau * np.where(s > 0, m.beta_pos, m.beta_neg)
-    return np.maximum(tau, 0.0) / m.pulley_radius
+    return tau
+
+
+def tendon_slack(m: JointModel, setup: Setup, theta_j, direction=None) -> np.ndarray:
+    """Where a tendon drive would have to push (required force ≤ 0): the tendon is slack there, the joint is
+    held by friction and the measured force is 0 (bool per sample; all False for a bar drive). Quasi-static."""
+    theta_j = np.asarray(theta_j, dtype=float)
+    if setup.drive == "bar":
+        return np.zeros(len(theta_j), dtype=bool)
+    s = motion_direction(theta_j) if direction is None else np.asarray(direction, dtype=float)
+    tau = spring_torque(m, theta_j) + s * m.mu_j * setup.normal_load
+    return _tendon_torque(m, setup, theta_j, s, tau) <= 0.0
+
+
+def loop_width(theta_j, y, direction, taut=None) -> float | None:
+    """Mean vertical width of a hysteresis loop: mean over the angles both branches reach (taut samples only)
+    of y_forward(θ) − y_backward(θ), each branch interpolated in θ; None when no angle has both."""
+    theta_j, y, d = (np.asarray(a, dtype=float) for a in (theta_j, y, direction))
+    ok = np.ones(len(y), dtype=bool) if taut is None else np.asarray(taut, dtype=bool)
+    f, b = ok & (d > 0), ok & (d < 0)
+    if f.sum() < 2 or b.sum() < 2:
+        return None
+    lo = max(theta_j[f].min(), theta_j[b].min())
+    hi = min(theta_j[f].max(), theta_j[b].max())
+    if hi <= lo:
+        return None
+    grid = np.linspace(lo, hi, 101)
+    of, ob = np.argsort(theta_j[f]), np.argsort(theta_j[b])
+    yf = np.interp(grid, theta_j[f][of], y[f][of])
+    yb = np.interp(grid, theta_j[b][ob], y[b][ob])
+    return float(np.mean(yf - yb))
 
 
 def cycle(rotation: float, samples: int = 401) -> tuple[np.ndarray, np.ndarray]:

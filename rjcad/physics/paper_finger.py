@@ -49,6 +49,8 @@ class Explanation:
     onset_mm: list[float]
     rms_deg: float
     n_params: int
+    why: dict[str, str] = None  # per parameter: "" (identified), or why it has no interval
+    scale: float = 1.0  # √(χ²/dof) the Jacobian σ was multiplied by (1 when χ²/dof ≤ 1 or dof ≤ 0)
 
     @property
     def sequence_ok(self) -> bool:
@@ -68,35 +70,46 @@ def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
         if best is None or res.cost < best.cost:
             best = res
     end, onset, _ = end_and_onset(build(best.x))
-    std = _std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float))
-    return Explanation(name, cause, dict(zip(names, map(float, best.x))), dict(zip(names, map(float, std))),
+    std, why = _std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float), names)
+    dof = len(MEASURED_DEG) - int(np.isfinite(std).sum())
+    chi2 = 2.0 * float(best.cost)
+    scale = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
+    return Explanation(name, cause, dict(zip(names, map(float, best.x))), dict(zip(names, map(float, std * scale))),
                        list(map(float, end)), list(map(float, onset)),
-                       float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x))
+                       float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x), dict(zip(names, why)), scale)
 
 
-def _std(jac, x, lb, ub) -> np.ndarray:
-    """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones; NaN when it is not identified.
+def _std(jac, x, lb, ub, names) -> tuple[np.ndarray, list[str]]:
+    """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones (NaN otherwise), and why not.
 
-    Not identified: the end angles do not depend on it (its Jacobian column is ~0), or the fit
-    put it on a bound (the Gaussian interval does not apply there).
+    Why not: "at its bound" (the fit pushed it onto a bound: the data reject the values inside, and the
+    Gaussian interval does not apply), "no effect" (the end angles do not depend on it: its Jacobian column is
+    ~0), "trades off with X" (it loads on a null direction of the free columns with X: fewer informative
+    angles than parameters).
     """
     jac = np.asarray(jac, dtype=float)
     norms = np.linalg.norm(jac, axis=0)
     span = np.where(np.isfinite(ub - lb), ub - lb, 1.0)
     on_bound = (x - lb <= 1e-4 * span) | (ub - x <= 1e-4 * span)
-    free = (norms > 1e-6 * max(norms.max(), 1e-300)) & ~on_bound
+    no_effect = norms <= 1e-6 * max(norms.max(), 1e-300)
+    free = ~no_effect & ~on_bound
     std = np.full(len(x), np.nan)
+    why = ["at its bound" if b else "no effect" if z else "" for b, z in zip(on_bound, no_effect)]
     if free.any():
         # SVD of the free columns: a parameter that loads on a (near-)null direction trades off with
         # others without changing the fit (fewer informative angles than parameters): not identified
         _, sv, vt = np.linalg.svd(jac[:, free], full_matrices=True)
         sv = np.concatenate([sv, np.zeros(vt.shape[0] - len(sv))])
         null = sv <= 1e-6 * sv.max()
-        ident = np.all(np.abs(vt[null].T) <= 1e-3, axis=1) if null.any() else np.ones(vt.shape[0], bool)
+        loads = np.abs(vt[null].T) > 1e-3 if null.any() else np.zeros((vt.shape[0], 0), bool)
+        ident = ~loads.any(axis=1)
         var = (vt[~null].T ** 2) @ (1.0 / sv[~null] ** 2)
         idx = np.flatnonzero(free)
         std[idx[ident]] = np.sqrt(var[ident])
-    return std
+        for a in np.flatnonzero(~ident):
+            partners = [names[idx[b]] for b in range(len(idx)) if b != a and (loads[a] & loads[b]).any()]
+            why[idx[a]] = "trades off with " + (", ".join(partners) if partners else "the others")
+    return std, why
 
 
 def _k(scale2, scale3):
@@ -168,8 +181,12 @@ def builder_arms(manifest: str | None = None) -> tuple[tuple[float, ...], str]:
 
 
 def _fmt_param(e: Explanation, k: str) -> str:
-    sd = e.std[k]
-    return f"{k} = {e.params[k]:.3g} ± {sd:.2g}" if math.isfinite(sd) else f"{k} = {e.params[k]:.3g} (not identified)"
+    sd, why = e.std[k], (e.why or {}).get(k, "")
+    if math.isfinite(sd):
+        return f"{k} = {e.params[k]:.3g} ± {sd:.2g}" + (f" (σ ×{e.scale:.3g})" if e.scale > 1 else "")
+    if why == "at its bound":
+        return f"{k} = {e.params[k]:.3g} (rejected by the data: at its bound)"
+    return f"{k} = {e.params[k]:.3g} (not identified: {why or 'no interval'})"
 
 
 def _plot(c0, best: Explanation, arm_source: str) -> bytes:
@@ -238,8 +255,11 @@ def _candidates_section(exps: list[Explanation]) -> list[str]:
         "## Candidate explanations, fitted to the three end angles",
         "",
         f"Least squares on the end angles with an assumed ±{ANGLE_SIGMA_DEG:g}° (1σ) tracking error; "
-        "± is the 1σ parameter uncertainty from the fit's Jacobian. *Not identified*: the end angles do not "
-        "change with that parameter, it trades off exactly with another one, or it sits on its bound.",
+        "± is the 1σ parameter uncertainty from the fit's Jacobian, multiplied by √(χ²/dof) when the fit leaves "
+        "more error than the assumed tracking error explains (shown as σ ×factor: the interval of a fit that "
+        "does not fit is wide). *Rejected by the data*: the fit pushed the parameter onto its bound (the values "
+        "inside fit worse). *Not identified*: the end angles do not change with it (no effect), or it trades off "
+        "exactly with another parameter (three angles cannot pin more than three numbers).",
         "",
         "| explanation | cause | fitted parameters | end angles [deg] | RMS error [deg] | onset t_d [mm] | "
         "order as measured |",
@@ -287,9 +307,12 @@ def _verdict_section(exps: list[Explanation]) -> list[str]:
                      "lowers the tension at every joint by the same factor, which the tendon constraint cancels, so "
                      "its μ_t·α is not identified by the end angles.")
     if along.rms_deg >= 0.5:
+        at_bound = (along.why or {}).get("mu_alpha") == "at its bound"
         lines.append(f"- Capstan along the finger lowers the tension reaching the distal joints, the wrong way for "
-                     f"this measurement: its fit puts μ_t·α at {along.params['mu_alpha']:.2g} "
-                     f"({along.rms_deg:.1f}° RMS).")
+                     "this measurement: "
+                     + ("its fit pushes μ_t·α onto its bound 0, so the data reject it" if at_bound else
+                        f"its fit puts μ_t·α at {along.params['mu_alpha']:.2g}")
+                     + f" ({along.rms_deg:.1f}° RMS).")
     lines += [
         f"- {len(fits)} of the {len(exps)} families fit the three end angles within 0.5° RMS: {_names(fits)}, with "
         f"{', '.join(str(e.n_params) for e in fits)} parameters for 3 numbers. The end angles alone cannot tell "
