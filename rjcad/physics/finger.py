@@ -15,7 +15,9 @@ beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
 non-decreasing, piecewise-linear function, so the tendon constraint
 Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
 the finger more closed than t_d allows, the tendon is slack: T = 0.
-Gravity torques are taken from the previous step (small steps).
+Gravity torques are taken from the previous step (small steps). While the tendon holds still nothing
+changes: angles and tension stay as they were (with every joint sticking the tension is not unique, and
+the physical one is the one it had).
 """
 
 from __future__ import annotations
@@ -226,7 +228,11 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None) -> 
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
     for k, t_d in enumerate(td):
-        if k and td[k] != td[k - 1]:
+        if k and td[k] == td[k - 1]:  # a hold: nothing moves, nothing changes (T is not unique while all stick)
+            theta[k], T[k], Ti[k], slack[k] = theta[k - 1], T[k - 1], Ti[k - 1], slack[k - 1]
+            state[k] = np.where((prev <= 1e-12) | (prev >= thmax - 1e-12), 2.0, 0.0)
+            continue
+        if k:
             pulling = td[k] > td[k - 1]
         tg = gravity_torques(m, prev)
         th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, tg)

@@ -1,0 +1,131 @@
+"""The finger's quasi-static closure (rjcad.physics.finger) compiled for fitting: the same equations, the same
+exact piecewise-linear tendon solve, one compiled loop over the path.
+
+``rjcad.physics.finger.simulate_path`` is the reference (readable, checked step by step against the
+equilibrium and stick–slip conditions in tests/test_physics_finger.py); this module must give the same
+angles and tensions to 1e-9 (tests/test_finger_fast.py). It exists because identification evaluates the
+model thousands of times: ~80 µs per step in numpy, ~1 µs compiled (benchmarks/identify.py).
+Units: mm, N, N·mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rjcad.physics.finger import G, FingerModel
+
+
+@njit(cache=True)
+def _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, out):
+    for i in range(len(K)):
+        s = prev[i] + th0[i]
+        up_T = (K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i]
+        dn_T = (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i]
+        if T >= up_T:
+            th = max((rc[i] * T - tg[i] - f0[i]) / (K[i] + gp[i]) - th0[i], prev[i])
+        elif T <= dn_T:
+            th = min((rc[i] * T - tg[i] + f0[i]) / (K[i] - gn[i]) - th0[i], prev[i])
+        else:
+            th = prev[i]
+        out[i] = min(max(th, 0.0), thmax[i])
+
+
+@njit(cache=True)
+def _gravity(prev, length, weight, gx, gy, out):
+    n = len(prev)
+    ang = 0.0
+    x = np.zeros(n + 1)
+    y = np.zeros(n + 1)
+    for i in range(n):
+        ang += prev[i]
+        x[i + 1] = x[i] + length[i] * math.cos(ang)
+        y[i + 1] = y[i] + length[i] * math.sin(ang)
+    for i in range(n):
+        tau = 0.0
+        for j in range(i, n):
+            rx = 0.5 * (x[j] + x[j + 1]) - x[i]
+            ry = 0.5 * (y[j] + y[j + 1]) - y[i]
+            tau -= weight[j] * (rx * gy - ry * gx)
+        out[i] = tau
+
+
+@njit(cache=True)
+def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight, gx, gy, gravity):
+    n_steps, n = len(td), len(K)
+    theta = np.zeros((n_steps, n))
+    tension = np.zeros(n_steps)
+    prev = np.zeros(n)
+    tg = np.zeros(n)
+    th = np.zeros(n)
+    rc = np.zeros(n)
+    bps = np.zeros(4 * n + 1)
+    pulling = True
+    for k in range(n_steps):
+        if k > 0 and td[k] == td[k - 1]:  # a hold: nothing moves, nothing changes
+            for i in range(n):
+                theta[k, i] = theta[k - 1, i]
+            tension[k] = tension[k - 1]
+            continue
+        if k > 0:
+            pulling = td[k] > td[k - 1]
+        for i in range(n):
+            rc[i] = r[i] * (c_pull[i] if pulling else c_rel[i])
+        if gravity:
+            _gravity(prev, length, weight, gx, gy, tg)
+        _theta_of_T(0.0, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+        s0 = 0.0
+        for i in range(n):
+            s0 += r[i] * th[i]
+        T = 0.0
+        if s0 < td[k]:
+            m = 1
+            bps[0] = 0.0
+            for i in range(n):
+                s = prev[i] + th0[i]
+                cand = ((K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i], (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i],
+                        ((K[i] + gp[i]) * (thmax[i] + th0[i]) + tg[i] + f0[i]) / rc[i],
+                        ((K[i] - gn[i]) * th0[i] + tg[i] - f0[i]) / rc[i])
+                for v in cand:
+                    if math.isfinite(v):
+                        bps[m] = max(v, 0.0)
+                        m += 1
+            grid = np.unique(bps[:m])  # sorted; 0 is the first
+            S0, T0 = -1.0, 0.0
+            found = False
+            for g in range(len(grid)):
+                _theta_of_T(grid[g], prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+                S = comp * grid[g]
+                for i in range(n):
+                    S += r[i] * th[i]
+                if S >= td[k]:
+                    if g == 0 or S == S0:
+                        T = grid[g]
+                    else:
+                        T = T0 + (td[k] - S0) * (grid[g] - T0) / (S - S0)
+                    found = True
+                    break
+                S0, T0 = S, grid[g]
+            if not found:
+                T = grid[-1] if comp == 0.0 else grid[-1] + (td[k] - S0) / comp
+            _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+        for i in range(n):
+            theta[k, i] = th[i]
+            prev[i] = th[i]
+        tension[k] = T
+    return theta, tension
+
+
+def simulate_angles(m: FingerModel, tendon_mm) -> tuple[np.ndarray, np.ndarray]:
+    """θ (steps, N) [rad] and the actuator tension (steps,) [N] along a tendon path [mm]: as
+    ``rjcad.physics.finger.simulate_path(m, tendon_mm)`` (its ``theta`` and ``tension``)."""
+    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    cum = np.cumsum(wrap)
+    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
+    grav = m.gravity is not None and any(m.link_mass)
+    gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
+    return _path(np.ascontiguousarray(tendon_mm, dtype=float), K, th0, thmax, r, np.exp(-m.mu_t * cum),
+                 np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),
+                 np.asarray(m.link_mass, float) * G, float(gx), float(gy), grav)
