@@ -69,7 +69,7 @@ def campaign_has(prepared, need: str) -> bool:
     return True
 
 
-def separating_experiment(a: str, b: str, prepared, values: dict) -> str:
+def separating_experiment(a: str, b: str, prepared, values: dict, effects=EFFECTS) -> str:
     """In words, the experiment that would tell effect ``a`` from effect ``b`` apart."""
     tr = values.get("relaxation_time_s")
     texts = {
@@ -80,8 +80,8 @@ def separating_experiment(a: str, b: str, prepared, values: dict) -> str:
         "tendon": "a tendon-driven run",
         "normal_load": "runs at two different normal loads",
     }
-    missing = [EFFECTS[e].needs for e in (a, b) if EFFECTS[e].needs in texts
-               and not campaign_has(prepared, EFFECTS[e].needs)]
+    missing = [effects[e].needs for e in (a, b) if effects[e].needs in texts
+               and not campaign_has(prepared, effects[e].needs)]
     if missing:
         return "; ".join(dict.fromkeys(texts[m] for m in missing))
     return "more cycles or less noise (the campaign has what both need, but not enough of it)"
@@ -109,7 +109,7 @@ def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
     pool = [answer]
     start = {n: current.values[n] for n in current.names}
     for e in accepted:
-        e_bounded = any(n in EFFECTS[e].param_names for n in answer.bounded)
+        e_bounded = any(n in sel.effects[e].param_names for n in answer.bounded)
         for f, close_at_step in _rivals_of(sel, e, cands):
             if not (e_bounded or close_at_step):
                 continue
@@ -137,7 +137,8 @@ def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
             "delta_bic": float(r.fit.bic - best.fit.bic),
             "free_parameters": r.k,
             "only_bounded": list(r.bounded),
-            "separate_by": separating_experiment(a, b, sel.prepared, {**best.fit.values, **r.fit.values}),
+            "separate_by": separating_experiment(a, b, sel.prepared, {**best.fit.values, **r.fit.values},
+                                                 sel.effects),
         })
     out.sort(key=lambda d: d["delta_bic"])
     return best, out

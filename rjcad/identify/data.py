@@ -97,7 +97,12 @@ def load_campaign(path, allow_outside: bool = False) -> Campaign:
     Raises RjcadError (ParameterError for TOML values) with one line naming the file and the problem.
     """
     path = Path(path)
-    doc = _read_toml(path)
+    raw = read_toml(path)
+    if is_finger_campaign(raw):
+        from rjcad.identify.finger.data import load_finger_campaign
+
+        return load_finger_campaign(path, raw, allow_outside)
+    doc = _read_toml(path, raw)
     where = f"{path}: "
     design = _design(doc, where)
     specs = _experiment_specs(doc, path, design, allow_outside)
@@ -114,9 +119,16 @@ def load_campaign(path, allow_outside: bool = False) -> Campaign:
 # ---- the TOML file ----
 
 
-def _read_toml(path: Path) -> dict:
+def is_finger_campaign(doc: dict) -> bool:
+    """A whole-finger campaign: a top-level ``finger`` key, or an experiment with ``drive = "finger"``."""
+    exps = doc.get("experiment")
+    return "finger" in doc or (isinstance(exps, list) and any(isinstance(e, dict) and e.get("drive") == "finger"
+                                                               for e in exps))
+
+
+def _read_toml(path: Path, doc: dict | None = None) -> dict:
     """The parsed TOML document (rjcad.untrusted); RjcadError if it is missing, unreadable or not TOML."""
-    doc = read_toml(path)
+    doc = read_toml(path) if doc is None else doc
     for key in doc:
         if key not in ("design", "experiment"):
             raise RjcadError(f"{path}: unknown key or table {quote(key)}; known: [design], [[experiment]]")
@@ -288,11 +300,11 @@ def _column_indices(file: str, header: str, columns: tuple[str, ...], drive: str
     missing = [c for c in columns if c not in names]
     if missing:
         label = "column" if len(missing) == 1 else "columns"
-        drive_note = f" (drive '{drive}')" if COLUMNS[drive] in missing else ""
+        drive_note = f" (drive '{drive}')" if COLUMNS.get(drive) in missing else ""
         hint = ""
         if len(names) == 1 and (";" in header or "\t" in header):
             hint = " (the file must be comma-separated)"
-        elif COLUMNS[drive] in missing:
+        elif COLUMNS.get(drive) in missing:
             other = next(d for d in COLUMNS if d != drive)
             if COLUMNS[other] in names:
                 hint = f" (the file has '{COLUMNS[other]}': is the drive '{other}'?)"

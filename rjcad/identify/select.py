@@ -15,11 +15,11 @@ from functools import cached_property
 
 import numpy as np
 
-from rjcad.identify.catalogue import CATALOGUE, EFFECTS
+from rjcad.identify.catalogue import CATALOGUE
 from rjcad.identify.ambiguity import find as rival_sets
 from rjcad.identify.data import Campaign
 from rjcad.identify.eiv import correct_viscous
-from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, param_names, \
+from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, \
     predict, prepare, unidentifiable
 
 BIC_GATE = 10.0
@@ -64,10 +64,12 @@ class Identification:
     heldout_final: float | None
     notes: list[str] = field(default_factory=list)
     ambiguous: list[dict] = field(default_factory=list)  # rival effect sets the data cannot tell apart
+    predictor: object = None  # (values, prepared) → prediction; None: the joint model's
 
     def predictions(self, values=None) -> list[np.ndarray]:
         v = self.final.values if values is None else values
-        return [predict(v, p) for p in self.prepared]
+        f = self.predictor or predict
+        return [f(v, p) for p in self.prepared]
 
     @cached_property
     def design_predictions(self) -> list[np.ndarray]:
@@ -92,21 +94,46 @@ class Selector:
 
     def __init__(self, campaign: Campaign, prepared: list[Prepared] | None = None):
         self.campaign = campaign
-        self.prepared = prepared if prepared is not None else prepare(campaign)
-        self.design_json = campaign.design.as_json()
-        self.base = base_values(campaign)
-        self.prob = Problem(campaign, self.prepared, self.base)
+        self.prepared = prepared if prepared is not None else self._prepare(campaign)
+        self.design_json = self._design_json(campaign)
+        self.base = self._base(campaign)
+        self.prob = self.problem(self.base)
         self.frozen: dict[str, str] = {}   # parameters fixed at neutral: not identifiable
         self._lo, self._hi = {}, {}
-        for e in CATALOGUE:
+        for e in self.catalogue:
             lo, hi = e.bounds(self.design_json)
             self._lo.update(zip(e.param_names, lo))
             self._hi.update(zip(e.param_names, hi))
         self._fold_ids = sorted({int(f) for p in self.prepared for f in np.unique(p.folds) if f >= 0})
 
+    # -- what a subclass for another kind of campaign replaces (rjcad.identify.finger) --------
+    catalogue: tuple = CATALOGUE
+
+    @property
+    def effects(self) -> dict:
+        return {e.id: e for e in self.catalogue}
+
+    def _prepare(self, campaign) -> list:
+        return prepare(campaign)
+
+    def _base(self, campaign) -> dict[str, float]:
+        return base_values(campaign)
+
+    def _design_json(self, campaign) -> dict:
+        return campaign.design.as_json()
+
+    def problem(self, fixed: dict[str, float]) -> Problem:
+        return Problem(self.campaign, self.prepared, fixed)
+
+    def predict(self, values: dict[str, float], p) -> np.ndarray:
+        return predict(values, p)
+
+    def param_names(self, effects) -> tuple[str, ...]:
+        return tuple(n for e in effects for n in self.effects[e].param_names)
+
     # -- fitting a set of effects ------------------------------------------------------------
     def free_names(self, effects) -> tuple[str, ...]:
-        return tuple(n for n in param_names(effects) if n not in self.frozen)
+        return tuple(n for n in self.param_names(effects) if n not in self.frozen)
 
     def bounds(self, names):
         return [self._lo[n] for n in names], [self._hi[n] for n in names]
@@ -117,7 +144,7 @@ class Selector:
         s.update(start)
         out = [s]
         for e in effects:
-            eff = EFFECTS[e]
+            eff = self.effects[e]
             if any(n not in start for n in eff.param_names):
                 variants = eff.starts(self.design_json)
                 out = [dict(o, **{k: v for k, v in var.items() if k not in start}) for o in out for var in variants]
@@ -136,8 +163,7 @@ class Selector:
         lo, hi = self.bounds(names)
         best = None
         for s in self.starts(effects, start):
-            prob = Problem(self.campaign, self.prepared, {**self.base, **{k: v for k, v in s.items()
-                                                                         if k not in names}})
+            prob = self.problem({**self.base, **{k: v for k, v in s.items() if k not in names}})
             fr = prob.fit(names, [s[n] for n in names], lo, hi, masks=masks)
             if best is None or fr.cost < best.cost:
                 best = fr
@@ -162,7 +188,7 @@ class Selector:
         """max over experiments of max|ŷ_a − ŷ_b| / measured range, on valid samples."""
         rel = 0.0
         for p in self.prepared:
-            d = np.abs(predict(a, p) - predict(b, p))[p.valid]
+            d = np.abs(self.predict(a, p) - self.predict(b, p))[p.valid]
             if len(d):
                 rel = max(rel, float(d.max()) / max(p.span, 1e-12))
         return rel
@@ -186,7 +212,7 @@ class Selector:
             accepted.remove(e)
             prev, current = current, fr
             ho_cur = self.heldout(accepted, {n: fr.values[n] for n in fr.names})
-            steps.append(Step(e, EFFECTS[e].cause, "dropped", cost, ho_cur, self.relevance(prev.values, fr.values),
+            steps.append(Step(e, self.effects[e].cause, "dropped", cost, ho_cur, self.relevance(prev.values, fr.values),
                               fr.rmse(), _gain(design.rmse(), fr.rmse())))
         return current, ho_cur
 
@@ -212,7 +238,7 @@ class Selector:
             for side, x in (("below", max(v - d, a)), ("above", min(v + d, b))):
                 if abs(x - v) <= 1e-9 * max(abs(v), 1.0):
                     continue
-                prob = Problem(self.campaign, self.prepared, {**self.base, **fr.values, n: x})
+                prob = self.problem({**self.base, **fr.values, n: x})
                 if others:
                     chi = 2.0 * prob.fit(others, [fr.values[m] for m in others], olo, ohi, max_nfev=60).cost
                 else:
@@ -249,7 +275,7 @@ class Selector:
         confounding partner may have been dropped since); if that changes, the final set is refitted.
         Effects not accepted report the parameters this campaign could not identify at all.
         """
-        acc = set(param_names(accepted))
+        acc = set(self.param_names(accepted))
         start = {n: current.values[n] for n in current.names}
         if any(n in acc for n in self.frozen):
             kept, self.frozen = self.frozen, {}
@@ -259,7 +285,7 @@ class Selector:
                 current = self.fit_set(accepted, start)
         out = {n: r for n, r in self.frozen.items() if n in acc}
         start = {n: current.values[n] for n in current.names}
-        for eff in CATALOGUE:
+        for eff in self.catalogue:
             if eff.id not in accepted:
                 bad = self.check_identifiable(accepted + [eff.id], start)
                 out.update({n: r for n, r in bad.items() if n in eff.param_names})
@@ -278,7 +304,7 @@ class Selector:
             step_no += 1
             start = {n: current.values[n] for n in current.names}
             tried = []
-            for eff in CATALOGUE:
+            for eff in self.catalogue:
                 if eff.id in accepted:
                     continue
                 effs = accepted + [eff.id]
@@ -328,7 +354,7 @@ class Selector:
                          f"the simpler set is kept (see ambiguous)")
             accepted = list(best.effects)
             current, not_ident = self.final_identifiability(accepted, best.fit)
-        current, note = correct_viscous(current, Problem(self.campaign, self.prepared, {**self.base, **current.values}),
+        current, note = correct_viscous(current, self.problem({**self.base, **current.values}),
                                         *self.bounds(current.names))
         if note:
             notes.append(note)
@@ -340,7 +366,8 @@ class Selector:
             else:
                 not_ident.setdefault(n, why)
         return Identification(self.campaign, self.prepared, design, current, accepted, steps, cands,
-                              not_ident, confidence(current, self.prob), ho_design, ho_cur, notes, ambiguous)
+                              not_ident, confidence(current, self.prob), ho_design, ho_cur, notes, ambiguous,
+                              predictor=self.predict)
 
 
 def identify(campaign: Campaign) -> Identification:

@@ -1,0 +1,154 @@
+"""Fitting a finger campaign: every measured channel (each joint's angle, the tension) of every experiment is
+one residual series with its own noise σ, so the joint pipeline's BIC, held-out cycles, relevance and
+identifiability apply unchanged (rjcad.identify.select.Selector, subclassed here).
+
+The model input is the tendon path: ``tendon_mm`` smoothed and made monotone within each pull and release
+(its noise would otherwise make the model reverse, and stick, at every jitter). Channels are in degrees
+(angles) and N (tension).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_of
+from rjcad.identify.finger.data import FingerCampaign, FingerExperiment
+from rjcad.identify.fit import Problem
+from rjcad.identify.select import Selector
+from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
+from rjcad.physics.finger_fast import simulate_angles
+from rjcad.units import DEG
+
+
+@dataclass(frozen=True, eq=False)
+class Channel:
+    """One measured series of one experiment: ``index`` 0…N−1 a joint angle [deg], N the tension [N]."""
+
+    exp: FingerExperiment
+    exp_index: int
+    index: int
+    quantity: str
+    y: np.ndarray
+    path: np.ndarray      # the tendon path the model is driven with [mm]
+    pulling: np.ndarray   # bool per sample
+    motion: Motion        # of the tendon (cycles, reversals, holds)
+    sigma: float
+    span: float
+    folds: np.ndarray
+    outliers: np.ndarray
+
+    @property
+    def valid(self) -> np.ndarray:
+        return self.motion.valid & ~self.outliers
+
+
+def tendon_path(t, tendon) -> tuple[np.ndarray, np.ndarray, Motion]:
+    """The smoothed tendon displacement, monotone within each pull and release run; pulling flags; its motion."""
+    m = analyse_motion(t, tendon)
+    path = m.theta.copy()
+    d = m.direction
+    starts = np.flatnonzero(np.r_[True, d[1:] != d[:-1]])
+    ends = np.r_[starts[1:], len(d)]
+    for a, b in zip(starts, ends):
+        seg = path[a:b]
+        path[a:b] = np.maximum.accumulate(seg) if d[a] > 0 else np.minimum.accumulate(seg)
+    return path, d > 0, m
+
+
+def prepare_finger(campaign: FingerCampaign, n_folds: int = 2) -> list[Channel]:
+    out = []
+    for k, e in enumerate(campaign.experiments):
+        path, pulling, m = tendon_path(e.t, e.tendon)
+        series = [(f"theta{i + 1}_deg", e.theta[:, i] / DEG) for i in range(e.theta.shape[1])]
+        if e.tension is not None:
+            series.append(("tendon_force_n", e.tension))
+        # at zero stroke the tension of a preloaded finger steps from 0 (slack) to the preload's (taut): within
+        # the tendon reading's noise of its lowest value the model cannot tell which, so those tension samples
+        # are left out
+        near_zero = path - path.min() < 4.0 * max(noise_sigma(e.tendon), 1e-6)
+        for i, (q, y) in enumerate(series):
+            sig = noise_sigma(y)
+            lo, hi = np.percentile(y[m.valid] if m.valid.any() else y, [0.5, 99.5])
+            span = float(hi - lo)
+            sig = max(sig, 1e-6 * max(span, 1e-12), 1e-9)
+            folds = m.cycle % n_folds if m.n_cycles >= n_folds else np.full(len(y), -1)
+            bad = spikes(y, sig) | (near_zero if q == "tendon_force_n" else False)
+            out.append(Channel(e, k, i, q, y, path, pulling, m, sig, span, folds, bad))
+    return out
+
+
+class Simulator:
+    """The finger model's channels for a set of parameter values, one simulation per experiment (cached)."""
+
+    def __init__(self, campaign: FingerCampaign):
+        self.design = campaign.design.model
+        self._key = None
+        self._out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def channel(self, values: dict[str, float], ch: Channel) -> np.ndarray:
+        key = tuple(sorted(values.items()))
+        if key != self._key:
+            self._key, self._out = key, {}
+        if ch.exp_index not in self._out:
+            m = model_of(values, self.design, ch.exp.gravity)
+            self._out[ch.exp_index] = simulate_angles(m, ch.path)
+        theta, T = self._out[ch.exp_index]
+        if ch.index < theta.shape[1]:
+            return theta[:, ch.index] / DEG
+        return actuator_tension(values, T, ch.pulling)
+
+
+class FingerProblem(Problem):
+    """The least-squares problem over every channel (residuals whitened by each channel's σ)."""
+
+    def __init__(self, campaign, prepared, fixed, sim: Simulator):
+        super().__init__(campaign, prepared, fixed)
+        self.sim = sim
+
+    def residuals(self, values: dict[str, float], masks=None) -> list[np.ndarray]:
+        out = []
+        for i, p in enumerate(self.prepared):
+            mask = p.valid if masks is None else masks[i]
+            out.append((p.y[mask] - self.sim.channel(values, p)[mask]) / p.sigma)
+        return out
+
+
+class FingerSelector(Selector):
+    """The joint pipeline's selection, on a finger's channels with the finger catalogue."""
+
+    def __init__(self, campaign: FingerCampaign):
+        self.catalogue = catalogue(campaign.design.model)
+        self.sim = Simulator(campaign)
+        super().__init__(campaign)
+        if not campaign.has_tension:
+            self.frozen["stiffness_nmm_per_rad_j1"] = (
+                "joint angles alone fix the springs' stiffness ratios, not their scale (a stiffer finger pulled "
+                "harder closes the same): joint 1's stiffness is the reference; a tension record would fix it")
+
+    def _prepare(self, campaign):
+        return prepare_finger(campaign)
+
+    def _base(self, campaign) -> dict[str, float]:
+        vals = {}
+        for e in self.catalogue:
+            vals.update(e.neutral(None))
+        return vals
+
+    def _design_json(self, campaign) -> dict:
+        return campaign.design.as_json()
+
+    def problem(self, fixed):
+        return FingerProblem(self.campaign, self.prepared, fixed, self.sim)
+
+    def predict(self, values, p) -> np.ndarray:
+        return self.sim.channel(values, p)
+
+
+def identify_finger(campaign: FingerCampaign):
+    """Find what the finger's design model gets wrong, which effects explain it, and the gain."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return FingerSelector(campaign).run()
