@@ -15,9 +15,9 @@ beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
 non-decreasing, piecewise-linear function, so the tendon constraint
 Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
 the finger more closed than t_d allows, the tendon is slack: T = 0.
-Gravity torques are taken from the previous step (small steps). While the tendon holds still nothing
-changes: angles and tension stay as they were (with every joint sticking the tension is not unique, and
-the physical one is the one it had).
+Gravity is implicit: the links' weight at the step's own angles (fixed-point iteration). Where every joint sticks the tension is not
+unique (any T on a flat stretch of Σ r·θ(T) meets the tendon constraint): it stays as close to the previous
+step's as that stretch allows.
 """
 
 from __future__ import annotations
@@ -177,8 +177,18 @@ def _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg):
     ])
 
 
-def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg: np.ndarray | None = None):
-    """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles."""
+#: Σ r·θ within this of t_d [mm] counts as meeting it: where every joint sticks, S(T) is flat and the tension
+#: anywhere on that flat stretch solves the constraint.
+FLAT_MM = 1e-7
+
+
+def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg: np.ndarray | None = None,
+                prev_T: float = 0.0):
+    """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles.
+
+    Where the tendon constraint holds for a range of tensions (every joint sticking, the tendon inextensible),
+    the tension stays as close to ``prev_T`` as that range allows: nothing moved, so nothing changed.
+    """
     K, th0, thmax, r, wrap, f0, gam = m.arrays()
     tg = np.zeros(m.n) if tg is None else tg
     cum = np.cumsum(wrap)
@@ -191,18 +201,44 @@ def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg:
     bps = np.unique(np.clip(bps[np.isfinite(bps)], 0.0, None))
     grid = np.concatenate([[0.0], bps])
     S = _theta_of_T(grid[:, None], prev, K, th0, thmax, r, c, f0, gam, tg) @ r + comp * grid  # all at once
-    if S[-1] < t_d:
+    tol = FLAT_MM * max(1.0, abs(t_d))
+    if S[-1] < t_d - tol:
         if comp == 0.0:  # every joint at its limit: the tendon cannot be pulled further
             T = float(grid[-1])
             th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
             return th, T, T * c, False
         T = float(grid[-1]) + (t_d - S[-1]) / comp  # only the tendon stretches beyond that
         return _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg), T, T * c, False
-    k = int(np.searchsorted(S, t_d))  # S[k-1] < t_d <= S[k]; S is non-decreasing
-    T0, T1, S0, S1 = grid[k - 1], grid[k], S[k - 1], S[k]
-    T = T1 if S1 == S0 else T0 + (t_d - S0) * (T1 - T0) / (S1 - S0)
+    k = int(np.searchsorted(S, t_d - tol))  # the first grid tension that meets t_d (to within tol) or passes it
+    if S[k] <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
+        j = k + int(np.searchsorted(S[k:], t_d + tol, side="right")) - 1
+        T = min(max(prev_T, float(grid[k])), float(grid[j]))
+    else:  # passed between grid[k-1] and grid[k]: S is linear there
+        T0, T1, S0, S1 = grid[k - 1], grid[k], S[k - 1], S[k]
+        T = T0 + (t_d - S0) * (T1 - T0) / (S1 - S0)
     th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
     return th, float(T), T * c, False
+
+
+#: Gravity is implicit: the links' weight is evaluated at the step's own angles, by fixed-point iteration
+#: (under-relaxed by GRAVITY_RELAX) until the torques change by less than GRAVITY_TOL [N·mm], at most
+#: GRAVITY_ITERATIONS times. (Taken from the previous step, heavy links made the angles chatter.)
+GRAVITY_RELAX, GRAVITY_TOL, GRAVITY_ITERATIONS = 0.5, 1e-10, 200
+
+
+def _with_gravity(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, prev_T: float):
+    """``equilibrium`` with the gravity torques of the angles it returns (see GRAVITY_RELAX)."""
+    tg = gravity_torques(m, prev)
+    out = equilibrium(m, t_d, prev, pulling, tg, prev_T)
+    if m.gravity is None or not any(m.link_mass):
+        return out
+    for _ in range(GRAVITY_ITERATIONS):
+        new = gravity_torques(m, out[0])
+        if float(np.max(np.abs(new - tg))) < GRAVITY_TOL:
+            break
+        tg = tg + GRAVITY_RELAX * (new - tg)
+        out = equilibrium(m, t_d, prev, pulling, tg, prev_T)
+    return out
 
 
 def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
@@ -228,14 +264,9 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None) -> 
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
     for k, t_d in enumerate(td):
-        if k and td[k] == td[k - 1]:  # a hold: nothing moves, nothing changes (T is not unique while all stick)
-            theta[k], T[k], Ti[k], slack[k] = theta[k - 1], T[k - 1], Ti[k - 1], slack[k - 1]
-            state[k] = np.where((prev <= 1e-12) | (prev >= thmax - 1e-12), 2.0, 0.0)
-            continue
-        if k:
+        if k and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
-        tg = gravity_torques(m, prev)
-        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, tg)
+        th, Tk, tik, sl = _with_gravity(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0)
         moved = th - prev
         st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))
         st = np.where((th <= 1e-12) & (st <= 0) | (th >= thmax - 1e-12) & (st >= 0), np.where(st == 0, 2.0, st), st)

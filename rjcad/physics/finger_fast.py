@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rjcad.physics.finger import G, FingerModel
+from rjcad.physics.finger import FLAT_MM, G, GRAVITY_ITERATIONS, GRAVITY_RELAX, GRAVITY_TOL, FingerModel
 
 
 @njit(cache=True)
@@ -53,64 +53,92 @@ def _gravity(prev, length, weight, gx, gy, out):
 
 
 @njit(cache=True)
+def _sum(T, prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp):
+    """Σ r·θ(T) + T/k_t: the tendon displacement the joints and the tendon take up at tension T [mm]."""
+    _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+    S = comp * T
+    for i in range(len(K)):
+        S += r[i] * th[i]
+    return S
+
+
+@njit(cache=True)
+def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps):
+    """One step of the tendon solve (``rjcad.physics.finger.equilibrium``): fills ``th``, returns T."""
+    n = len(K)
+    _theta_of_T(0.0, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+    s0 = 0.0
+    for i in range(n):
+        s0 += r[i] * th[i]
+    T = 0.0
+    if s0 < t_d:
+        m = 1
+        bps[0] = 0.0
+        for i in range(n):
+            s = prev[i] + th0[i]
+            cand = ((K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i], (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i],
+                    ((K[i] + gp[i]) * (thmax[i] + th0[i]) + tg[i] + f0[i]) / rc[i],
+                    ((K[i] - gn[i]) * th0[i] + tg[i] - f0[i]) / rc[i])
+            for v in cand:
+                if math.isfinite(v):
+                    bps[m] = max(v, 0.0)
+                    m += 1
+        grid = np.unique(bps[:m])  # sorted; 0 is the first
+        tol = FLAT_MM * max(1.0, abs(t_d))
+        S_prev, k = -1.0, -1
+        for g in range(len(grid)):
+            S = _sum(grid[g], prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp)
+            if S >= t_d - tol:
+                k = g
+                break
+            S_prev = S
+        if k < 0:
+            T = grid[-1] if comp == 0.0 else grid[-1] + (t_d - S_prev) / comp
+        elif S <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
+            hi = grid[k]
+            for g2 in range(k + 1, len(grid)):
+                if _sum(grid[g2], prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp) > t_d + tol:
+                    break
+                hi = grid[g2]
+            T = min(max(prev_T, grid[k]), hi)
+        else:
+            T = grid[k - 1] + (t_d - S_prev) * (grid[k] - grid[k - 1]) / (S - S_prev)
+        _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+    return T
+
+
+@njit(cache=True)
 def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight, gx, gy, gravity):
     n_steps, n = len(td), len(K)
     theta = np.zeros((n_steps, n))
     tension = np.zeros(n_steps)
     prev = np.zeros(n)
     tg = np.zeros(n)
+    tg_new = np.zeros(n)
     th = np.zeros(n)
     rc = np.zeros(n)
     bps = np.zeros(4 * n + 1)
     pulling = True
     for k in range(n_steps):
-        if k > 0 and td[k] == td[k - 1]:  # a hold: nothing moves, nothing changes
-            for i in range(n):
-                theta[k, i] = theta[k - 1, i]
-            tension[k] = tension[k - 1]
-            continue
-        if k > 0:
+        if k > 0 and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
         for i in range(n):
             rc[i] = r[i] * (c_pull[i] if pulling else c_rel[i])
+        prev_T = tension[k - 1] if k > 0 else 0.0
         if gravity:
             _gravity(prev, length, weight, gx, gy, tg)
-        _theta_of_T(0.0, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
-        s0 = 0.0
-        for i in range(n):
-            s0 += r[i] * th[i]
-        T = 0.0
-        if s0 < td[k]:
-            m = 1
-            bps[0] = 0.0
-            for i in range(n):
-                s = prev[i] + th0[i]
-                cand = ((K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i], (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i],
-                        ((K[i] + gp[i]) * (thmax[i] + th0[i]) + tg[i] + f0[i]) / rc[i],
-                        ((K[i] - gn[i]) * th0[i] + tg[i] - f0[i]) / rc[i])
-                for v in cand:
-                    if math.isfinite(v):
-                        bps[m] = max(v, 0.0)
-                        m += 1
-            grid = np.unique(bps[:m])  # sorted; 0 is the first
-            S0, T0 = -1.0, 0.0
-            found = False
-            for g in range(len(grid)):
-                _theta_of_T(grid[g], prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
-                S = comp * grid[g]
+        T = _step(td[k], prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps)
+        if gravity:
+            for _ in range(GRAVITY_ITERATIONS):
+                _gravity(th, length, weight, gx, gy, tg_new)
+                change = 0.0
                 for i in range(n):
-                    S += r[i] * th[i]
-                if S >= td[k]:
-                    if g == 0 or S == S0:
-                        T = grid[g]
-                    else:
-                        T = T0 + (td[k] - S0) * (grid[g] - T0) / (S - S0)
-                    found = True
+                    change = max(change, abs(tg_new[i] - tg[i]))
+                if change < GRAVITY_TOL:
                     break
-                S0, T0 = S, grid[g]
-            if not found:
-                T = grid[-1] if comp == 0.0 else grid[-1] + (td[k] - S0) / comp
-            _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+                for i in range(n):
+                    tg[i] += GRAVITY_RELAX * (tg_new[i] - tg[i])
+                T = _step(td[k], prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps)
         for i in range(n):
             theta[k, i] = th[i]
             prev[i] = th[i]

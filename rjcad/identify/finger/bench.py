@@ -49,6 +49,14 @@ def path(samples: int, stroke: float, segments) -> tuple[np.ndarray, np.ndarray]
     return t, a[k] + (b[k] - a[k]) * u**3 * (10 - 15 * u + 6 * u**2)
 
 
+def _pulling(td: np.ndarray) -> np.ndarray:
+    """True while the tendon is pulled; a hold keeps the direction of the move before it."""
+    d = np.sign(np.diff(td, prepend=td[0]))
+    idx = np.where(d != 0, np.arange(len(d)), 0)
+    np.maximum.accumulate(idx, out=idx)
+    return np.where(d[idx] != 0, d[idx] > 0, True)
+
+
 def typical(effects, design) -> dict[str, float]:
     """Every catalogue parameter: neutral, or for the chosen effects a realistic size (per joint: they differ)."""
     cat = {e.id: e for e in catalogue(design)}
@@ -111,7 +119,7 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
     for name, orient, segs in EXPERIMENTS:
         t, td = path(samples, stroke, segs)
         theta, T = simulate_angles(model_of(values, design, ORIENTATIONS[orient]), td)
-        pulling = np.r_[True, np.diff(td) >= 0]
+        pulling = _pulling(td)
         cols = {"t_s": t, "tendon_mm": td + rng.normal(0, sig["tendon_mm"], samples)}
         if tension:
             cols["tendon_force_n"] = actuator_tension(values, T, pulling) + rng.normal(0, sig["tendon_force_n"], samples)
