@@ -15,7 +15,8 @@ beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
 non-decreasing, piecewise-linear function, so the tendon constraint
 Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
 the finger more closed than t_d allows, the tendon is slack: T = 0.
-Gravity is implicit: the links' weight at the step's own angles (fixed-point iteration). Where every joint sticks the tension is not
+Gravity torques are taken from the previous step (small steps; links whose weight beats a joint's preload
+torque make that joint chatter: an implicit fixed point does not converge there either). Where every joint sticks the tension is not
 unique (any T on a flat stretch of Σ r·θ(T) meets the tendon constraint): it stays as close to the previous
 step's as that stretch allows.
 """
@@ -220,27 +221,6 @@ def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg:
     return th, float(T), T * c, False
 
 
-#: Gravity is implicit: the links' weight is evaluated at the step's own angles, by fixed-point iteration
-#: (under-relaxed by GRAVITY_RELAX) until the torques change by less than GRAVITY_TOL [N·mm], at most
-#: GRAVITY_ITERATIONS times. (Taken from the previous step, heavy links made the angles chatter.)
-GRAVITY_RELAX, GRAVITY_TOL, GRAVITY_ITERATIONS = 0.5, 1e-10, 200
-
-
-def _with_gravity(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, prev_T: float):
-    """``equilibrium`` with the gravity torques of the angles it returns (see GRAVITY_RELAX)."""
-    tg = gravity_torques(m, prev)
-    out = equilibrium(m, t_d, prev, pulling, tg, prev_T)
-    if m.gravity is None or not any(m.link_mass):
-        return out
-    for _ in range(GRAVITY_ITERATIONS):
-        new = gravity_torques(m, out[0])
-        if float(np.max(np.abs(new - tg))) < GRAVITY_TOL:
-            break
-        tg = tg + GRAVITY_RELAX * (new - tg)
-        out = equilibrium(m, t_d, prev, pulling, tg, prev_T)
-    return out
-
-
 def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
     """Pull the tendon from 0 to ``stroke`` mm, then release back to 0, in ``steps`` steps each way."""
     up = np.linspace(0.0, stroke, steps + 1)
@@ -266,7 +246,8 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None) -> 
     for k, t_d in enumerate(td):
         if k and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
-        th, Tk, tik, sl = _with_gravity(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0)
+        tg = gravity_torques(m, prev)
+        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, tg, T[k - 1] if k else 0.0)
         moved = th - prev
         st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))
         st = np.where((th <= 1e-12) & (st <= 0) | (th >= thmax - 1e-12) & (st >= 0), np.where(st == 0, 2.0, st), st)

@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rjcad.physics.finger import FLAT_MM, G, GRAVITY_ITERATIONS, GRAVITY_RELAX, GRAVITY_TOL, FingerModel
+from rjcad.physics.finger import FLAT_MM, G, FingerModel
 
 
 @njit(cache=True)
@@ -114,7 +114,6 @@ def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight,
     tension = np.zeros(n_steps)
     prev = np.zeros(n)
     tg = np.zeros(n)
-    tg_new = np.zeros(n)
     th = np.zeros(n)
     rc = np.zeros(n)
     bps = np.zeros(4 * n + 1)
@@ -128,17 +127,6 @@ def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight,
         if gravity:
             _gravity(prev, length, weight, gx, gy, tg)
         T = _step(td[k], prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps)
-        if gravity:
-            for _ in range(GRAVITY_ITERATIONS):
-                _gravity(th, length, weight, gx, gy, tg_new)
-                change = 0.0
-                for i in range(n):
-                    change = max(change, abs(tg_new[i] - tg[i]))
-                if change < GRAVITY_TOL:
-                    break
-                for i in range(n):
-                    tg[i] += GRAVITY_RELAX * (tg_new[i] - tg[i])
-                T = _step(td[k], prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps)
         for i in range(n):
             theta[k, i] = th[i]
             prev[i] = th[i]

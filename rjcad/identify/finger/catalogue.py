@@ -75,7 +75,7 @@ def catalogue(design: FingerModel) -> tuple[FingerEffect, ...]:
         FingerEffect("link_weight", "link weight",
                      "gravity on the links (the experiment's orientation): each joint carries the weight of the "
                      "links beyond it; the links' mass is λ per mm of link",
-                     (_p("link_mass_g_per_mm", 0.0, 5.0, 0.4, 0.0),),
+                     (_p("link_mass_g_per_mm", 0.0, 5.0, 0.15, 0.0),),
                      needs="orientation", needs_text="an experiment with the finger's orientation given"),
     )
 

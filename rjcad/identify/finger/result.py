@@ -1,0 +1,159 @@
+"""The JSON and the report of a whole-finger identification: the joint result's top-level keys, with the
+experiments' figures per measured quantity (each joint's angle, the tension) and a verdict per joint."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from rjcad.identify.formatting import fmt
+from rjcad.identify.result import _r
+from rjcad.identify.select import Identification
+
+
+def _per_exp(ident: Identification, fits) -> list[dict]:
+    out = {}
+    for ch, rd, rf in zip(ident.prepared, *fits):
+        e = out.setdefault(ch.exp_index, {"file": ch.exp.file, "drive": "finger", "orientation": ch.exp.orientation,
+                                          "samples": int(len(ch.exp.t)), "cycles": ch.motion.n_cycles,
+                                          "quantities": [], "rmse_design": {}, "rmse_final": {}, "noise": {},
+                                          "final_over_noise": {}, "samples_fitted": {}})
+        q = ch.quantity
+        e["quantities"].append(q)
+        e["rmse_design"][q], e["rmse_final"][q], e["noise"][q] = _r(rd), _r(rf), _r(ch.sigma)
+        e["final_over_noise"][q] = _r(rf / ch.sigma)
+        e["samples_fitted"][q] = int(ch.valid.sum())
+    return [out[k] for k in sorted(out)]
+
+
+def _joints(ident: Identification) -> list[dict]:
+    """Per joint: the design model's largest and RMS angle error, the final RMSE, and the effects acting on it."""
+    n = ident.campaign.design.model.n
+    des, fin = ident.design_predictions, ident.final_predictions
+    out = []
+    for j in range(n):
+        chans = [(k, ch) for k, ch in enumerate(ident.prepared) if ch.index == j]
+        worst, where, sq, cnt, sqf = 0.0, None, 0.0, 0, 0.0
+        for k, ch in chans:
+            err = (des[k] - ch.y)[ch.valid]
+            if len(err):
+                i = int(np.argmax(np.abs(err)))
+                if abs(err[i]) > abs(worst):
+                    worst, where = float(err[i]), (ch.exp.file, float(ch.path[ch.valid][i]))
+                sq += float(np.sum(err**2))
+                sqf += float(np.sum((fin[k] - ch.y)[ch.valid] ** 2))
+                cnt += len(err)
+        moved = {}
+        for name in ident.final.names:
+            if name.endswith(f"_j{j + 1}"):
+                moved[name] = (ident.design.values[name], ident.final.values[name])
+        out.append({"joint": j + 1, "design_worst_error_deg": _r(worst),
+                    "design_worst_at": {"file": where[0], "tendon_mm": _r(where[1])} if where else None,
+                    "rmse_design_deg": _r(np.sqrt(sq / max(cnt, 1))), "rmse_final_deg": _r(np.sqrt(sqf / max(cnt, 1))),
+                    "own_parameters": {k: {"design": _r(a), "final": _r(b)} for k, (a, b) in moved.items()}})
+    return out
+
+
+def to_json(ident: Identification) -> dict:
+    """effects, params, not_identifiable, experiments (per quantity), gain, ambiguous, joints, steps, candidates."""
+    fin, des = ident.final, ident.design
+    params = {n: fin.values[n] for n in fin.names if n not in ident.not_identifiable}
+    rd = des.rmse()
+    rf = fin.rmse()
+    cat = {e.id: e for e in _catalogue(ident)}
+    return {
+        "kind": "finger",
+        "effects": list(ident.effects),
+        "params": {k: _r(v) for k, v in params.items()},
+        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items() if k not in ident.not_identifiable},
+        "not_identifiable": sorted(ident.not_identifiable),
+        "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
+        "fitted": list(fin.names),
+        "steps": [{"step": i + 1, "effect": s.effect, "name": cat[s.effect].name, "cause": s.cause,
+                   "action": s.action, "delta_bic": _r(s.delta_bic), "heldout_rmse": _r(s.heldout_rmse),
+                   "relevance": _r(s.relevance), "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
+        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
+                        "verdict": c.verdict} for c in ident.candidates],
+        "experiments": _per_exp(ident, (rd, rf)),
+        "joints": _joints(ident),
+        "gain": _r(ident.gain),
+        "heldout_rmse_design": _r(ident.heldout_design),
+        "heldout_rmse_final": _r(ident.heldout_final),
+        "design": ident.campaign.design.as_json(),
+        "ambiguous": [{**a, "delta_bic": _r(a["delta_bic"])} for a in ident.ambiguous],
+        "notes": list(ident.campaign.notes) + list(ident.notes),
+        "units": {"rmse": "each quantity's unit (theta*_deg: deg, tendon_force_n: N)",
+                  "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)"},
+    }
+
+
+def _catalogue(ident: Identification):
+    from rjcad.identify.finger.catalogue import catalogue
+
+    return catalogue(ident.campaign.design.model)
+
+
+def joint_sentences(js: dict) -> list[str]:
+    """Which joint the design model gets wrong, by how much, and what explains it (one line per joint)."""
+    out = []
+    for j in js["joints"]:
+        w = j["design_worst_error_deg"] or 0.0
+        at = j["design_worst_at"]
+        line = (f"joint {j['joint']}: the design model is up to {abs(w):.1f}° too {'closed' if w > 0 else 'open'}"
+                + (f" ({at['file']}, tendon at {at['tendon_mm']:.1f} mm)" if at else "")
+                + f"; RMSE {fmt(j['rmse_design_deg'], 3)}° → {fmt(j['rmse_final_deg'], 3)}°")
+        own = [f"{k} {fmt(v['design'], 3)} → {fmt(v['final'], 3)}" for k, v in j["own_parameters"].items()
+               if k in js["params"] and abs((v['final'] or 0) - (v['design'] or 0)) > 1e-9]
+        if own:
+            line += "; its own parameters: " + ", ".join(own)
+        out.append(line)
+    return out
+
+
+def render_markdown(js: dict) -> str:
+    """report.md of a whole-finger identification."""
+    cat = {c["effect"]: c for c in js["candidates"]}
+    lines = ["# Identification report: whole finger", "",
+             f"Finger: `{js['design']['finger']}`, {js['design']['joints']} joints; design model as designed "
+             "(frictionless, inextensible tendon, no gravity).", ""]
+    if js["effects"]:
+        lines += ["Found: " + ", ".join(f"`{e}`" for e in js["effects"]) + f" (RMSE shrinks {fmt(js['gain'], 3)}-fold, "
+                  "geometric mean over the measured quantities).", ""]
+    else:
+        lines += ["Nothing beyond the design model was needed.", ""]
+    lines += ["## Per joint", ""] + [f"- {s}" for s in joint_sentences(js)]
+    if js["ambiguous"]:
+        lines += ["", "## What the data cannot decide", "",
+                  "| other set | ΔBIC vs the answer | free parameters | only bounded | separate them by |",
+                  "|---|---|---|---|---|"]
+        lines += [f"| {', '.join(a['effects'])} | {fmt(a['delta_bic'], 3)} | {a['free_parameters']} | "
+                  f"{', '.join(a['only_bounded']) or 'none'} | {a['separate_by']} |" for a in js["ambiguous"]]
+    lines += ["", "## Parameters", "", "| parameter | value | 95 % interval |", "|---|---|---|"]
+    for k, v in js["params"].items():
+        ci = js["param_ci95"].get(k)
+        lines.append(f"| {k} | {fmt(v)} | " + (f"{fmt(ci[0])} … {fmt(ci[1])}" if ci else "—") + " |")
+    if js["not_identifiable"]:
+        lines += ["", "## Not identifiable from this campaign", ""]
+        lines += [f"- `{k}`: {why}" for k, why in js["not_identifiable_why"].items()]
+    lines += ["", "## Experiments", "", "| file | quantity | RMSE design | RMSE final | noise σ | final / noise |",
+              "|---|---|---|---|---|---|"]
+    for e in js["experiments"]:
+        for q in e["quantities"]:
+            lines.append(f"| {e['file']} | {q} | {fmt(e['rmse_design'][q])} | {fmt(e['rmse_final'][q])} | "
+                         f"{fmt(e['noise'][q], 3)} | {fmt(e['final_over_noise'][q], 3)} |")
+    rejected = [c for c in js["candidates"] if c["reason"] != "accepted"]
+    if rejected:
+        lines += ["", "## Candidates not accepted (last verdict)", ""]
+        lines += [f"- `{k}`: {c['verdict']}" for k, c in cat.items() if c["reason"] != "accepted"]
+    if js["notes"]:
+        lines += ["", "## Notes", ""] + [f"- {n}" for n in js["notes"]]
+    return "\n".join(lines) + "\n"
+
+
+def write_report(js: dict, out_dir) -> list[Path]:
+    from rjcad.outputs import write_set
+
+    out = Path(out_dir)
+    write_set(out, {"report.md": render_markdown(js)})
+    return [out / "report.md"]
