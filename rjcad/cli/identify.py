@@ -39,9 +39,15 @@ def _key_values(text: str, option: str) -> dict[str, float]:
               help="Angle path of every experiment: the paper-like three speeds with holds, or a simpler one.")
 @click.option("--paper", is_flag=True,
               help=f"The paper's campaign: its design and measured parameters, F_n {JOINT.normal_load:g} N in A-C.")
+@click.option("--finger", "finger", is_flag=True,
+              help="A whole-finger campaign (tendon stroke and joint angles) instead of a joint's.")
+@click.option("--source", type=click.Path(dir_okay=False),
+              help="With --finger: the finger manifest (.json) or template (.toml); default: templates/finger.toml.")
+@click.option("--no-tension", is_flag=True, help="With --finger: no tendon_force_n column (no load cell).")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True, help="Campaign directory.")
-def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, out_dir):
-    """Write a SYNTHETIC campaign (experiments A-E of the paper) simulated from the joint model, with noise."""
+def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, finger, source, no_tension, out_dir):
+    """Write a SYNTHETIC campaign simulated from the joint model (experiments A-E of the paper) or, with
+    --finger, from the finger model (pull/release records), with noise."""
     from pathlib import Path
 
     from rjcad.identify.bench import PAPER_PRESET, write_campaign
@@ -50,6 +56,16 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, ou
     for p in params:
         overrides.update(_key_values(p, "--param"))
     chosen = [e.strip() for e in effects.split(",") if e.strip()]
+    if finger:
+        from rjcad.identify.finger.bench import write_finger_campaign
+
+        if paper:
+            raise click.BadParameter("--paper is a joint campaign; give --finger or --paper", param_hint="--paper")
+        truth = write_finger_campaign(out_dir, chosen, overrides, finger=source, seed=seed,
+                                      noise=_key_values(noise, "--noise"), samples=samples, tension=not no_tension)
+        click.echo(f"wrote {Path(out_dir) / 'campaign.toml'} (SYNTHETIC, {len(truth['experiments'])} experiments, "
+                   f"{samples} samples each, finger {truth['finger']})")
+        return
     design = None
     if paper:
         if chosen:
@@ -87,9 +103,17 @@ def identify(campaign, json_out, report_dir, allow_outside):
     for place in places:
         check_writable(place)  # before the fit, not after it
     camp = load_campaign(campaign, allow_outside=allow_outside)
-    ident = run(camp)
-    js = to_json(ident)
-    written = [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
+    if getattr(camp, "kind", "joint") == "finger":
+        from rjcad.identify.finger import result as finger_result
+        from rjcad.identify.finger.problem import identify_finger
+
+        ident = identify_finger(camp)
+        js = finger_result.to_json(ident)
+        written = [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
+    else:
+        ident = run(camp)
+        js = to_json(ident)
+        written = [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
     if json_out and json_out != "-":
         written.insert(0, str(write_json(json_out, js)))
     if json_out == "-":
@@ -115,6 +139,17 @@ def print_identification(js: dict) -> None:
         click.echo(f"  {name} = {value:.4g}" + (f"  [{ci[0]:.4g}, {ci[1]:.4g}]" if ci else "  (design)"))
     for name, why in js["not_identifiable_why"].items():
         click.echo(f"  not identifiable: {name} ({why})")
+    if js.get("kind") == "finger":
+        from rjcad.identify.finger.result import joint_sentences
+
+        for line in joint_sentences(js):
+            click.echo(f"  {line}")
+        for a in js["ambiguous"]:
+            click.echo(f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by "
+                       f"{a['separate_by']}")
+        return
+    for a in js.get("ambiguous", []):
+        click.echo(f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}")
     for e in js["experiments"]:
         click.echo(f"  {e['file']}: RMSE {e['rmse_design']:.4g} -> {e['rmse_final']:.4g} {e['quantity']} "
                    f"(noise {e['noise']:.3g}, {e['samples_masked_at_reversals']} samples at reversals masked)")

@@ -216,7 +216,18 @@ class Selector:
                               fr.rmse(), _gain(design.rmse(), fr.rmse())))
         return current, ho_cur
 
+    #: the refit's evaluations per side in post_check (a subclass with costlier evaluations may lower it)
+    post_check_nfev = 60
+
     def post_check(self, fr: FitResult, rel: float = 0.2, gate: float = 4.0) -> dict[str, str]:
+        """:meth:`profile_check`, remembered per fit (the ambiguity check and the final report ask twice)."""
+        key = (fr.names, tuple(float(v) for v in fr.x), rel, gate)
+        cache = self.__dict__.setdefault("_post_checks", {})
+        if key not in cache:
+            cache[key] = self.profile_check(fr, rel, gate)
+        return cache[key]
+
+    def profile_check(self, fr: FitResult, rel: float = 0.2, gate: float = 4.0) -> dict[str, str]:
         """Profile check of each fitted parameter: the data must pin it from both sides.
 
         The parameter is fixed at (1 ± ``rel``)·value and the others are refitted; a side whose
@@ -240,7 +251,8 @@ class Selector:
                     continue
                 prob = self.problem({**self.base, **fr.values, n: x})
                 if others:
-                    chi = 2.0 * prob.fit(others, [fr.values[m] for m in others], olo, ohi, max_nfev=60).cost
+                    chi = 2.0 * prob.fit(others, [fr.values[m] for m in others], olo, ohi,
+                                         max_nfev=self.post_check_nfev).cost
                 else:
                     chi = sum(float(np.sum(r**2)) for r in prob.residuals(prob.fixed))
                 dchi[side] = chi - chi0

@@ -53,6 +53,18 @@ def _gravity(prev, length, weight, gx, gy, out):
 
 
 @njit(cache=True)
+def _sort(a, m):
+    """Insertion sort of a[:m] in place (a dozen breakpoints: no allocation; duplicates are harmless)."""
+    for i in range(1, m):
+        v = a[i]
+        j = i - 1
+        while j >= 0 and a[j] > v:
+            a[j + 1] = a[j]
+            j -= 1
+        a[j + 1] = v
+
+
+@njit(cache=True)
 def _sum(T, prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp):
     """Σ r·θ(T) + T/k_t: the tendon displacement the joints and the tendon take up at tension T [mm]."""
     _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
@@ -83,7 +95,8 @@ def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps
                 if math.isfinite(v):
                     bps[m] = max(v, 0.0)
                     m += 1
-        grid = np.unique(bps[:m])  # sorted; 0 is the first
+        _sort(bps, m)  # ascending in place; 0 is the first
+        grid = bps[:m]
         tol = FLAT_MM * max(1.0, abs(t_d))
         S_prev, k = -1.0, -1
         for g in range(len(grid)):

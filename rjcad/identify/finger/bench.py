@@ -91,6 +91,17 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
     ``finger``: a finger manifest (.json) or template (.toml); None: the default finger (templates/finger.toml).
     """
     out = Path(out_dir)
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 100 <= samples <= 200_000:
+        raise ParameterError("samples", samples, "must be an integer in [100, 200000]")
+    for k, v in (noise or {}).items():
+        if k not in DEFAULT_NOISE:
+            raise ParameterError("noise", k, f"unknown column; known: {', '.join(DEFAULT_NOISE)}")
+        if not (isinstance(v, (int, float)) and 0 <= v < 1e3):
+            raise ParameterError(f"noise {k}", v, "must be a number in [0, 1000)")
+    if not 0 < stroke <= 1000:
+        raise ParameterError("stroke", stroke, "must be in (0, 1000] mm")
+    if out.exists() and not out.is_dir():
+        raise RjcadError(f"{out}: exists and is not a directory")
     if finger is None:
         from rjcad.physics.finger import model_from_template
         from rjcad.templates import DEFAULT_FINGER

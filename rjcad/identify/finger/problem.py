@@ -9,7 +9,7 @@ The model input is the tendon path: ``tendon_mm`` smoothed and made monotone wit
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -57,19 +57,45 @@ def tendon_path(t, tendon) -> tuple[np.ndarray, np.ndarray, Motion]:
     return path, d > 0, m
 
 
+#: Samples per experiment the fit works on: the model is rate-independent (quasi-static), so simulating it on
+#: every q-th sample, every turn of the tendon kept, is exact at those samples; q = ⌈n / FIT_SAMPLES⌉.
+FIT_SAMPLES = 1000
+
+
+def _kept(m: Motion, n: int) -> np.ndarray:
+    """Indices of the samples the fit uses: every q-th, plus the samples on both sides of each turn."""
+    q = max(1, -(-n // FIT_SAMPLES))
+    keep = np.zeros(n, dtype=bool)
+    keep[::q] = True
+    keep[-1] = True
+    turns = np.flatnonzero(m.direction[1:] != m.direction[:-1])
+    keep[turns] = keep[np.minimum(turns + 1, n - 1)] = True
+    return np.flatnonzero(keep)
+
+
+def _subset(m: Motion, idx: np.ndarray) -> Motion:
+    arrays = {f: getattr(m, f)[idx] for f in ("theta", "velocity", "direction", "valid", "hold", "cycle")}
+    extra = {f: getattr(m, f)[idx] for f in ("glitches", "at_reversal") if getattr(m, f) is not None}
+    return replace(m, **arrays, **extra, reversals=np.searchsorted(idx, m.reversals))
+
+
 def prepare_finger(campaign: FingerCampaign, n_folds: int = 2) -> list[Channel]:
     out = []
     for k, e in enumerate(campaign.experiments):
         path, pulling, m = tendon_path(e.t, e.tendon)
+        idx = _kept(m, len(e.t))
+        near_zero_full = path - path.min() < 4.0 * max(noise_sigma(e.tendon), 1e-6)
         series = [(f"theta{i + 1}_deg", e.theta[:, i] / DEG) for i in range(e.theta.shape[1])]
         if e.tension is not None:
             series.append(("tendon_force_n", e.tension))
         # at zero stroke the tension of a preloaded finger steps from 0 (slack) to the preload's (taut): within
         # the tendon reading's noise of its lowest value the model cannot tell which, so those tension samples
         # are left out
-        near_zero = path - path.min() < 4.0 * max(noise_sigma(e.tendon), 1e-6)
-        for i, (q, y) in enumerate(series):
-            sig = noise_sigma(y)
+        near_zero = near_zero_full[idx]
+        path, pulling, m = path[idx], pulling[idx], _subset(m, idx)
+        for i, (q, y_full) in enumerate(series):
+            sig = noise_sigma(y_full)  # from the full record (consecutive samples)
+            y = y_full[idx]
             lo, hi = np.percentile(y[m.valid] if m.valid.any() else y, [0.5, 99.5])
             span = float(hi - lo)
             sig = max(sig, 1e-6 * max(span, 1e-12), 1e-9)
@@ -117,6 +143,8 @@ class FingerProblem(Problem):
 
 class FingerSelector(Selector):
     """The joint pipeline's selection, on a finger's channels with the finger catalogue."""
+
+    post_check_nfev = 20  # a finger's refit from the fitted point converges in a few steps; each costs ~15 ms
 
     def __init__(self, campaign: FingerCampaign):
         self.catalogue = catalogue(campaign.design.model)
