@@ -38,6 +38,8 @@ class Channel:
     span: float
     folds: np.ndarray
     outliers: np.ndarray
+    full_path: np.ndarray = None  # the whole record's path; with gravity the model runs on it (its lag is per step)
+    kept: np.ndarray = None       # indices of the fitted samples in the whole record
 
     @property
     def valid(self) -> np.ndarray:
@@ -92,6 +94,7 @@ def prepare_finger(campaign: FingerCampaign, n_folds: int = 2) -> list[Channel]:
         # the tendon reading's noise of its lowest value the model cannot tell which, so those tension samples
         # are left out
         near_zero = near_zero_full[idx]
+        full_path = path
         path, pulling, m = path[idx], pulling[idx], _subset(m, idx)
         for i, (q, y_full) in enumerate(series):
             sig = noise_sigma(y_full)  # from the full record (consecutive samples)
@@ -101,7 +104,7 @@ def prepare_finger(campaign: FingerCampaign, n_folds: int = 2) -> list[Channel]:
             sig = max(sig, 1e-6 * max(span, 1e-12), 1e-9)
             folds = m.cycle % n_folds if m.n_cycles >= n_folds else np.full(len(y), -1)
             bad = spikes(y, sig) | (near_zero if q == "tendon_force_n" else False)
-            out.append(Channel(e, k, i, q, y, path, pulling, m, sig, span, folds, bad))
+            out.append(Channel(e, k, i, q, y, path, pulling, m, sig, span, folds, bad, full_path, idx))
     return out
 
 
@@ -119,7 +122,11 @@ class Simulator:
             self._key, self._out = key, {}
         if ch.exp_index not in self._out:
             m = model_of(values, self.design, ch.exp.gravity)
-            self._out[ch.exp_index] = simulate_angles(m, ch.path)
+            if m.gravity is not None:  # gravity lags one step: run it at the record's own steps
+                theta, T = simulate_angles(m, ch.full_path)
+                self._out[ch.exp_index] = theta[ch.kept], T[ch.kept]
+            else:
+                self._out[ch.exp_index] = simulate_angles(m, ch.path)
         theta, T = self._out[ch.exp_index]
         if ch.index < theta.shape[1]:
             return theta[:, ch.index] / DEG
@@ -157,6 +164,13 @@ class FingerSelector(Selector):
 
     def _prepare(self, campaign):
         return prepare_finger(campaign)
+
+    def run(self):
+        ident = super().run()
+        if not self.campaign.has_tension and "spring_calibration" in ident.effects:
+            ident.notes.append("without a tension record the stiffnesses are on joint 1's design scale: only the "
+                               "ratios K_j/K_1 are measured (stiffness_nmm_per_rad_j1 is held at its design value)")
+        return ident
 
     def _base(self, campaign) -> dict[str, float]:
         vals = {}
