@@ -38,7 +38,7 @@ clean:
 
 # docs/paper-finger.md and its plot, every number computed
 paper-finger: $(VENV)/.installed
-	$(VENV)/bin/rjcad paper-finger --out docs
+	$(VENV)/bin/rjcad paper-finger --out docs --records
 
 # examples/paper_campaign: the SYNTHETIC paper campaign (experiments A-E), seed 7
 paper-campaign: $(VENV)/.installed

@@ -3,7 +3,9 @@
 Prints one JSON object. Each figure is the median of --repeats runs after a warm-up (the
 paper campaign; 1e5 samples: one run unless --repeats-large). Targets (issue #7): the paper
 campaign (5 × 3000 samples, full selection) in ≤ 10 s; the time grows no worse than linearly
-with samples per experiment (every scaling exponent ≤ 1.05). The scaling exponent is
+with samples per experiment (every scaling exponent ≤ 1.05). Issue #18: a 3-joint whole-finger campaign of
+3 experiments × 3000 samples in ≤ 30 s (one hidden effect and a pair), and the compiled finger solver against
+the reference one on the same path (µs per step, same run). The scaling exponent is
 log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
 Run: .venv/bin/python benchmarks/identify.py [--sizes 1000,10000,100000] [--repeats 3] [--quick]
 """
@@ -28,6 +30,36 @@ PAPER = ROOT / "examples" / "paper_campaign" / "campaign.toml"
 def run(path):
     camp = load_campaign(path)
     return identify(camp)
+
+
+def finger(repeats: int) -> dict:
+    """Whole-finger identification (3 joints, 3 experiments × 3000 samples) and the finger solver's speed."""
+    import numpy as np
+
+    from rjcad.identify.campaign import load_campaign as load_any
+    from rjcad.identify.finger.bench import write_finger_campaign
+    from rjcad.identify.finger.problem import identify_finger
+    from rjcad.physics.finger import FingerModel, simulate_path
+    from rjcad.physics.finger_fast import simulate_angles
+    from rjcad.units import DEG
+
+    out = {"finger_campaign_s": {}, "finger_campaign_found": {}}
+    with tempfile.TemporaryDirectory() as tmp:
+        for effects in (["moment_arm"], ["moment_arm", "coulomb_pin"]):
+            d = Path(tmp) / "_".join(effects)
+            write_finger_campaign(d, effects, seed=1, samples=3000)
+            t, ident = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
+            out["finger_campaign_s"]["+".join(effects)] = round(t, 3)
+            out["finger_campaign_found"]["+".join(effects)] = ident.effects
+    m = FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3,
+                    gamma=(1.0,) * 3)
+    td = np.concatenate([np.linspace(0, 25, 1500), np.linspace(25, 0, 1500)])
+    t_ref, _ = median_time(lambda: simulate_path(m, td), repeats)
+    t_fast, _ = median_time(lambda: simulate_angles(m, td), repeats)
+    out["finger_solver_us_per_step"] = {"reference": round(1e6 * t_ref / len(td), 2),
+                                        "compiled": round(1e6 * t_fast / len(td), 3),
+                                        "ratio": round(t_ref / t_fast, 1)}
+    return out
 
 
 def main() -> None:
@@ -62,8 +94,10 @@ def main() -> None:
     out["us_per_sample"] = [round(1e6 * ti / (5 * ni), 2) for ni, ti in zip(s, t)]
     out["scaling_exponent"] = [round(math.log(t[i + 1] / t[i]) / math.log(s[i + 1] / s[i]), 3)
                                for i in range(len(s) - 1)]
+    out.update(finger(args.repeats))
     out["targets"] = {
         "paper_campaign_s": target(out["paper_campaign_s"], at_most=10.0),
+        "finger_campaign_worst_s": target(max(out["finger_campaign_s"].values()), at_most=30.0),
         "worst_scaling_exponent": target(max(out["scaling_exponent"], default=None), at_most=1.05),
     }
     emit(out)

@@ -93,7 +93,7 @@ def identify(campaign, json_out, report_dir, allow_outside):
     from pathlib import Path
 
     from rjcad.config import write_json
-    from rjcad.identify.data import load_campaign
+    from rjcad.identify.campaign import load_campaign
     from rjcad.identify.report import write_report
     from rjcad.identify.result import to_json
     from rjcad.identify.select import identify as run

@@ -206,9 +206,16 @@ def print_finger_design(rep: dict, out_path: str) -> None:
 @click.option("--manifest", type=click.Path(dir_okay=False),
               help="Built finger manifest (out/finger/finger.json) for the design model's moment arms; "
                    "default: the joint builder's design arm.")
-def paper_finger(out_dir, manifest):
+@click.option("--records", is_flag=True,
+              help="Also write paper-finger-records.md: SYNTHETIC full records of the families that fit the "
+                   "endpoint, identified blind (about a minute).")
+def paper_finger(out_dir, manifest, records):
     """Regenerate docs/paper-finger.md: the paper's finger, the design model's error and its explanations."""
     from rjcad.physics.paper_finger import write_doc
 
     exps = write_doc(out_dir, manifest)
     click.echo(f"wrote {out_dir}/paper-finger.md and paper-finger.png ({len(exps)} explanations fitted)")
+    if records:
+        from rjcad.identify.finger.paper import write_doc as write_records
+
+        click.echo(f"wrote {write_records(out_dir)}")

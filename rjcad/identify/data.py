@@ -90,18 +90,17 @@ RADIAN_MAX_DEG = 3.2
 RADIAN_SLOPE_RATIO = 15.0
 
 
-def load_campaign(path, allow_outside: bool = False) -> Campaign:
+def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) -> Campaign:
     """Read and validate a campaign TOML and its CSV files (paths relative to the TOML, inside its folder
     unless ``allow_outside``; symlinks followed). Files are read through rjcad.untrusted.
 
     Raises RjcadError (ParameterError for TOML values) with one line naming the file and the problem.
     """
     path = Path(path)
-    raw = read_toml(path)
+    raw = read_toml(path) if doc is None else doc
     if is_finger_campaign(raw):
-        from rjcad.identify.finger.data import load_finger_campaign
-
-        return load_finger_campaign(path, raw, allow_outside)
+        raise RjcadError(f"{path}: a whole-finger campaign (finger = ..., drive = 'finger'): read it with "
+                         "rjcad.identify.campaign.load_campaign")
     doc = _read_toml(path, raw)
     where = f"{path}: "
     design = _design(doc, where)

@@ -24,9 +24,14 @@ class FingerEffect(Effect):
     """An effect whose parameters are built for a finger of ``n`` joints."""
 
     def __init__(self, id: str, name: str, cause: str, params: tuple[Param, ...], needs: str = "any",
-                 needs_text: str = ""):
+                 needs_text: str = "", also: tuple[dict, ...] = ()):
         self.id, self.name, self.cause, self.params, self.needs, self.needs_text = (
             id, name, cause, params, needs, needs_text)
+        self.also = also  # further start points (overrides of the typical sizes): the fit has local minima
+
+    def starts(self, design):
+        t = self.typical(design)
+        return [t] + [{**t, **o} for o in self.also]
 
 
 def _p(name, lo, hi, typical, neutral) -> Param:
@@ -45,10 +50,12 @@ def catalogue(design: FingerModel) -> tuple[FingerEffect, ...]:
                      tuple(_p(f"stiffness_nmm_per_rad_j{j}", 0.2 * K[j - 1], 5.0 * K[j - 1], 0.85 * K[j - 1],
                               K[j - 1]) for j in js)
                      + tuple(_p(f"preload_deg_j{j}", 0.0, 180.0, design.preload[j - 1] / DEG - 12.0,
-                                design.preload[j - 1] / DEG) for j in js)),
+                                design.preload[j - 1] / DEG) for j in js),
+                     also=({f"preload_deg_j{j}": max(design.preload[j - 1] / DEG - 45.0, 5.0) for j in js},)),
         FingerEffect("coulomb_pin", "Coulomb pin friction",
                      "dry friction in each joint's pin: a constant band the tendon must overcome both ways",
-                     tuple(_p(f"friction_nmm_j{j}", 0.0, 20.0 * kmin, 1.5, 0.0) for j in js)),
+                     tuple(_p(f"friction_nmm_j{j}", 0.0, 20.0 * kmin, 1.5, 0.0) for j in js),
+                     also=({f"friction_nmm_j{j}": 8.0 for j in js},)),
         FingerEffect("tendon_pin_friction", "tendon-induced pin friction",
                      "the tendon's own load presses each pin: friction grows with the spring torque, γ⁺ while "
                      "a joint closes, γ⁻ while it opens (paper Eq. 4), shared by the joints",

@@ -156,20 +156,29 @@ class FingerSelector(Selector):
     def __init__(self, campaign: FingerCampaign):
         self.catalogue = catalogue(campaign.design.model)
         self.sim = Simulator(campaign)
-        super().__init__(campaign)
+        #: parameters held at their design value whatever the selection does (the scale angles cannot see)
+        self.reference: dict[str, str] = {}
         if not campaign.has_tension:
-            self.frozen["stiffness_nmm_per_rad_j1"] = (
+            self.reference["stiffness_nmm_per_rad_j1"] = (
                 "joint angles alone fix the springs' stiffness ratios, not their scale (a stiffer finger pulled "
                 "harder closes the same): joint 1's stiffness is the reference; a tension record would fix it")
+        super().__init__(campaign)
+
+    def free_names(self, effects) -> tuple[str, ...]:
+        return tuple(n for n in super().free_names(effects) if n not in self.reference)
 
     def _prepare(self, campaign):
         return prepare_finger(campaign)
 
     def run(self):
         ident = super().run()
+        for name, why in self.reference.items():
+            if name in self.param_names(ident.effects):
+                ident.not_identifiable[name] = why
         if not self.campaign.has_tension and "spring_calibration" in ident.effects:
-            ident.notes.append("without a tension record the stiffnesses are on joint 1's design scale: only the "
-                               "ratios K_j/K_1 are measured (stiffness_nmm_per_rad_j1 is held at its design value)")
+            ident.notes.append("without a tension record joint 1's stiffness is held at its design value (joint "
+                               "angles cannot fix the springs' common scale: a stiffer finger pulled harder closes "
+                               "the same); the other joints' springs are fitted with it held there")
         return ident
 
     def _base(self, campaign) -> dict[str, float]:

@@ -1,0 +1,20 @@
+"""Any campaign: a joint's (rjcad.identify.data) or a whole finger's (rjcad.identify.finger.data), told apart
+by the experiments' drive (a top-level ``finger`` key or ``drive = "finger"``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from rjcad.identify.data import Campaign, is_finger_campaign
+from rjcad.identify.data import load_campaign as load_joint_campaign
+from rjcad.identify.finger.data import FingerCampaign, load_finger_campaign
+from rjcad.untrusted import read_toml
+
+
+def load_campaign(path, allow_outside: bool = False) -> Campaign | FingerCampaign:
+    """Read and validate a campaign TOML and its files (one error line naming the file on bad input)."""
+    path = Path(path)
+    doc = read_toml(path)
+    if is_finger_campaign(doc):
+        return load_finger_campaign(path, doc, allow_outside)
+    return load_joint_campaign(path, allow_outside, doc=doc)
