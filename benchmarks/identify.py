@@ -32,7 +32,7 @@ def run(path):
     return identify(camp)
 
 
-def finger(repeats: int) -> dict:
+def finger(repeats: int, samples: int = 3000, sets=(("moment_arm",), ("moment_arm", "coulomb_pin"))) -> dict:
     """Whole-finger identification (3 joints, 3 experiments × 3000 samples) and the finger solver's speed."""
     import numpy as np
 
@@ -43,11 +43,11 @@ def finger(repeats: int) -> dict:
     from rjcad.physics.finger_fast import simulate_angles
     from rjcad.units import DEG
 
-    out = {"finger_campaign_s": {}, "finger_campaign_found": {}}
+    out = {"finger_campaign_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
     with tempfile.TemporaryDirectory() as tmp:
-        for effects in (["moment_arm"], ["moment_arm", "coulomb_pin"]):
+        for effects in sets:
             d = Path(tmp) / "_".join(effects)
-            write_finger_campaign(d, effects, seed=1, samples=3000)
+            write_finger_campaign(d, list(effects), seed=1, samples=samples)
             t, ident = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
             out["finger_campaign_s"]["+".join(effects)] = round(t, 3)
             out["finger_campaign_found"]["+".join(effects)] = ident.effects
@@ -94,7 +94,7 @@ def main() -> None:
     out["us_per_sample"] = [round(1e6 * ti / (5 * ni), 2) for ni, ti in zip(s, t)]
     out["scaling_exponent"] = [round(math.log(t[i + 1] / t[i]) / math.log(s[i + 1] / s[i]), 3)
                                for i in range(len(s) - 1)]
-    out.update(finger(args.repeats))
+    out.update(finger(args.repeats) if not args.quick else finger(1, 300, (("moment_arm",),)))
     out["targets"] = {
         "paper_campaign_s": target(out["paper_campaign_s"], at_most=10.0),
         "finger_campaign_worst_s": target(max(out["finger_campaign_s"].values()), at_most=30.0),

@@ -24,8 +24,9 @@ BENCHMARKS = {
                 "ratio_full_n_over_n_full_1", "repeats"},
                {"worst_ratio_time_n_over_n_time_1"}),
     "identify": ({"paper_campaign_s", "paper_campaign_load_s", "paper_campaign_effects", "samples_per_experiment",
-                  "seconds", "effects_found", "us_per_sample", "scaling_exponent"},
-                 {"paper_campaign_s", "worst_scaling_exponent"}),
+                  "seconds", "effects_found", "us_per_sample", "scaling_exponent", "finger_campaign_s",
+                  "finger_campaign_found", "finger_solver_us_per_step", "finger_samples"},
+                 {"paper_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"}),
     "joint": ({"median_total_s", "median_cad_build_s", "median_tessellate_s", "median_measure_s",
                "median_stl_3mf_export_s", "median_step_export_s", "median_png_s", "png_share_of_total", "triangles",
                "stl_bytes", "stl_mb", "repeats"},
@@ -83,6 +84,8 @@ def check_identify(d):
     assert d["paper_campaign_effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
     assert d["samples_per_experiment"] == [600, 1200] and all(s > 0 for s in d["seconds"])
     assert len(d["scaling_exponent"]) == 1
+    assert d["finger_campaign_found"] == {"moment_arm": ["moment_arm"]} and d["finger_samples"] == 300
+    assert d["finger_solver_us_per_step"]["ratio"] > 1
 
 
 def check_physics(d):
