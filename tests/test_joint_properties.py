@@ -89,8 +89,9 @@ PINNED = [
     dict(rotation=30.9 * DEG, tendon_moment_arm=11.29),
 ]
 
-#: The designs the random test built in this run (JointParams), in order.
+#: The designs the random test built in this run (JointParams), in order, and their keywords.
 BUILT: list = []
+BUILT_KW: list = []
 
 
 def _pinned(test):
@@ -110,20 +111,46 @@ def random_joint(kw):
         reject()
     check_joint(p)
     BUILT.append(p)
+    BUILT_KW.append(kw)
+
+
+def cover_missing(what: str, values) -> list:
+    """Build and check one design for each of ``values`` (a material or a printer) that the random draws missed:
+    the first drawn design that validation still accepts with it changed. The draws are derandomized, but their
+    order depends on hypothesis's version, so the spread over every value is made certain here. Returns the
+    values so built."""
+    built = []
+    for value in sorted(set(values) - {getattr(p, what) for p in BUILT}):
+        for kw in BUILT_KW:
+            kw = dict(kw, **{what: value})
+            if what == "printer" and kw["clearance"] is not None:
+                kw["clearance"] = max(kw["clearance"], PRINTERS[value].min_gap_mm)
+            try:
+                p = JointParams(**kw)
+            except RjcadError:
+                continue
+            check_joint(p)
+            BUILT.append(p)
+            built.append(value)
+            break
+    return built
 
 
 @pytest.mark.slow
 def test_random_accepted_joints_build_checked_meshes(summary_line):
     BUILT.clear()
+    BUILT_KW.clear()
     t0 = time.perf_counter()
     random_joint()
-    n, dt = len(BUILT) - len(PINNED), time.perf_counter() - t0
+    n = len(BUILT) - len(PINNED)
     assert n >= RANDOM_JOINTS
+    extra = cover_missing("material", MATERIALS) + cover_missing("printer", PRINTERS)
+    dt = time.perf_counter() - t0
     spread = {what: collections.Counter(getattr(p, what) for p in BUILT[len(PINNED):])
               for what in ("material", "printer", "layout", "end")}
     assert set(spread["material"]) == set(MATERIALS) and set(spread["printer"]) == set(PRINTERS)
     assert set(spread["layout"]) == set(LAYOUTS) and set(spread["end"]) == {"clamped", "pinned"}
-    line = (f"built {n} random accepted joints (and {len(PINNED)} pinned) in {dt:.0f} s, each checked watertight, outward, 2 bodies, gap >= "
+    line = (f"built {n} random accepted joints (and {len(PINNED)} pinned, {len(extra)} to cover {extra}) in {dt:.0f} s, each checked watertight, outward, 2 bodies, gap >= "
             f"clearance - 0.02 mm, free over its range: " + "; ".join(
                 ", ".join(f"{k} {v}" for k, v in sorted(c.items())) for c in spread.values()))
     print(line)
