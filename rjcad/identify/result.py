@@ -26,6 +26,31 @@ def residuals(ident: Identification, values=None) -> list[np.ndarray]:
     return [p.exp.y - yh for p, yh in zip(ident.prepared, preds)]
 
 
+def selection_json(ident: Identification, params: dict, names: dict) -> dict:
+    """The keys a joint and a finger identification share: the effects and parameters kept, what the data cannot
+    identify, the selection's steps and candidates, the gain and the held-out figures, the design and the rival
+    sets (``names``: effect id → its name)."""
+    return {
+        "effects": list(ident.effects),
+        "params": {k: _r(v) for k, v in params.items()},
+        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items() if k not in ident.not_identifiable},
+        "not_identifiable": sorted(ident.not_identifiable),
+        "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
+        "fitted": list(ident.final.names),
+        "steps": [{"step": i + 1, "effect": s.effect, "name": names[s.effect], "cause": s.cause,
+                   "action": s.action, "delta_bic": _r(s.delta_bic),
+                   "heldout_rmse": _r(s.heldout_rmse), "relevance": _r(s.relevance),
+                   "rmse": [_r(x) for x in s.rmse], "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
+        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
+                        "verdict": c.verdict} for c in ident.candidates],
+        "gain": _r(ident.gain),
+        "heldout_rmse_design": _r(ident.heldout_design),
+        "heldout_rmse_final": _r(ident.heldout_final),
+        "design": ident.campaign.design.as_json(),
+        "ambiguous": [{**a, "delta_bic": _r(a["delta_bic"])} for a in ident.ambiguous],
+    }
+
+
 def to_json(ident: Identification) -> dict:
     """effects, params, param_ci95, not_identifiable, steps, experiments, gain, and the evidence behind them.
 
@@ -57,25 +82,10 @@ def to_json(ident: Identification) -> dict:
             "diagnostics_design": _clean(diagnose(p, rd)),
             "diagnostics_final": _clean(diagnose(p, rf)),
         })
+    names = {e: EFFECTS[e].name for e in EFFECTS}
     return {
-        "effects": list(ident.effects),
-        "params": {k: _r(v) for k, v in params.items()},
-        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items() if k not in ident.not_identifiable},
-        "not_identifiable": sorted(ident.not_identifiable),
-        "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
-        "fitted": list(fin.names),
-        "steps": [{"step": i + 1, "effect": s.effect, "name": EFFECTS[s.effect].name, "cause": s.cause,
-                   "action": s.action, "delta_bic": _r(s.delta_bic),
-                   "heldout_rmse": _r(s.heldout_rmse), "relevance": _r(s.relevance),
-                   "rmse": [_r(x) for x in s.rmse], "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
-        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
-                        "verdict": c.verdict} for c in ident.candidates],
+        **selection_json(ident, params, names),
         "experiments": exps,
-        "gain": _r(ident.gain),
-        "heldout_rmse_design": _r(ident.heldout_design),
-        "heldout_rmse_final": _r(ident.heldout_final),
-        "design": ident.campaign.design.as_json(),
-        "ambiguous": [{**a, "delta_bic": _r(a["delta_bic"])} for a in ident.ambiguous],
         "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
         "units": {"heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
                   "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",

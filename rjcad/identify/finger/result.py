@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from rjcad.identify.formatting import fmt
-from rjcad.identify.result import _r
+from rjcad.identify.result import _r, selection_json
 from rjcad.identify.select import Identification
 
 
@@ -61,27 +61,12 @@ def to_json(ident: Identification) -> dict:
     params = {n: fin.values[n] for n in fin.names if n not in ident.not_identifiable}
     rd = des.rmse()
     rf = fin.rmse()
-    cat = {e.id: e for e in _catalogue(ident)}
+    names = {e.id: e.name for e in _catalogue(ident)}
     return {
         "kind": "finger",
-        "effects": list(ident.effects),
-        "params": {k: _r(v) for k, v in params.items()},
-        "param_ci95": {k: [_r(a), _r(b)] for k, (a, b) in ident.ci95.items() if k not in ident.not_identifiable},
-        "not_identifiable": sorted(ident.not_identifiable),
-        "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
-        "fitted": list(fin.names),
-        "steps": [{"step": i + 1, "effect": s.effect, "name": cat[s.effect].name, "cause": s.cause,
-                   "action": s.action, "delta_bic": _r(s.delta_bic), "heldout_rmse": _r(s.heldout_rmse),
-                   "relevance": _r(s.relevance), "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
-        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
-                        "verdict": c.verdict} for c in ident.candidates],
+        **selection_json(ident, params, names),
         "experiments": _per_exp(ident, (rd, rf)),
         "joints": _joints(ident),
-        "gain": _r(ident.gain),
-        "heldout_rmse_design": _r(ident.heldout_design),
-        "heldout_rmse_final": _r(ident.heldout_final),
-        "design": ident.campaign.design.as_json(),
-        "ambiguous": [{**a, "delta_bic": _r(a["delta_bic"])} for a in ident.ambiguous],
         "notes": list(ident.campaign.notes) + list(ident.notes),
         "units": {"rmse": "each quantity's unit (theta*_deg: deg, tendon_force_n: N)",
                   "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)"},
