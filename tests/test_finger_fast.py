@@ -28,6 +28,12 @@ MODELS = {
     "everything": dict(wrap=(0.45, 0.6, 0.6), mu_t=0.2, friction=(2.0, 1.0, 0.5), gamma_pos=(1.0, 0.5, 0.5),
                        gamma_neg=(2.0, 1.5, 1.0), tendon_stiffness=4.0, link_mass=(17.6, 14.4, 9.8),
                        gravity=(0.6, -0.8)),
+    "stiffening": dict(cubic=(0.15, 0.1, 0.2), friction=(1.0,) * 3),
+    "damping": dict(damping=(0.6, 0.4, 0.3), friction=(1.0,) * 3),
+    "relaxation": dict(relax_stiffness=(1.5, 2.0, 2.5), relax_time=1.5, friction=(0.5,) * 3),
+    "rates and gravity": dict(damping=(0.6, 0.4, 0.3), cubic=(0.1,) * 3, relax_stiffness=(1.5, 2.0, 2.5),
+                              relax_time=0.8, friction=(1.0,) * 3, gamma=(0.5,) * 3, tendon_stiffness=4.0,
+                              link_mass=(17.6, 14.4, 9.8), gravity=(0.0, -1.0)),
 }
 
 
@@ -37,8 +43,9 @@ def test_same_as_reference(name):
     m = FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 45 * DEG), (90 * DEG,) * 3, (6.0, 7.0, 8.5),
                     **MODELS[name])
     td = _path(rng)
-    ref = simulate_path(m, td)
-    th, T = simulate_angles(m, td)
+    t = np.cumsum(rng.uniform(0.005, 0.02, len(td)))  # uneven steps
+    ref = simulate_path(m, td, t_s=t)
+    th, T = simulate_angles(m, td, t)
     assert th == pytest.approx(ref.theta, abs=1e-9)
     assert T == pytest.approx(ref.tension, abs=1e-9)
 

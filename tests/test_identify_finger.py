@@ -54,7 +54,8 @@ def test_one_effect_fast(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("effect", ["spring_calibration", "coulomb_pin", "tendon_pin_friction", "capstan_path",
-                                    "moment_arm", "capstan_along_finger", "link_weight", "none"])
+                                    "moment_arm", "capstan_along_finger", "link_weight", "viscous", "stiffening",
+                                    "relaxation", "none"])
 def test_single_hidden_effect(tmp_path, effect):
     effects = [] if effect == "none" else [effect]
     truth, js = _identify(tmp_path, effects)
@@ -141,7 +142,7 @@ def test_cli_bench_and_identify_finger(tmp_path, cli_process):
     js = json.loads((tmp_path / "r.json").read_text())
     assert js["effects"] == ["capstan_along_finger"] and "joint 1:" in r.stdout
     assert (tmp_path / "rep" / "report.md").read_text().startswith("# Identification report: whole finger")
-    bad = cli_process("bench", "--finger", "--effects", "viscous", "--out", str(tmp_path / "d"))
+    bad = cli_process("bench", "--finger", "--effects", "creep", "--out", str(tmp_path / "d"))
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and not (tmp_path / "d").exists()
 
 

@@ -171,7 +171,9 @@ def test_template_physics_keys_defaults_and_errors(tmp_path):
 
 @pytest.mark.parametrize("kw, name", [({"rotation": (0.0,)}, "rotation"), ({"mu_t": -0.1}, "mu_t"),
                                       ({"friction": (-1.0,)}, "friction"), ({"moment_arm": (math.inf,)},
-                                                                            "moment_arm")])
+                                                                            "moment_arm"),
+                                      ({"damping": (-0.1,)}, "damping"), ({"cubic": (1.0, 2.0)}, "cubic"),
+                                      ({"relax_time": 0.0}, "relax_time")])
 def test_bad_model_parameters(kw, name):
     base = dict(stiffness=(5.0,), preload=(0.5,), rotation=(1.5,), moment_arm=(6.0,))
     base.update(kw)
@@ -386,3 +388,71 @@ def test_larger_gamma_neg_opens_later_on_release():
     assert lo.theta[pull] == pytest.approx(hi.theta[pull])  # γ⁻ plays no part while pulling
     assert (hi.tension[~pull] <= lo.tension[~pull] + 1e-12).all()
     assert (hi.tension[~pull] < lo.tension[~pull] - 1e-3).any()
+
+
+# --- rate and wind-up effects (issue #18: the joint catalogue's viscous, stiffening and relaxation per joint) ---
+
+def _ramp(stroke, seconds, n=400, hold_s=0.0, hold_n=0):
+    """A pull from 0 to ``stroke`` mm in ``seconds`` (uniform speed), then a hold: (t_s, tendon_mm)."""
+    t = np.linspace(0.0, seconds, n)
+    td = np.linspace(0.0, stroke, n)
+    if hold_n:
+        t = np.r_[t, seconds + np.linspace(0.0, hold_s, hold_n + 1)[1:]]
+        td = np.r_[td, np.full(hold_n, stroke)]
+    return t, td
+
+
+@pytest.mark.parametrize("t_d", [8.0, 16.0, 24.0])
+def test_stiffening_equals_the_energy_minimum(t_d):
+    """Springs K·s + k3·s³ (s = θ + θ0): the quasi-static answer is the minimum of Σ(½K s² + ¼k3 s⁴) under the tendon
+    constraint (SLSQP, which shares nothing with the solver's step linearisation)."""
+    k3 = np.array([0.15, 0.2, 0.1])
+    m = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG, 80 * DEG, 100 * DEG),
+                       (6.0, 7.0, 8.0), cubic=tuple(k3))
+    c = fm.simulate_path(m, np.linspace(0, t_d, 400))
+    K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
+    res = minimize(lambda x: np.sum(0.5 * K * (x + th0) ** 2 + 0.25 * k3 * (x + th0) ** 4), np.full(3, 0.1),
+                   method="SLSQP", bounds=list(zip([0] * 3, thmax)),
+                   constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}], options={"ftol": 1e-14, "maxiter": 500})
+    assert res.success
+    assert c.theta[-1] == pytest.approx(res.x, abs=2e-3)  # the step linearisation's error: O(k3·s·Δθ²) per step
+    soft = fm.simulate_path(fm.FingerModel(m.stiffness, m.preload, m.rotation, m.moment_arm), np.linspace(0, t_d, 400))
+    assert c.tension[-1] > soft.tension[-1]  # stiffer springs need more tension for the same stroke
+
+
+def test_damping_vanishes_when_pulled_slowly_and_lags_when_fast():
+    """Viscous damping: a pull 1000× slower than another gives the rate-free angles; a fast pull needs more tension
+    (c·θ̇ adds to the springs) and the joint that moves most carries most of it."""
+    m0 = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG,) * 3, (6.0, 7.0, 8.0))
+    m = fm.FingerModel(**{**m0.__dict__, "damping": (0.6, 0.4, 0.3)})
+    ref = fm.simulate_path(m0, _ramp(20.0, 1.0)[1])
+    slow = fm.simulate_path(m, _ramp(20.0, 1000.0)[1], t_s=_ramp(20.0, 1000.0)[0])
+    fast = fm.simulate_path(m, _ramp(20.0, 1.0)[1], t_s=_ramp(20.0, 1.0)[0])
+    assert slow.theta == pytest.approx(ref.theta, abs=1e-3) and slow.tension == pytest.approx(ref.tension, rel=1e-3,
+                                                                                              abs=1e-3)
+    assert fast.tension[200] > ref.tension[200] * 1.01
+    # at constant tendon speed v the damping torques sum to c·θ̇ with r·θ̇ summing to v: check the balance directly
+    k = 200
+    dth = (fast.theta[k] - fast.theta[k - 1]) / (1.0 / 399)
+    K, th0, r = (np.array(v) for v in (m.stiffness, m.preload, m.moment_arm))
+    moving = dth > 1e-6
+    torque = K * (fast.theta[k] + th0) + np.array(m.damping) * dth
+    assert (r * fast.joint_tension[k])[moving] == pytest.approx(torque[moving], rel=1e-9)
+    with pytest.raises(ParameterError, match="t_s"):
+        fm.simulate_path(m, _ramp(20.0, 1.0)[1])
+
+
+def test_relaxation_tension_decays_to_the_relaxed_value_during_a_hold():
+    """A Maxwell arm (K_M, T_r) beside each spring: right after a fast pull the tension is higher than the rate-free
+    model's; held for 10·T_r it decays to it, exponentially with T_r (the decay over one T_r is 1 − 1/e of it)."""
+    m0 = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG,) * 3, (6.0, 7.0, 8.0))
+    tr = 1.5
+    m = fm.FingerModel(**{**m0.__dict__, "relax_stiffness": (1.5, 2.3, 3.1), "relax_time": tr})
+    t, td = _ramp(20.0, 0.2, n=200, hold_s=10 * tr, hold_n=3000)
+    c = fm.simulate_path(m, td, t_s=t)
+    ref = fm.simulate_path(m0, td).tension[-1]
+    start = c.tension[199]
+    assert start > 1.05 * ref and c.tension[-1] == pytest.approx(ref, rel=1e-3)
+    i = int(np.searchsorted(t, t[199] + tr))
+    assert (c.tension[i] - ref) / (start - ref) == pytest.approx(math.exp(-1), abs=0.02)
+    assert np.all(np.diff(c.tension[199:]) <= 1e-12)  # monotone decay: nothing moves while the tendon is held

@@ -103,7 +103,17 @@ def identify(campaign, json_out, report_dir, allow_outside):
     for place in places:
         check_writable(place)  # before the fit, not after it
     camp = load_campaign(campaign, allow_outside=allow_outside)
-    if getattr(camp, "kind", "joint") == "finger":
+    if getattr(camp, "kind", "joint") == "finger-endpoint":
+        from rjcad.identify.finger import endpoint
+
+        js = endpoint.identify_endpoints(camp)
+        written = []
+        if report_dir:
+            from rjcad.outputs import write_set
+
+            write_set(Path(report_dir), {"report.md": endpoint.render_markdown(js)})
+            written = [str(Path(report_dir) / "report.md")]
+    elif getattr(camp, "kind", "joint") == "finger":
         from rjcad.identify.finger import result as finger_result
         from rjcad.identify.finger.problem import identify_finger
 
@@ -130,6 +140,18 @@ def print_identification(js: dict) -> None:
         click.echo(f"note: {note}")
     found = ", ".join(js["effects"]) or "nothing beyond the design simulation"
     click.echo(f"found: {found}  (gain {js['gain']:.3g}x in RMSE, geometric mean over experiments)")
+    if js.get("kind") == "finger-endpoint":
+        for e in js["experiments"]:
+            click.echo(f"  {e['file']} at {e['tendon_mm']:g} mm: measured " + ", ".join(
+                f"{x:.1f}" for x in e["measured_deg"]) + " deg; final / noise " + ", ".join(
+                f"{x:.2g}" for x in e["final_over_noise"].values()))
+        for a in js["ambiguous"]:
+            click.echo(f"  explains it as well: {', '.join(a['effects'])} ({', '.join(a['params'])})")
+        if js["ambiguous"]:
+            click.echo(f"  separate them by {js['ambiguous'][0]['separate_by']}")
+        for name, value in js["params"].items():
+            click.echo(f"  {name} = {value:.4g}")
+        return
     for s in js["steps"]:
         ho = "n/a" if s["heldout_rmse"] is None else f"{s['heldout_rmse']:.3g}"
         click.echo(f"  {s['action']} {s['effect']}: dBIC {s['delta_bic']:+.4g}, held-out RMSE {ho} x noise "

@@ -11,10 +11,14 @@ from rjcad.identify.finger.data import FingerCampaign, load_finger_campaign
 from rjcad.untrusted import read_toml
 
 
-def load_campaign(path, allow_outside: bool = False) -> Campaign | FingerCampaign:
+def load_campaign(path, allow_outside: bool = False) -> Campaign | FingerCampaign:  # or an EndpointCampaign
     """Read and validate a campaign TOML and its files (one error line naming the file on bad input)."""
     path = Path(path)
     doc = read_toml(path)
     if is_finger_campaign(doc):
+        if "endpoint" in doc:
+            from rjcad.identify.finger.endpoint import load_endpoint_campaign
+
+            return load_endpoint_campaign(path, doc, allow_outside)
         return load_finger_campaign(path, doc, allow_outside)
     return load_joint_campaign(path, allow_outside, doc=doc)

@@ -132,8 +132,9 @@ class Selector:
         return tuple(n for e in effects for n in self.effects[e].param_names)
 
     # -- fitting a set of effects ------------------------------------------------------------
-    def free_names(self, effects) -> tuple[str, ...]:
-        return tuple(n for n in self.param_names(effects) if n not in self.frozen)
+    def free_names(self, effects, frozen=None) -> tuple[str, ...]:
+        frozen = self.frozen if frozen is None else frozen
+        return tuple(n for n in self.param_names(effects) if n not in frozen)
 
     def bounds(self, names):
         return [self._lo[n] for n in names], [self._hi[n] for n in names]
@@ -158,8 +159,8 @@ class Selector:
                       upper=self.bounds(names)[1])
         return unidentifiable(J, names)
 
-    def fit_set(self, effects, start: dict[str, float], masks=None) -> FitResult:
-        names = self.free_names(effects)
+    def fit_set(self, effects, start: dict[str, float], masks=None, frozen=None) -> FitResult:
+        names = self.free_names(effects, frozen)
         lo, hi = self.bounds(names)
         best = None
         for s in self.starts(effects, start):
@@ -270,6 +271,23 @@ class Selector:
                 out[n] = "at its upper bound"
         return out
 
+    #: candidate fits of a step run at once in this many threads (a subclass whose simulation releases the GIL
+    #: may raise it; the fits are independent, so the result does not depend on it)
+    workers = 1
+
+    def _fit_candidates(self, jobs, start: dict[str, float]) -> list[FitResult]:
+        """``fit_set`` of each (effects, parameters frozen for it) job, in ``workers`` threads."""
+        def one(job):
+            effs, bad = job
+            return self.fit_set(effs, start, frozen={**self.frozen, **bad})
+
+        if self.workers <= 1 or len(jobs) < 2:
+            return [one(j) for j in jobs]
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(self.workers) as ex:
+            return list(ex.map(one, jobs))
+
     @contextmanager
     def _freezing(self, extra: dict[str, str]):
         """Parameters ``extra`` held at neutral for the duration (one candidate's fits)."""
@@ -315,18 +333,19 @@ class Selector:
         while True:
             step_no += 1
             start = {n: current.values[n] for n in current.names}
-            tried = []
+            tried, jobs, of = [], [], []
             for eff in self.catalogue:
                 if eff.id in accepted:
                     continue
                 effs = accepted + [eff.id]
                 bad = {n: r for n, r in self.check_identifiable(effs, start).items() if n in eff.param_names}
-                with self._freezing(bad):
-                    if not self.free_names([eff.id]):
-                        cands.append(Candidate(eff.id, None, "not identifiable from this campaign: " + "; ".join(
-                            f"{n}: {r}" for n, r in bad.items()), step_no, "not_identifiable"))
-                        continue
-                    fr = self.fit_set(effs, start)
+                if not self.free_names([eff.id], {**self.frozen, **bad}):
+                    cands.append(Candidate(eff.id, None, "not identifiable from this campaign: " + "; ".join(
+                        f"{n}: {r}" for n, r in bad.items()), step_no, "not_identifiable"))
+                    continue
+                jobs.append((effs, bad))
+                of.append(eff)
+            for eff, (_, bad), fr in zip(of, jobs, self._fit_candidates(jobs, start)):
                 tried.append((fr.bic - current.bic, eff, fr, bad))
             tried.sort(key=lambda x: x[0])
             chosen = None

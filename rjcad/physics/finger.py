@@ -15,6 +15,11 @@ beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
 non-decreasing, piecewise-linear function, so the tendon constraint
 Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
 the finger more closed than t_d allows, the tendon is slack: T = 0.
+Rate and wind-up effects (each optional, per joint): viscous damping c_i·θ̇_i, a cubic stiffening k3_i·(θ_i + θ0_i)³
+and a Maxwell relaxation arm (dτ_M/dt = K_M·θ̇ − τ_M/T_r). Within a step of duration Δt they are linearised about
+the previous angle, so each joint's elastic torque is E_i + B_i·(θ_i − θ_prev,i) and the solve stays exact and
+piecewise linear: B_i = K_i + 3k3_i·s² + c_i/Δt + K_M,i·b, E_i = K_i·s + k3_i·s³ + a·τ_M,i + τg_i (s = θ_prev + θ0,
+a = exp(−Δt/T_r), b = T_r(1 − a)/Δt: the arm's exact update for a constant rate over the step).
 Gravity torques are taken from the previous step (small steps; links whose weight beats a joint's preload
 torque make that joint chatter: an implicit fixed point does not converge there either). Where every joint sticks the tension is not
 unique (any T on a flat stretch of Σ r·θ(T) meets the tendon constraint): it stays as close to the previous
@@ -51,6 +56,10 @@ class FingerModel:
     tendon_stiffness: float = math.inf  # k_t: the tendon stretches T/k_t [N/mm]
     gamma_pos: tuple[float, ...] = ()  # γ⁺_i while joint i closes [N·mm/rad] (default: gamma)
     gamma_neg: tuple[float, ...] = ()  # γ⁻_i while joint i opens [N·mm/rad] (default: gamma)
+    damping: tuple[float, ...] = ()  # c_i: viscous damping [N·mm·s/rad]
+    cubic: tuple[float, ...] = ()  # k3_i: stiffening, + k3·(θ + θ0)³ [N·mm/rad³]
+    relax_stiffness: tuple[float, ...] = ()  # K_M,i: the Maxwell arm's stiffness [N·mm/rad]
+    relax_time: float = 1.0  # T_r: the Maxwell arm's time constant, shared (one polymer) [s]
 
     def __post_init__(self):
         n = len(self.stiffness)
@@ -66,14 +75,15 @@ class FingerModel:
             if len(getattr(self, name)) != n:
                 raise ParameterError(name, len(getattr(self, name)), f"needs {n} values, one per joint")
         for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("gamma_pos", 0.0),
-                              ("gamma_neg", 0.0), ("link_length", 40.0), ("link_mass", 0.0)):
+                              ("gamma_neg", 0.0), ("link_length", 40.0), ("link_mass", 0.0), ("damping", 0.0),
+                              ("cubic", 0.0), ("relax_stiffness", 0.0)):
             v = getattr(self, name)
             if not v:
                 object.__setattr__(self, name, tuple([default] * n))
             elif len(v) != n:
                 raise ParameterError(name, len(v), f"needs {n} values, one per joint")
         for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "gamma_pos",
-                     "gamma_neg", "link_length", "link_mass"):
+                     "gamma_neg", "link_length", "link_mass", "damping", "cubic", "relax_stiffness"):
             v = getattr(self, name)
             if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
                 raise ParameterError(name, v, "must be finite numbers")
@@ -81,6 +91,8 @@ class FingerModel:
                 raise ParameterError(name, min(v), "must be >= 0")
         if min(self.rotation) <= 0:
             raise ParameterError("rotation", min(self.rotation), "must be > 0 rad")
+        if not (math.isfinite(self.relax_time) and self.relax_time > 0):
+            raise ParameterError("relax_time", self.relax_time, "must be > 0 s")
         if not (math.isfinite(self.mu_t) and self.mu_t >= 0):
             raise ParameterError("mu_t", self.mu_t, "must be >= 0")
         if not self.tendon_stiffness > 0:
@@ -96,6 +108,16 @@ class FingerModel:
     @property
     def n(self) -> int:
         return len(self.stiffness)
+
+    @property
+    def rate_dependent(self) -> bool:
+        """Whether the response depends on time (damping or relaxation): a path then needs its times."""
+        return any(self.damping) or any(self.relax_stiffness)
+
+    def rate_arrays(self):
+        """(k3, c, K_M) as arrays and T_r."""
+        f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
+        return f(self.cubic), f(self.damping), f(self.relax_stiffness), float(self.relax_time)
 
     def arrays(self):
         f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
@@ -152,29 +174,44 @@ def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
     return tau
 
 
-def _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg):
+def step_terms(m: FingerModel, prev, tg, dt: float, tau_m):
+    """(E, B, a, b) of a step of ``dt`` s from the angles ``prev``: each joint's elastic torque is E + B·(θ − prev)
+    [N·mm]; the Maxwell arm's torque after the step is a·τ_M + K_M·b·(θ − prev). ``dt`` = inf: no rate terms
+    (a first step, or a rate-independent model)."""
+    K, th0 = np.asarray(m.stiffness, float), np.asarray(m.preload, float)
+    k3, c, km, tr = m.rate_arrays()
+    s = prev + th0
+    a = 0.0 if math.isinf(dt) else math.exp(-dt / tr)
+    b = 0.0 if math.isinf(dt) else tr * (1.0 - a) / dt
+    E = K * s + k3 * s**3 + a * tau_m + tg
+    B = K + 3.0 * k3 * s**2 + (0.0 if math.isinf(dt) else 1.0 / dt) * c + km * b
+    return E, B, a, b
+
+
+def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gam):
     """θ_i(T) for every joint given the previous angles (vectorised over joints; T may be a column of tensions).
 
-    ``gam`` = (γ⁺, γ⁻): the band's edge while closing uses γ⁺, while opening γ⁻.
+    The joint closes once r·c·T passes E + f0 + γ⁺·s, opens below E − f0 − γ⁻·s (s = θ_prev + θ0), and moves
+    along the band's edge with its torque E + B·(θ − θ_prev).
     """
     gp, gn = gam
-    rc = r * c
-    up_T = (K * (prev + th0) + tg + f0 + gp * (prev + th0)) / rc
-    dn_T = (K * (prev + th0) + tg - f0 - gn * (prev + th0)) / rc
-    up = (rc * T - tg - f0) / (K + gp) - th0
-    dn = (rc * T - tg + f0) / (K - gn) - th0
+    s = prev + th0
+    up_T = (E + f0 + gp * s) / rc
+    dn_T = (E - f0 - gn * s) / rc
+    up = (rc * T - E - f0 - gp * th0 + B * prev) / (B + gp)
+    dn = (rc * T - E + f0 + gn * th0 + B * prev) / (B - gn)
     th = np.where(T >= up_T, np.maximum(up, prev), np.where(T <= dn_T, np.minimum(dn, prev), prev))
     return np.clip(th, 0.0, thmax)
 
 
-def _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg):
+def _breakpoints(prev, E, B, th0, thmax, rc, f0, gam):
     gp, gn = gam
-    rc = r * c
+    s = prev + th0
     return np.concatenate([
-        (K * (prev + th0) + tg + f0 + gp * (prev + th0)) / rc,
-        (K * (prev + th0) + tg - f0 - gn * (prev + th0)) / rc,
-        ((K + gp) * (thmax + th0) + tg + f0) / rc,
-        ((K - gn) * th0 + tg - f0) / rc,
+        (E + f0 + gp * s) / rc,
+        (E - f0 - gn * s) / rc,
+        (E + B * (thmax - prev) + f0 + gp * (thmax + th0)) / rc,
+        (E - B * prev - f0 - gn * th0) / rc,
     ])
 
 
@@ -184,32 +221,35 @@ FLAT_MM = 1e-7
 
 
 def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg: np.ndarray | None = None,
-                prev_T: float = 0.0):
+                prev_T: float = 0.0, terms=None):
     """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles.
 
+    ``terms``: (E, B) of the step (``step_terms``); default the spring alone, with ``tg`` (gravity) added.
     Where the tendon constraint holds for a range of tensions (every joint sticking, the tendon inextensible),
     the tension stays as close to ``prev_T`` as that range allows: nothing moved, so nothing changed.
     """
     K, th0, thmax, r, wrap, f0, gam = m.arrays()
     tg = np.zeros(m.n) if tg is None else tg
+    E, B = terms if terms is not None else step_terms(m, prev, tg, math.inf, np.zeros(m.n))[:2]
     cum = np.cumsum(wrap)
     c = np.exp(-m.mu_t * cum) if pulling else np.exp(m.mu_t * cum)
+    rc = r * c
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    theta0 = _theta_of_T(0.0, prev, K, th0, thmax, r, c, f0, gam, tg)
+    args = (prev, E, B, th0, thmax, rc, f0, gam)
+    theta0 = _theta_of_T(0.0, *args)
     if float(r @ theta0) >= t_d:
         return theta0, 0.0, np.zeros(m.n), True
-    bps = _breakpoints(prev, K, th0, thmax, r, c, f0, gam, tg)
+    bps = _breakpoints(*args)
     bps = np.unique(np.clip(bps[np.isfinite(bps)], 0.0, None))
     grid = np.concatenate([[0.0], bps])
-    S = _theta_of_T(grid[:, None], prev, K, th0, thmax, r, c, f0, gam, tg) @ r + comp * grid  # all at once
+    S = _theta_of_T(grid[:, None], *args) @ r + comp * grid  # all at once
     tol = FLAT_MM * max(1.0, abs(t_d))
     if S[-1] < t_d - tol:
         if comp == 0.0:  # every joint at its limit: the tendon cannot be pulled further
             T = float(grid[-1])
-            th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
-            return th, T, T * c, False
+            return _theta_of_T(T, *args), T, T * c, False
         T = float(grid[-1]) + (t_d - S[-1]) / comp  # only the tendon stretches beyond that
-        return _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg), T, T * c, False
+        return _theta_of_T(T, *args), T, T * c, False
     k = int(np.searchsorted(S, t_d - tol))  # the first grid tension that meets t_d (to within tol) or passes it
     if S[k] <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
         j = k + int(np.searchsorted(S[k:], t_d + tol, side="right")) - 1
@@ -217,8 +257,7 @@ def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg:
     else:  # passed between grid[k-1] and grid[k]: S is linear there
         T0, T1, S0, S1 = grid[k - 1], grid[k], S[k - 1], S[k]
         T = T0 + (t_d - S0) * (T1 - T0) / (S1 - S0)
-    th = _theta_of_T(T, prev, K, th0, thmax, r, c, f0, gam, tg)
-    return th, float(T), T * c, False
+    return _theta_of_T(T, *args), float(T), T * c, False
 
 
 def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
@@ -229,31 +268,49 @@ def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int =
     return simulate_path(m, td, phase)
 
 
-def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None) -> Closure:
-    """Quasi-static response along a tendon-displacement path [mm]."""
+def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s=None) -> Closure:
+    """Quasi-static response along a tendon-displacement path [mm] at times ``t_s`` [s] (needed, and only
+    used, when the model has damping or relaxation)."""
     td = np.asarray(tendon_mm, dtype=float)
+    t = _times(m, td, t_s)
     n = m.n
-    K, th0, thmax, r, wrap, f0, gam = m.arrays()
+    thmax = np.asarray(m.rotation, float)
     theta = np.zeros((len(td), n))
     T = np.zeros(len(td))
     Ti = np.zeros((len(td), n))
     state = np.zeros((len(td), n))
     slack = np.zeros(len(td), dtype=bool)
     prev = np.zeros(n)
+    tau_m = np.zeros(n)
+    km = np.asarray(m.relax_stiffness, float)
     pulling = True
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
     for k, t_d in enumerate(td):
         if k and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
-        tg = gravity_torques(m, prev)
-        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, tg, T[k - 1] if k else 0.0)
+        dt = math.inf if t is None or k == 0 else float(t[k] - t[k - 1])
+        E, B, a, b = step_terms(m, prev, gravity_torques(m, prev), dt, tau_m)
+        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, None, T[k - 1] if k else 0.0, (E, B))
+        tau_m = a * tau_m + km * b * (th - prev)
         moved = th - prev
         st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))
         st = np.where((th <= 1e-12) & (st <= 0) | (th >= thmax - 1e-12) & (st >= 0), np.where(st == 0, 2.0, st), st)
         theta[k], T[k], Ti[k], state[k], slack[k] = th, Tk, tik, st, sl
         prev = th
     return Closure(td, list(phase), theta, T, Ti, state, slack)
+
+
+def _times(m: FingerModel, td: np.ndarray, t_s) -> np.ndarray | None:
+    """The path's times [s] when the model needs them (strictly increasing, one per step), else None."""
+    if not m.rate_dependent:
+        return None
+    if t_s is None:
+        raise ParameterError("t_s", None, "the model has damping or relaxation: the path needs its times [s]")
+    t = np.asarray(t_s, dtype=float)
+    if t.shape != td.shape or not np.all(np.isfinite(t)) or (len(t) > 1 and np.min(np.diff(t)) <= 0):
+        raise ParameterError("t_s", t.shape, f"must be {len(td)} finite, strictly increasing times [s]")
+    return t
 
 
 def frictionless_optimum(m: FingerModel, t_d: float) -> np.ndarray:

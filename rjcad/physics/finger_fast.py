@@ -15,19 +15,19 @@ import math
 import numpy as np
 from numba import njit
 
-from rjcad.physics.finger import FLAT_MM, G, FingerModel
+from rjcad.physics.finger import FLAT_MM, G, FingerModel, _times
 
 
 @njit(cache=True)
-def _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, out):
-    for i in range(len(K)):
+def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gp, gn, out):
+    for i in range(len(E)):
         s = prev[i] + th0[i]
-        up_T = (K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i]
-        dn_T = (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i]
+        up_T = (E[i] + f0[i] + gp[i] * s) / rc[i]
+        dn_T = (E[i] - f0[i] - gn[i] * s) / rc[i]
         if T >= up_T:
-            th = max((rc[i] * T - tg[i] - f0[i]) / (K[i] + gp[i]) - th0[i], prev[i])
+            th = max((rc[i] * T - E[i] - f0[i] - gp[i] * th0[i] + B[i] * prev[i]) / (B[i] + gp[i]), prev[i])
         elif T <= dn_T:
-            th = min((rc[i] * T - tg[i] + f0[i]) / (K[i] - gn[i]) - th0[i], prev[i])
+            th = min((rc[i] * T - E[i] + f0[i] + gn[i] * th0[i] + B[i] * prev[i]) / (B[i] - gn[i]), prev[i])
         else:
             th = prev[i]
         out[i] = min(max(th, 0.0), thmax[i])
@@ -65,20 +65,20 @@ def _sort(a, m):
 
 
 @njit(cache=True)
-def _sum(T, prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp):
+def _sum(T, prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp):
     """Σ r·θ(T) + T/k_t: the tendon displacement the joints and the tendon take up at tension T [mm]."""
-    _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+    _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gp, gn, th)
     S = comp * T
-    for i in range(len(K)):
+    for i in range(len(E)):
         S += r[i] * th[i]
     return S
 
 
 @njit(cache=True)
-def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps):
+def _step(t_d, prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps):
     """One step of the tendon solve (``rjcad.physics.finger.equilibrium``): fills ``th``, returns T."""
-    n = len(K)
-    _theta_of_T(0.0, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+    n = len(E)
+    _theta_of_T(0.0, prev, E, B, th0, thmax, rc, f0, gp, gn, th)
     s0 = 0.0
     for i in range(n):
         s0 += r[i] * th[i]
@@ -88,9 +88,9 @@ def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps
         bps[0] = 0.0
         for i in range(n):
             s = prev[i] + th0[i]
-            cand = ((K[i] * s + tg[i] + f0[i] + gp[i] * s) / rc[i], (K[i] * s + tg[i] - f0[i] - gn[i] * s) / rc[i],
-                    ((K[i] + gp[i]) * (thmax[i] + th0[i]) + tg[i] + f0[i]) / rc[i],
-                    ((K[i] - gn[i]) * th0[i] + tg[i] - f0[i]) / rc[i])
+            cand = ((E[i] + f0[i] + gp[i] * s) / rc[i], (E[i] - f0[i] - gn[i] * s) / rc[i],
+                    (E[i] + B[i] * (thmax[i] - prev[i]) + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i],
+                    (E[i] - B[i] * prev[i] - f0[i] - gn[i] * th0[i]) / rc[i])
             for v in cand:
                 if math.isfinite(v):
                     bps[m] = max(v, 0.0)
@@ -100,7 +100,7 @@ def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps
         tol = FLAT_MM * max(1.0, abs(t_d))
         S_prev, k = -1.0, -1
         for g in range(len(grid)):
-            S = _sum(grid[g], prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp)
+            S = _sum(grid[g], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp)
             if S >= t_d - tol:
                 k = g
                 break
@@ -110,18 +110,18 @@ def _step(t_d, prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps
         elif S <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
             hi = grid[k]
             for g2 in range(k + 1, len(grid)):
-                if _sum(grid[g2], prev, K, th0, thmax, r, rc, f0, gp, gn, tg, th, comp) > t_d + tol:
+                if _sum(grid[g2], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp) > t_d + tol:
                     break
                 hi = grid[g2]
             T = min(max(prev_T, grid[k]), hi)
         else:
             T = grid[k - 1] + (t_d - S_prev) * (grid[k] - grid[k - 1]) / (S - S_prev)
-        _theta_of_T(T, prev, K, th0, thmax, rc, f0, gp, gn, tg, th)
+        _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gp, gn, th)
     return T
 
 
-@njit(cache=True)
-def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight, gx, gy, gravity):
+@njit(cache=True, nogil=True)
+def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight, gx, gy, gravity, k3, c, km, tr):
     n_steps, n = len(td), len(K)
     theta = np.zeros((n_steps, n))
     tension = np.zeros(n_steps)
@@ -129,8 +129,12 @@ def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight,
     tg = np.zeros(n)
     th = np.zeros(n)
     rc = np.zeros(n)
+    E = np.zeros(n)
+    B = np.zeros(n)
+    tau = np.zeros(n)
     bps = np.zeros(4 * n + 1)
     pulling = True
+    timed = len(t) == n_steps
     for k in range(n_steps):
         if k > 0 and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
@@ -139,22 +143,37 @@ def _path(td, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight,
         prev_T = tension[k - 1] if k > 0 else 0.0
         if gravity:
             _gravity(prev, length, weight, gx, gy, tg)
-        T = _step(td[k], prev, prev_T, K, th0, thmax, r, rc, f0, gp, gn, comp, tg, th, bps)
+        a, b, inv_dt = 0.0, 0.0, 0.0  # as rjcad.physics.finger.step_terms
+        if timed and k > 0:
+            dt = t[k] - t[k - 1]
+            a = math.exp(-dt / tr)
+            b = tr * (1.0 - a) / dt
+            inv_dt = 1.0 / dt
         for i in range(n):
+            s = prev[i] + th0[i]
+            E[i] = K[i] * s + k3[i] * s**3 + a * tau[i] + tg[i]
+            B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
+        T = _step(td[k], prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
+        for i in range(n):
+            tau[i] = a * tau[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]
             prev[i] = th[i]
         tension[k] = T
     return theta, tension
 
 
-def simulate_angles(m: FingerModel, tendon_mm) -> tuple[np.ndarray, np.ndarray]:
-    """θ (steps, N) [rad] and the actuator tension (steps,) [N] along a tendon path [mm]: as
-    ``rjcad.physics.finger.simulate_path(m, tendon_mm)`` (its ``theta`` and ``tension``)."""
+def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np.ndarray]:
+    """θ (steps, N) [rad] and the actuator tension (steps,) [N] along a tendon path [mm] at times ``t_s`` [s]
+    (needed when the model has damping or relaxation): as ``rjcad.physics.finger.simulate_path`` (its ``theta``
+    and ``tension``)."""
     K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    k3, c, km, tr = m.rate_arrays()
+    td = np.ascontiguousarray(tendon_mm, dtype=float)
+    t = _times(m, td, t_s)
     cum = np.cumsum(wrap)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
     grav = m.gravity is not None and any(m.link_mass)
     gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
-    return _path(np.ascontiguousarray(tendon_mm, dtype=float), K, th0, thmax, r, np.exp(-m.mu_t * cum),
-                 np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),
-                 np.asarray(m.link_mass, float) * G, float(gx), float(gy), grav)
+    return _path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), K, th0, thmax, r,
+                 np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),
+                 np.asarray(m.link_mass, float) * G, float(gx), float(gy), grav, k3, c, km, tr)

@@ -2,8 +2,9 @@
 model with chosen effects, and noise. The data are SYNTHETIC.
 
 Three experiments, each with its own orientation (so link weight has something to act on):
-A: two full pulls, finger horizontal palm up; B: a pull that turns back at 40 % of the stroke and closes again,
-palm down; C: pulls with holds at full and half stroke, tip down. Minimum-jerk ramps of 4 s.
+A: two full pulls, finger horizontal palm up, the second 2.7× faster (ramps of 4 and 1.5 s); B: a pull that turns
+back at 40 % of the stroke and closes again, palm down; C: pulls with holds at full and half stroke, tip down.
+Minimum-jerk ramps.
 Columns: t_s, tendon_mm, tendon_force_n (unless ``tension=False``), theta1_deg … thetaN_deg.
 """
 
@@ -25,7 +26,7 @@ from rjcad.units import DEG
 DEFAULT_NOISE = {"theta_deg": 0.3, "tendon_force_n": 0.02, "tendon_mm": 0.005}
 #: (name, orientation, segments as (duration s, start, end) in units of the stroke)
 EXPERIMENTS = (
-    ("A_pulls", "horizontal-palm-up", ((1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0), (1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0))),
+    ("A_pulls", "horizontal-palm-up", ((1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0), (1.0, 0, 0), (1.5, 0, 1), (1.5, 1, 0))),
     ("B_turns", "horizontal-palm-down", ((1.0, 0, 0), (4.0, 0, 1), (2.5, 1, 0.4), (2.5, 0.4, 1), (4.0, 1, 0),
                                          (1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0))),
     ("C_holds", "vertical-tip-down", ((1.0, 0, 0), (4.0, 0, 1), (2.0, 1, 1), (2.0, 1, 0.5), (2.0, 0.5, 0.5),
@@ -35,6 +36,8 @@ EXPERIMENTS = (
 K_FACTORS = (0.85, 0.92, 0.78, 0.88, 0.95, 0.83)
 ARM_FACTORS = (1.1, 1.3, 1.5, 1.2, 1.4, 1.25)
 FRICTION = (1.5, 1.0, 0.7, 1.2, 0.9, 0.6)
+VISCOUS = (0.6, 0.4, 0.3, 0.5, 0.35, 0.45)
+CUBIC = (0.15, 0.2, 0.1, 0.12, 0.18, 0.14)
 
 
 def path(samples: int, stroke: float, segments) -> tuple[np.ndarray, np.ndarray]:
@@ -73,6 +76,10 @@ def typical(effects, design) -> dict[str, float]:
             vals[f"tendon_moment_arm_mm_j{j}"] = ARM_FACTORS[i] * design.moment_arm[j - 1]
         if "coulomb_pin" in effects:
             vals[f"friction_nmm_j{j}"] = FRICTION[i]
+        if "viscous" in effects:
+            vals[f"viscous_nmm_s_per_rad_j{j}"] = VISCOUS[i]
+        if "stiffening" in effects:
+            vals[f"cubic_nmm_per_rad3_j{j}"] = CUBIC[i]
     return vals
 
 
@@ -129,7 +136,7 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
     exps = []
     for name, orient, segs in EXPERIMENTS:
         t, td = path(samples, stroke, segs)
-        theta, T = simulate_angles(model_of(values, design, ORIENTATIONS[orient]), td)
+        theta, T = simulate_angles(model_of(values, design, ORIENTATIONS[orient]), td, t)
         pulling = _pulling(td)
         cols = {"t_s": t, "tendon_mm": td + rng.normal(0, sig["tendon_mm"], samples)}
         if tension:
@@ -152,7 +159,7 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
                           "model, not measured. Effects in the truth: "
                           + (", ".join(f"`{e}`" for e in effects) or "none (the design model)")
                           + f"; noise σ: {sig}; seed {seed}; {samples} samples per experiment; stroke {stroke:g} mm."
-                          "\n\nExperiments: A two full pulls (palm up), B a pull that turns back at 40 % and closes "
+                          "\n\nExperiments: A two full pulls (palm up; the second 2.7× faster), B a pull that turns back at 40 % and closes "
                           "again (palm down), C pulls with holds at full and half stroke (tip down).\n")
     write_set(out, files)
     return truth

@@ -2,10 +2,10 @@
 
 Built per finger (per-joint parameters carry the suffix ``_j1`` … ``_jN``). Each effect names its cause, its
 parameters (JSON names with units), bounds, a typical size for the synthetic bench, and what it needs.
-The design model (``FingerDesign``) is as designed: frictionless, inextensible tendon, no gravity.
-
-Not yet in the finger model, so not in this catalogue: viscous damping, spring stiffening and stress
-relaxation (the joint catalogue's dynamic effects; see docs/identify.md, "Whole-finger campaigns").
+The design model (``FingerDesign``) is as designed: frictionless, inextensible tendon, no gravity, linear springs
+with no damping or relaxation. The joint catalogue's rate and wind-up effects are here per joint (viscous
+damping, stiffening) or shared (stress relaxation: one polymer, so one time constant and one arm-to-spring
+stiffness ratio).
 """
 
 from __future__ import annotations
@@ -84,6 +84,20 @@ def catalogue(design: FingerModel) -> tuple[FingerEffect, ...]:
                      "links beyond it; the links' mass is λ per mm of link",
                      (_p("link_mass_g_per_mm", 0.0, 5.0, 0.15, 0.0),),
                      needs="orientation", needs_text="an experiment with the finger's orientation given"),
+        FingerEffect("viscous", "viscous damping",
+                     "velocity-proportional damping in each joint (c·θ̇): a joint lags more the faster the tendon "
+                     "moves",
+                     tuple(_p(f"viscous_nmm_s_per_rad_j{j}", 0.0, 100.0, 0.5, 0.0) for j in js),
+                     needs="speeds", needs_text="moves at several speeds"),
+        FingerEffect("stiffening", "spring stiffening",
+                     "each spring stiffens at large wind-up: + k₃·(θ + θ0)³ on its torque",
+                     tuple(_p(f"cubic_nmm_per_rad3_j{j}", 0.0, 20.0, 0.15, 0.0) for j in js)),
+        FingerEffect("relaxation", "stress relaxation",
+                     "viscoelastic relaxation of the printed springs (a Maxwell arm beside each, of stiffness "
+                     "ρ·K_i and time T_r, shared: one polymer): the joints creep on while the tendon is held",
+                     (_p("relaxation_ratio", 0.0, 5.0, 0.3, 0.0), _p("relaxation_time_s", 0.5, 1000.0, 1.5, 1.0)),
+                     needs="holds", needs_text="holds (the tendon standing still)",
+                     also=({"relaxation_time_s": 0.6}, {"relaxation_time_s": 6.0})),
     )
 
 
@@ -108,6 +122,10 @@ def model_of(values: dict[str, float], design: FingerModel, gravity) -> FingerMo
         tendon_stiffness=math.inf if comp <= 0 else 1.0 / comp,
         link_mass=tuple(lam * L for L in design.link_length) if lam > 0 else (0.0,) * n,
         gravity=gravity if lam > 0 else None,
+        damping=per("viscous_nmm_s_per_rad", [0.0] * n),
+        cubic=per("cubic_nmm_per_rad3", [0.0] * n),
+        relax_stiffness=tuple(float(values.get("relaxation_ratio", 0.0)) * k for k in K),
+        relax_time=float(values.get("relaxation_time_s", 1.0)),
     )
 
 

@@ -94,12 +94,13 @@ class FingerCampaign:
 
 
 def load_finger_campaign(path: Path, doc: dict, allow_outside: bool = False) -> FingerCampaign:
-    """Validate a parsed finger campaign ``doc`` (from ``path``) and read its finger and CSV files."""
+    """Validate a parsed finger campaign ``doc`` (from ``path``) and read its finger and CSV files (a campaign of
+    ``[[endpoint]]`` tables is read by rjcad.identify.finger.endpoint)."""
     for key in doc:
         if key not in TOP_KEYS:
             raise RjcadError(f"{path}: unknown key or table {quote(key)}; a finger campaign has finger = \"PATH\" "
-                             "and [[experiment]] tables")
-    design = _finger(path, doc.get("finger"), allow_outside)
+                             "and [[experiment]] (records) or [[endpoint]] tables")
+    design = finger_design(path, doc.get("finger"), allow_outside)
     tables = doc.get("experiment")
     if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
         raise RjcadError(f"{path}: no [[experiment]] tables; add one per CSV file")
@@ -115,7 +116,8 @@ def load_finger_campaign(path: Path, doc: dict, allow_outside: bool = False) -> 
     return FingerCampaign(path, design, tuple(exps), tuple(notes))
 
 
-def _finger(path: Path, value, allow_outside: bool) -> FingerDesign:
+def finger_design(path: Path, value, allow_outside: bool) -> FingerDesign:
+    """The design of a campaign's ``finger`` key (relative to the campaign file ``path``)."""
     if value is None:
         raise RjcadError(f"{path}: missing key 'finger' (a finger manifest .json or template .toml, relative to "
                          "the campaign file)")
