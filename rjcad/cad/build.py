@@ -112,9 +112,12 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
-    """Name, volume [mm³] and mass [g] (at ``p``'s material density) of each solid."""
+    """Name, volume [mm³], mass [g] (at ``p``'s material density) and centre of mass [mm] of each solid."""
+    import cadquery as cq
+
     dens = p.material_spec.density_g_cm3
-    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0) for n, s in solids.items()]
+    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0,
+                      [float(c) for c in cq.Shape.centerOfMass(s).toTuple()]) for n, s in solids.items()]
 
 
 def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:

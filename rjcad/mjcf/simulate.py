@@ -1,0 +1,123 @@
+"""The quasi-static pull/release of a finger run in MuJoCo, read like rjcad's solver (a ``Closure``).
+
+The tendon the ``pull`` actuator acts on is driven by its length limit: at tendon displacement t_d its length
+may not exceed L_rest − t_d (a one-sided constraint, so a released tendon goes slack, as in rjcad). At each step
+MuJoCo runs ``STEPS_PER_POINT`` time steps from the previous pose, then qpos is read. The tension is the force
+of that limit. To settle fast without changing the statics, the run (on a copy of the model in memory):
+
+* scales every body's mass and inertia down by ``MASS_SCALE`` and gravity up by it (the weights are kept);
+* gives each hinge an armature K·(6·dt)² and a damping K·``SETTLE_S`` (first-order settling, time constant
+  ``SETTLE_S``, implicit in the integrator): neither acts at rest;
+* makes limits and friction stiff (time constant 2·dt, impedance 0.9999) and turns contacts and the
+  actuator off (self-contact is no part of rjcad's model; the limit drives the tendon).
+
+The file's joint ``frictionloss`` and ``stiffness``/``springref``/``range`` are used as they are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rjcad.physics.finger import Closure
+
+DT = 5e-4  # time step [s]
+STEPS_PER_POINT = 60
+SETTLE_S = 0.01  # damping / stiffness [s]
+MASS_SCALE = 1e4
+SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+FIRST_SETTLE = 400  # time steps at t_d = 0 before the first reading
+
+
+def load(xml: str, assets: dict[str, bytes] | None = None):
+    """A MuJoCo model from MJCF text and its mesh files (name → bytes)."""
+    import mujoco
+
+    return mujoco.MjModel.from_xml_string(xml, assets or {})
+
+
+def _driven_tendon(model) -> int:
+    import mujoco
+
+    for a in range(model.nu):
+        if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON:
+            return int(model.actuator_trnid[a, 0])
+    if model.ntendon:
+        return 0
+    raise ValueError("the MJCF has no tendon to pull")
+
+
+def _prepare(model):
+    """The settling set-up described in the module docstring, in place."""
+    import mujoco
+
+    model.opt.timestep = DT
+    model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT) | int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
+    model.body_mass[:] /= MASS_SCALE
+    model.body_inertia[:] /= MASS_SCALE
+    model.opt.gravity[:] *= MASS_SCALE
+    tc = (2 * DT, 1.0)
+    for j in range(model.njnt):
+        d = model.jnt_dofadr[j]
+        k = max(float(model.jnt_stiffness[j]), 1e-6)
+        model.dof_armature[d] = k * (6 * DT) ** 2
+        model.dof_damping[d] = k * SETTLE_S
+        model.jnt_solref[j], model.jnt_solimp[j] = tc, SOLIMP
+        model.dof_solref[d], model.dof_solimp[d] = tc, SOLIMP
+    model.tendon_solref_lim[:] = tc
+    model.tendon_solimp_lim[:] = SOLIMP
+
+
+def hinge_addresses(model) -> np.ndarray:
+    import mujoco
+
+    return np.array([model.jnt_qposadr[j] for j in range(model.njnt)
+                     if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE], dtype=int)
+
+
+def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
+    """Joint angles and tension along a tendon-displacement path [mm], quasi-static, in MuJoCo.
+
+    ``model`` is a loaded ``MjModel``; it is copied, never changed.
+    """
+    import copy
+
+    import mujoco
+
+    m = copy.copy(model)
+    _prepare(m)
+    d = mujoco.MjData(m)
+    mujoco.mj_setConst(m, d)  # constraint scales for the new masses (it leaves d at the spring pose)
+    mujoco.mj_resetData(m, d)
+    t = _driven_tendon(m)
+    mujoco.mj_forward(m, d)
+    rest = float(d.ten_length[t])
+    m.tendon_limited[t] = 1
+    m.tendon_range[t] = (-1.0, rest)
+    td = np.asarray(tendon_mm, dtype=float)
+    q = hinge_addresses(m)
+    theta = np.zeros((len(td), len(q)))
+    tension = np.zeros(len(td))
+    mujoco.mj_step(m, d, nstep=FIRST_SETTLE)
+    lim = int(mujoco.mjtConstraint.mjCNSTR_LIMIT_TENDON)
+    for k, x in enumerate(td):
+        m.tendon_range[t, 1] = rest - x * 1e-3
+        mujoco.mj_step(m, d, nstep=STEPS_PER_POINT)
+        mujoco.mj_forward(m, d)
+        theta[k] = d.qpos[q]
+        rows = (d.efc_type[:d.nefc] == lim) & (d.efc_id[:d.nefc] == t)
+        tension[k] = abs(float(d.efc_force[:d.nefc][rows].sum()))
+    if phase is None:
+        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
+    moved = np.diff(theta, axis=0, prepend=theta[:1])
+    state = np.sign(np.where(np.abs(moved) > 1e-9, moved, 0.0))
+    return Closure(td, list(phase), theta, tension, np.repeat(tension[:, None], len(q), axis=1), state,
+                   tension <= 1e-9)
+
+
+def run_stroke(model, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
+    """Pull 0 → ``stroke`` mm and release back, ``steps`` steps each way (as ``simulate_stroke``)."""
+    up = np.linspace(0.0, stroke, steps + 1)
+    td = np.concatenate([up, np.full(hold, stroke), up[-2::-1]])
+    phase = ["pull"] * (steps + 1) + ["hold"] * hold + ["release"] * steps
+    return run_path(model, td, phase)
