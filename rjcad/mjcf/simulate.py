@@ -2,12 +2,13 @@
 
 The tendon the ``pull`` actuator acts on is driven by its length limit: at tendon displacement t_d its length
 may not exceed L_rest − t_d (a one-sided constraint, so a released tendon goes slack, as in rjcad). At each step
-MuJoCo runs ``STEPS_PER_POINT`` time steps from the previous pose, then qpos is read. The tension is the force
+the limit moves there from the previous point in ``RAMP_STEPS`` equal time steps (a slow, steady pull or pay-out: a
+jump would let the finger spring into the tendon and bounce), MuJoCo runs ``SETTLE_STEPS`` more, then qpos is read. The tension is the force
 of that limit. To settle fast without changing the statics, the run (on a copy of the model in memory):
 
 * scales every body's mass and inertia down by ``MASS_SCALE`` and gravity up by it (the weights are kept);
-* gives each hinge an armature K·(6·dt)² and a damping K·``SETTLE_S`` (first-order settling, time constant
-  ``SETTLE_S``, implicit in the integrator): neither acts at rest;
+* gives each hinge an armature K·``ARMATURE_S``² and a damping K·``SETTLE_S`` (implicit in the integrator):
+  neither acts at rest;
 * makes limits and friction stiff (time constant 2·dt, impedance 0.9999) and turns contacts and the
   actuator off (self-contact is no part of rjcad's model; the limit drives the tendon).
 
@@ -21,9 +22,12 @@ import numpy as np
 from rjcad.physics.finger import Closure
 
 DT = 5e-4  # time step [s]
-STEPS_PER_POINT = 60
-SETTLE_S = 0.01  # damping / stiffness [s]
-MASS_SCALE = 1e4
+RAMP_STEPS = 40  # time steps over which the tendon's length limit moves from one point to the next
+RAMP_CHUNKS = 8  # in this many equal moves
+SETTLE_STEPS = 60  # then time steps at the point's length before the reading
+SETTLE_S = 0.02  # damping / stiffness [s]
+ARMATURE_S = 0.01  # sqrt(armature / stiffness) [s]: 1 / the hinges' own frequency
+MASS_SCALE = 1e6
 SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
 FIRST_SETTLE = 400  # time steps at t_d = 0 before the first reading
 
@@ -60,7 +64,7 @@ def _prepare(model):
     for j in range(model.njnt):
         d = model.jnt_dofadr[j]
         k = max(float(model.jnt_stiffness[j]), 1e-6)
-        model.dof_armature[d] = k * (6 * DT) ** 2
+        model.dof_armature[d] = k * ARMATURE_S**2
         model.dof_damping[d] = k * SETTLE_S
         model.jnt_solref[j], model.jnt_solimp[j] = tc, SOLIMP
         model.dof_solref[d], model.dof_solimp[d] = tc, SOLIMP
@@ -100,9 +104,13 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     tension = np.zeros(len(td))
     mujoco.mj_step(m, d, nstep=FIRST_SETTLE)
     lim = int(mujoco.mjtConstraint.mjCNSTR_LIMIT_TENDON)
+    last = 0.0
     for k, x in enumerate(td):
-        m.tendon_range[t, 1] = rest - x * 1e-3
-        mujoco.mj_step(m, d, nstep=STEPS_PER_POINT)
+        for s in range(1, RAMP_CHUNKS + 1):
+            m.tendon_range[t, 1] = rest - (last + (x - last) * s / RAMP_CHUNKS) * 1e-3
+            mujoco.mj_step(m, d, nstep=RAMP_STEPS // RAMP_CHUNKS)
+        last = x
+        mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
         mujoco.mj_forward(m, d)
         theta[k] = d.qpos[q]
         rows = (d.efc_type[:d.nefc] == lim) & (d.efc_id[:d.nefc] == t)
