@@ -47,7 +47,9 @@ def _driven_tendon(model) -> int:
             return int(model.actuator_trnid[a, 0])
     if model.ntendon:
         return 0
-    raise ValueError("the MJCF has no tendon to pull")
+    from rjcad.errors import RjcadError
+
+    raise RjcadError("the MJCF has no tendon to pull (no tendon, no actuator on a tendon)")
 
 
 def _prepare(model):
