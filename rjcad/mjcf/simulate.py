@@ -24,7 +24,9 @@ from rjcad.physics.finger import Closure
 DT = 5e-4  # time step [s]
 RAMP_STEPS = 40  # time steps over which the tendon's length limit moves from one point to the next
 RAMP_CHUNKS = 8  # in this many equal moves
-SETTLE_STEPS = 60  # then time steps at the point's length before the reading
+SETTLE_STEPS = 60  # then at most this many time steps at the point's length before the reading,
+SETTLE_CHUNK = 15  # in runs of this many, until every hinge turns slower than
+SETTLED_RAD_S = 1e-3  # [rad/s]
 SETTLE_S = 0.02  # damping / stiffness [s]
 ARMATURE_S = 0.01  # sqrt(armature / stiffness) [s]: 1 / the hinges' own frequency
 MASS_SCALE = 1e6
@@ -112,7 +114,10 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
             m.tendon_range[t, 1] = rest - (last + (x - last) * s / RAMP_CHUNKS) * 1e-3
             mujoco.mj_step(m, d, nstep=RAMP_STEPS // RAMP_CHUNKS)
         last = x
-        mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
+        for _ in range(SETTLE_STEPS // SETTLE_CHUNK):
+            mujoco.mj_step(m, d, nstep=SETTLE_CHUNK)
+            if np.abs(d.qvel).max() < SETTLED_RAD_S:
+                break
         mujoco.mj_forward(m, d)
         theta[k] = d.qpos[q]
         rows = (d.efc_type[:d.nefc] == lim) & (d.efc_id[:d.nefc] == t)
