@@ -70,7 +70,7 @@ def _fl(x) -> str:
 
 def markdown(res: dict) -> str:
     m, none, f, r = res["model"], res["frictionless_mujoco"], res["fitted"], res["fitted_without_capstan_and_gamma"]
-    ft = res["fitted_to_tension"]
+    ft, rt = res["fitted_to_tension"], res["fitted_to_tension_without_capstan_and_gamma"]
     pj = ", ".join(f"{v:.1f}°" for v in f.per_joint_release_max_deg)
     return "\n".join([
         "# The finger in MuJoCo: what its joint friction cannot say",
@@ -102,7 +102,8 @@ def markdown(res: dict) -> str:
           f"{c.release_max_deg:.2f} | {c.tension_rms_n:.2f} |"
           for name, c in (("frictionless MJCF", none), ("frictionloss fitted to the angles", f),
                           ("frictionloss fitted to the tension", ft),
-                          ("fitted to the angles, rjcad without capstan and γ", r))],
+                          ("fitted to the angles, rjcad without capstan and γ", r),
+                          ("fitted to the tension, rjcad without capstan and γ", rt))],
         "",
         "![rjcad against MuJoCo](mujoco.png)",
         "",
@@ -113,18 +114,23 @@ def markdown(res: dict) -> str:
         f"at most; per joint {pj}): in rjcad the friction grows with each spring's torque (γ⁻ > γ⁺, so each joint "
         "opens along its own, softer line) and the tension reaching the joints rises along the base channel while "
         "releasing; MuJoCo's joints follow one tension and one stiffness both ways, so its release retraces its pull.",
-        f"- **A constant frictionloss hardly helps** ({none.rms_deg:.2f}° RMS frictionless, {f.rms_deg:.2f}° fitted): "
-        "while every joint slips, equal constant frictions shift the tension, not the angles; the angles do not "
-        "tell its value, the tension little more.",
+        f"- **A constant frictionloss hardly helps the angles** ({none.rms_deg:.2f}° RMS frictionless, "
+        f"{f.rms_deg:.2f}° fitted): while every joint slips, equal constant frictions shift the tension, not the "
+        f"angles. It does help the tension: {none.tension_rms_n:.2f} N RMS frictionless, {f.tension_rms_n:.2f} N "
+        f"with the angles' value; the tension's own best ({ft.frictionloss_nmm[0]:.2f} N·mm, "
+        f"{ft.tension_rms_n:.2f} N) costs angle ({ft.rms_deg:.2f}° RMS, {ft.max_deg:.1f}° at most).",
         f"- **Without capstan and γ, MuJoCo says what rjcad says**: the same fit leaves {r.rms_deg:.2f}° RMS and "
-        f"{r.max_deg:.2f}° at most, within the 1° of the frictionless comparison.",
+        f"{r.max_deg:.2f}° at most, within the 1° of the frictionless comparison; fitted to the tension, the "
+        f"frictionloss comes out at {rt.frictionloss_nmm[0]:.2f} N·mm, rjcad's pin friction "
+        f"({m['pin_friction_nmm']:.2f} N·mm), and MuJoCo's angles stay within {rt.max_deg:.2f}°.",
         "",
         "## What to set in MJCF to get closest",
         "",
-        f"- `frictionloss` = {ft.frictionloss_nmm[0] * 1e-3:.2g} N·m ({ft.frictionloss_nmm[0]:.2f} N·mm) on every "
-        "joint for this finger, the value that matches the tension best (the angles do not care); for another "
-        "finger, run `rjcad.mjcf.fit.fit_frictionloss(model, target=\"tension\")` on its rjcad model, or give "
-        "`rjcad mjcf` an identify result (`--identified`), whose per-joint pin friction it writes as `frictionloss`;",
+        f"- `frictionloss` = {f.frictionloss_nmm[0] * 1e-3:.2g} N·m ({f.frictionloss_nmm[0]:.2f} N·mm) on every "
+        "joint for this finger: the angles as close as a constant gets them, and the tension much closer than "
+        "frictionless; for another finger, run `rjcad.mjcf.fit.fit_frictionloss(model)` on its rjcad model, or "
+        "give `rjcad mjcf` an identify result (`--identified`), whose per-joint pin friction it writes as "
+        "`frictionloss`;",
         "- `damping`: any value. The pull/release is quasi-static; damping exerts no torque at rest, so these "
         "data cannot fit it (the export states its default, K·0.02 s, for dynamic runs);",
         "- no MJCF setting gives a tension that changes along the tendon or a friction that grows with the load: "

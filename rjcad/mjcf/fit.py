@@ -24,7 +24,7 @@ PIN_LOAD_N = 0.15
 #: Steps each way of the strokes compared (the fit's and the report's)
 STEPS = 250
 #: The fit: a common frictionloss scanned over SCAN [N·mm], then refined (a bounded search, at most REFINE runs)
-SCAN = (0.0, 1.0, 2.0, 4.0, 8.0)
+SCAN = (0.0, 1.0, 2.0, 4.0, 8.0, 12.0, 16.0)
 REFINE = 10
 
 
@@ -99,10 +99,9 @@ def fit_frictionloss(m: FingerModel, stroke: float = FINGER.stroke, steps: int =
     rjcad's: the smallest RMS of every joint angle at every step (``target`` "angles") or of the actuator's
     tension ("tension"); and the errors that remain.
 
-    One value for all joints: the quasi-static MuJoCo run (``rjcad.mjcf.simulate``) is checked against rjcad
-    within 1° with equal joint frictions; with frictions that differ much between joints its release is not
-    (a joint rjcad holds by friction slips when the tendon catches a freely opening neighbour). Search: the
-    values in ``SCAN`` and the joints' mean friction band, then a bounded scalar search around the best."""
+    One value for all joints (what a user can set without a fit of his own; per joint would cost a search in N
+    dimensions of MuJoCo runs). Search: the values in ``SCAN`` and the joints' mean friction band, then a bounded
+    scalar search around the best."""
     from scipy.optimize import minimize_scalar
 
     ref = simulate_stroke(m, stroke, steps)
@@ -134,9 +133,11 @@ def analyse(stroke: float = FINGER.stroke, steps: int = STEPS) -> dict:
     fitted = fit_frictionloss(full, stroke, steps)
     fitted_t = fit_frictionloss(full, stroke, steps, target="tension")
     fitted_rep = fit_frictionloss(rep, stroke, steps)
+    fitted_rep_t = fit_frictionloss(rep, stroke, steps, target="tension")
     return {"model": {"stiffness_nmm_per_rad": list(full.stiffness), "moment_arm_mm": list(full.moment_arm),
                       "pin_friction_nmm": full.friction[0], "gamma_pos_nmm_per_rad": full.gamma_pos[0],
                       "gamma_neg_nmm_per_rad": full.gamma_neg[0], "capstan_beta_pos": JOINT.beta_pos,
                       "stroke_mm": stroke, "steps_each_way": steps},
             "frictionless_mujoco": none, "fitted": fitted, "fitted_to_tension": fitted_t,
-            "fitted_without_capstan_and_gamma": fitted_rep}
+            "fitted_without_capstan_and_gamma": fitted_rep,
+            "fitted_to_tension_without_capstan_and_gamma": fitted_rep_t}

@@ -1,16 +1,19 @@
 """The quasi-static pull/release of a finger run in MuJoCo, read like rjcad's solver (a ``Closure``).
 
-The tendon the ``pull`` actuator acts on is driven by its length limit: at tendon displacement t_d its length
-may not exceed L_rest − t_d (a one-sided constraint, so a released tendon goes slack, as in rjcad). At each step
-the limit moves there from the previous point in ``RAMP_STEPS`` equal time steps (a slow, steady pull or pay-out: a
-jump would let the finger spring into the tendon and bounce), MuJoCo runs ``SETTLE_STEPS`` more, then qpos is read. The tension is the force
-of that limit. To settle fast without changing the statics, the run (on a copy of the model in memory):
+The tendon is pulled by the file's ``pull`` actuator, made a pulling-only spring of stiffness ``KP`` on its
+tendon (force KP·(ctrl − L), never pushing: a released tendon goes slack, as in rjcad). At tendon displacement
+t_d the set point is L_rest − t_d − T/KP with T the last tension (so that the length comes out at L_rest − t_d);
+it moves there from the previous point in ``RAMP_STEPS`` time steps (``RAMP_CHUNKS`` equal moves: a slow,
+steady pull or pay-out), MuJoCo runs ``SETTLE_STEPS`` more, the set point is corrected by the remaining length
+error (``CORRECTIONS`` times, ``SETTLE_STEPS`` each), then qpos and the actuator's force are read. A spring, not a
+hard length limit: moving a hard limit lets the tendon go slack for an instant at each move, and a joint that
+friction should hold then slips. To settle fast without changing the statics, the run (on a copy of the model):
 
 * scales every body's mass and inertia down by ``MASS_SCALE`` and gravity up by it (the weights are kept);
 * gives each hinge an armature K·``ARMATURE_S``² and a damping K·``SETTLE_S`` (implicit in the integrator):
   neither acts at rest;
-* makes limits and friction stiff (time constant 2·dt, impedance 0.9999) and turns contacts and the
-  actuator off (self-contact is no part of rjcad's model; the limit drives the tendon).
+* makes joint limits and friction stiff (time constant 2·dt, impedance 0.9999) and turns contacts off
+  (self-contact is no part of rjcad's model).
 
 The file's joint ``frictionloss`` and ``stiffness``/``springref``/``range`` are used as they are.
 """
@@ -22,11 +25,11 @@ import numpy as np
 from rjcad.physics.finger import Closure
 
 DT = 5e-4  # time step [s]
-RAMP_STEPS = 40  # time steps over which the tendon's length limit moves from one point to the next
+RAMP_STEPS = 40  # time steps over which the set point moves from one point to the next
 RAMP_CHUNKS = 8  # in this many equal moves
-SETTLE_STEPS = 60  # then at most this many time steps at the point's length before the reading,
-SETTLE_CHUNK = 15  # in runs of this many, until every hinge turns slower than
-SETTLED_RAD_S = 1e-3  # [rad/s]
+SETTLE_STEPS = 60  # then time steps before a correction and before the reading
+CORRECTIONS = 1  # set point corrections by the length error
+KP = 1e4  # the pulling actuator's stiffness in the run [N/m]
 SETTLE_S = 0.02  # damping / stiffness [s]
 ARMATURE_S = 0.01  # sqrt(armature / stiffness) [s]: 1 / the hinges' own frequency
 MASS_SCALE = 1e6
@@ -60,7 +63,7 @@ def _prepare(model):
 
     model.opt.timestep = DT
     model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT) | int(mujoco.mjtDisableBit.mjDSBL_ACTUATION)
+    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     model.body_mass[:] /= MASS_SCALE
     model.body_inertia[:] /= MASS_SCALE
     model.opt.gravity[:] *= MASS_SCALE
@@ -83,6 +86,24 @@ def hinge_addresses(model) -> np.ndarray:
                      if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE], dtype=int)
 
 
+def _actuator(model, t: int) -> int:
+    """The position actuator on tendon ``t``, made a spring of stiffness KP [N/m] pulling only, no damping."""
+    import mujoco
+
+    for a in range(model.nu):
+        if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON and model.actuator_trnid[a, 0] == t:
+            model.actuator_gainprm[a, :3] = (KP, 0.0, 0.0)
+            model.actuator_biasprm[a, :3] = (0.0, -KP, 0.0)
+            model.actuator_ctrllimited[a] = 0
+            model.actuator_forcelimited[a] = 1
+            model.actuator_forcerange[a] = (-1e6, 0.0)
+            model.actuator_dyntype[a] = mujoco.mjtDyn.mjDYN_NONE
+            return a
+    from rjcad.errors import RjcadError
+
+    raise RjcadError("the MJCF has no actuator on its tendon")
+
+
 def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     """Joint angles and tension along a tendon-displacement path [mm], quasi-static, in MuJoCo.
 
@@ -98,30 +119,29 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     mujoco.mj_setConst(m, d)  # constraint scales for the new masses (it leaves d at the spring pose)
     mujoco.mj_resetData(m, d)
     t = _driven_tendon(m)
+    a = _actuator(m, t)
     mujoco.mj_forward(m, d)
     rest = float(d.ten_length[t])
-    m.tendon_limited[t] = 1
-    m.tendon_range[t] = (-1.0, rest)
+    d.ctrl[a] = rest
     td = np.asarray(tendon_mm, dtype=float)
     q = hinge_addresses(m)
     theta = np.zeros((len(td), len(q)))
     tension = np.zeros(len(td))
     mujoco.mj_step(m, d, nstep=FIRST_SETTLE)
-    lim = int(mujoco.mjtConstraint.mjCNSTR_LIMIT_TENDON)
-    last = 0.0
     for k, x in enumerate(td):
+        goal = rest - x * 1e-3
+        start, aim = float(d.ctrl[a]), goal + float(d.actuator_force[a]) / KP  # feed-forward: the last tension
         for s in range(1, RAMP_CHUNKS + 1):
-            m.tendon_range[t, 1] = rest - (last + (x - last) * s / RAMP_CHUNKS) * 1e-3
+            d.ctrl[a] = start + (aim - start) * s / RAMP_CHUNKS
             mujoco.mj_step(m, d, nstep=RAMP_STEPS // RAMP_CHUNKS)
-        last = x
-        for _ in range(SETTLE_STEPS // SETTLE_CHUNK):
-            mujoco.mj_step(m, d, nstep=SETTLE_CHUNK)
-            if np.abs(d.qvel).max() < SETTLED_RAD_S:
-                break
-        mujoco.mj_forward(m, d)
+        mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
+        for _ in range(CORRECTIONS):
+            err = goal - float(d.ten_length[t])
+            if d.actuator_force[a] < 0 or err < 0:  # taut (or too long): the length error moves the set point
+                d.ctrl[a] += err
+                mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
         theta[k] = d.qpos[q]
-        rows = (d.efc_type[:d.nefc] == lim) & (d.efc_id[:d.nefc] == t)
-        tension[k] = abs(float(d.efc_force[:d.nefc][rows].sum()))
+        tension[k] = -float(d.actuator_force[a])
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
     moved = np.diff(theta, axis=0, prepend=theta[:1])
