@@ -239,3 +239,18 @@ def test_an_identify_result_sets_friction_and_stiffness(built, tmp_path, cli):
     np.testing.assert_allclose(m.dof_frictionloss, [0.0, 1.5e-3, 0.0])
     assert m.jnt_stiffness[0] == pytest.approx(4.0e-3)
     assert "gamma_pos_nmm_per_rad" in (tmp_path / "x.xml").read_text()  # named as left out
+
+
+def test_a_template_finger_in_mujoco_quickly():
+    """Fast lane: a template's capsule MJCF loads, has rjcad's arms, springs and stops, and closes like rjcad."""
+    m = model_from_template(PAPER_FINGER)
+    model = load(to_xml(spec_from_model(m)))
+    d = mujoco.MjData(model)
+    mujoco.mj_forward(model, d)
+    J = d.ten_J.reshape(model.ntendon, model.nv)
+    np.testing.assert_allclose(-J * 1e3, [m.moment_arm, m.moment_arm], rtol=1e-6)
+    np.testing.assert_allclose(model.qpos_spring, -np.asarray(m.preload))
+    np.testing.assert_allclose(model.jnt_range, [[0.0, r] for r in m.rotation])
+    mj, rj = run_stroke(model, 25.0, 25), simulate_stroke(m, 25.0, 25)
+    assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0
+    assert mj.tension[25] == pytest.approx(rj.tension[25], rel=0.01)

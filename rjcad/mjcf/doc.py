@@ -121,8 +121,8 @@ def markdown(res: dict) -> str:
         f"{ft.tension_rms_n:.2f} N) costs angle ({ft.rms_deg:.2f}° RMS, {ft.max_deg:.1f}° at most).",
         f"- **Without capstan and γ, MuJoCo says what rjcad says**: the same fit leaves {r.rms_deg:.2f}° RMS and "
         f"{r.max_deg:.2f}° at most, within the 1° of the frictionless comparison; fitted to the tension, the "
-        f"frictionloss comes out at {rt.frictionloss_nmm[0]:.2f} N·mm, rjcad's pin friction "
-        f"({m['pin_friction_nmm']:.2f} N·mm), and MuJoCo's angles stay within {rt.max_deg:.2f}°.",
+        f"frictionloss comes out at {rt.frictionloss_nmm[0]:.2f} N·mm against rjcad's pin friction of "
+        f"{m['pin_friction_nmm']:.2f} N·mm, and MuJoCo's angles stay within {rt.max_deg:.2f}°.",
         "",
         "## What to set in MJCF to get closest",
         "",
