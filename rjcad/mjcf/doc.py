@@ -44,23 +44,23 @@ def plot(res: dict) -> bytes:
 
 #: The doc's section on the export (no numbers)
 EXPORT = [
-        "## Export",
-        "",
-        "`rjcad mjcf FINGER.json --out finger.xml` (or `rjcad finger --mjcf`) writes an MJCF in SI units with one body "
-        "and mesh per link (mass from the manifest, centre of mass and inertia from the mesh), one hinge per joint "
-        "(`stiffness` K, `springref` = −preload so that the spring presses the joint on its extension stop with "
-        "K·preload at the straight pose, `range` from the stop to the rotation limit), neighbouring links' contacts "
-        "excluded, and two tendons: `path`, a spatial tendon through sites on the built tendon path (base channel, each "
-        "fork face, each eye's groove as a wrap cylinder, each support slot, the distal anchor), and `tendon`, a "
-        "fixed tendon of length −Σ r_i·q_i, rjcad's model of the groove (a constant moment arm). The `pull` actuator "
-        "acts on `tendon` (`--pull path` moves it to the spatial tendon). At the straight pose both have the "
-        "manifest's moment arms, and `path` its tendon length. With flexion the spatial path's straight runs between "
-        "a fork face and the next support slot cut the corner (a bowstring): its moment arm (MuJoCo's `ten_J` on the "
-        "exported file) grows with the angle, which rjcad's model, and the `tendon` MuJoCo is pulled by, do not have.",
-        "",
-        "`rjcad simulate finger FILE --engine mujoco` runs the same quasi-static pull and release in MuJoCo "
-        "(the tendon's length limit ramped slowly, the finger settled at each step; `--compare` overlays rjcad's).",
-        "",
+    "## Export",
+    "",
+    "`rjcad mjcf FINGER.json --out finger.xml` (or `rjcad finger --mjcf`) writes an MJCF in SI units with one body "
+    "and mesh per link (mass from the manifest, centre of mass and inertia from the mesh), one hinge per joint "
+    "(`stiffness` K, `springref` = −preload so that the spring presses the joint on its extension stop with "
+    "K·preload at the straight pose, `range` from the stop to the rotation limit), neighbouring links' contacts "
+    "excluded, and two tendons: `path`, a spatial tendon through sites on the built tendon path (base channel, each "
+    "fork face, each eye's groove as a wrap cylinder, each support slot, the distal anchor), and `tendon`, a "
+    "fixed tendon of length −Σ r_i·q_i, rjcad's model of the groove (a constant moment arm). The `pull` actuator "
+    "acts on `tendon` (`--pull path` moves it to the spatial tendon). At the straight pose both have the "
+    "manifest's moment arms, and `path` its tendon length. With flexion the spatial path's straight runs between "
+    "a fork face and the next support slot cut the corner (a bowstring): its moment arm (MuJoCo's `ten_J` on the "
+    "exported file) grows with the angle, which rjcad's model, and the `tendon` MuJoCo is pulled by, do not have.",
+    "",
+    "`rjcad simulate finger FILE --engine mujoco` runs the same quasi-static pull and release in MuJoCo "
+    "(the tendon's length limit ramped slowly, the finger settled at each step; `--compare` overlays rjcad's).",
+    "",
 ]
 
 
@@ -86,7 +86,8 @@ def markdown(res: dict) -> str:
         f"{_fl(m['moment_arm_mm'])} mm, 90° preload and range), {m['stroke_mm']:g} mm of tendon pulled and released "
         f"in {m['steps_each_way']} steps each way, no gravity. rjcad's friction model: a constant pin friction "
         f"{m['pin_friction_nmm']:.2f} N·mm (μ_j·F_n, F_n = {PIN_LOAD_N} N, a link's weight), the tendon-induced pin "
-        f"friction γ⁺ = {m['gamma_pos_nmm_per_rad']} / γ⁻ = {m['gamma_neg_nmm_per_rad']} N·mm/rad (it grows with the "
+        f"friction γ⁺ = {m['gamma_pos_nmm_per_rad']} / γ⁻ = {m['gamma_neg_nmm_per_rad']} N·mm/rad "
+        "(it grows with the "
         f"load), and the capstan in the base (β⁺ = {m['capstan_beta_pos']}: the tension reaching the joints is "
         "lower than the actuator's while pulling, higher while releasing).",
         "",
@@ -111,7 +112,8 @@ def markdown(res: dict) -> str:
         "",
         f"- **The capstan and the load-dependent friction are what MuJoCo misses.** With them, no constant "
         f"frictionloss gets MuJoCo closer than {f.rms_deg:.1f}° RMS; the release is worst ({f.release_max_deg:.1f}° "
-        f"at most; per joint {pj}): in rjcad the friction grows with each spring's torque (γ⁻ > γ⁺, so each joint "
+        f"at most; per joint {pj}): in rjcad the friction grows with each spring's torque "
+        "(γ⁻ > γ⁺, so each joint "
         "opens along its own, softer line) and the tension reaching the joints rises along the base channel while "
         "releasing; MuJoCo's joints follow one tension and one stiffness both ways, so its release retraces its pull.",
         f"- **A constant frictionloss hardly helps the angles** ({none.rms_deg:.2f}° RMS frictionless, "

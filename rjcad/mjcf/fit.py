@@ -4,9 +4,10 @@ rjcad's finger (``rjcad.physics.finger``) has three friction effects: a constant
 tendon-induced pin friction that grows with the spring torque (γ⁺ closing, γ⁻ opening: paper Eq. 4), and a
 capstan on the tendon's path in the base (the tension reaching the joints is T·e^{∓μα}: paper Eq. 5–7).
 MuJoCo has a constant ``frictionloss`` per joint and one tension along a tendon. Here one constant
-frictionloss for every joint is fitted (least squares on the joint angles over the whole pull and release) so that MuJoCo comes
-closest to rjcad, and what remains is reported. ``damping`` is not fitted: the pull/release is quasi-static
-(rate-independent), and at rest damping exerts no torque, so the data cannot tell any value from another.
+frictionloss for every joint is fitted (least RMS of the joint angles, or of the tension, over the whole pull
+and release) so that MuJoCo comes closest to rjcad, and what remains is reported. ``damping`` is not fitted:
+the pull/release is quasi-static (rate-independent), and at rest damping exerts no torque, so the data cannot
+tell any value from another.
 """
 
 from __future__ import annotations
