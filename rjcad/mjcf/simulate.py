@@ -27,7 +27,7 @@ from rjcad.physics.finger import Closure
 DT = 5e-4  # time step [s]
 RAMP_STEPS = 40  # time steps over which the set point moves from one point to the next
 RAMP_CHUNKS = 8  # in this many equal moves
-SETTLE_STEPS = 60  # then time steps before a correction and before the reading
+SETTLE_STEPS = 40  # then time steps before a correction and before the reading
 CORRECTIONS = 1  # set point corrections by the length error
 KP = 1e4  # the pulling actuator's stiffness in the run [N/m]
 SETTLE_S = 0.02  # damping / stiffness [s]
