@@ -5,7 +5,7 @@ VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc
+.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
@@ -39,6 +39,10 @@ clean:
 # docs/paper-finger.md and its plot, every number computed
 paper-finger: $(VENV)/.installed
 	$(VENV)/bin/rjcad paper-finger --out docs --records
+
+# docs/mujoco.md, its plot and mujoco.json: the paper's finger in MuJoCo against rjcad, every number computed
+mujoco-doc: $(VENV)/.installed
+	$(VENV)/bin/python -m rjcad.mjcf.doc docs
 
 # examples/paper_campaign: the SYNTHETIC paper campaign (experiments A-E), seed 7
 paper-campaign: $(VENV)/.installed

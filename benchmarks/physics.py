@@ -1,6 +1,7 @@
 """Physics benchmark: a 1000-step pull+release stroke of a 3-joint finger (target < 0.5 s) and
 joint-model throughput (target >= 1e6 samples/s), with a plain-numpy ceiling and the optional
-effects measured in the same run. Prints one JSON object (medians after a warm-up).
+effects measured in the same run; the default finger's pull+release in MuJoCo (target <= 1 s) next to the
+built-in solver's. Prints one JSON object (medians after a warm-up).
 Run: .venv/bin/python benchmarks/physics.py [--n 1000000] [--steps 500] [--repeats 5] [--quick]
 """
 
@@ -53,8 +54,7 @@ def main() -> None:
     t_full = median_time(lambda: simulate(full, setup, th, tt), args.repeats)[0]
     target_deg = list(FINGER.measured_end_deg)
     t_design = median_time(lambda: design_finger(target_deg, FINGER.stroke, "proximal-first"), args.repeats)[0]
-    out = {
-        "finger_steps": len(c.tendon_mm),
+    out = {**mujoco_stroke(args), "finger_steps": len(c.tendon_mm),
         "finger_1000_step_stroke_s": t_finger * 1000 / len(c.tendon_mm),
         "joint_samples_per_s": n / t_joint,
         "joint_given_direction_samples_per_s": n / t_joint_dir,
@@ -68,8 +68,27 @@ def main() -> None:
     out["targets"] = {
         "finger_1000_step_stroke_s": target(out["finger_1000_step_stroke_s"], at_most=0.5),
         "joint_samples_per_s": target(out["joint_samples_per_s"], at_least=1e6),
+        "mujoco_default_finger_stroke_s": target(out["mujoco_default_finger_stroke_s"], at_most=1.0),
     }
     emit(out)
+
+
+def mujoco_stroke(args) -> dict:
+    """The default finger (templates/finger.toml: capsule links, no meshes, no gravity) pulled 0 → 25 mm and
+    released in MuJoCo (rjcad.mjcf.simulate), and by the built-in solver, in ``args.steps`` steps each way."""
+    from rjcad.mjcf.model import spec_from_model
+    from rjcad.mjcf.simulate import load, run_stroke
+    from rjcad.mjcf.spec import to_xml
+    from rjcad.physics.finger import model_from_template
+    from rjcad.templates import DEFAULT_FINGER
+
+    m = model_from_template(DEFAULT_FINGER)
+    model = load(to_xml(spec_from_model(m)))
+    t_mj, c_mj = median_time(lambda: run_stroke(model, FINGER.stroke, args.steps), max(1, min(args.repeats, 3)))
+    t_rj, c_rj = median_time(lambda: simulate_stroke(m, FINGER.stroke, args.steps), args.repeats)
+    return {"mujoco_default_finger_stroke_s": t_mj, "rjcad_default_finger_stroke_s": t_rj,
+            "mujoco_over_rjcad": t_mj / t_rj, "mujoco_steps": len(c_mj.tendon_mm),
+            "mujoco_vs_rjcad_max_deg": float(np.degrees(np.abs(c_mj.theta - c_rj.theta)).max())}
 
 
 if __name__ == "__main__":

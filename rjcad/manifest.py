@@ -190,11 +190,13 @@ class _Entry:
 
 @dataclass
 class BodyEntry(_Entry):
-    """One printed body: its name (as in the 3MF and STEP), volume [mm³] and mass [g]."""
+    """One printed body: its name (as in the 3MF and STEP), volume [mm³], mass [g] and centre of mass at rest
+    (finger or joint coordinates) [mm]."""
 
     name: str
     volume_mm3: float | None = None
     mass_g: float | None = None
+    com_mm: list[float] | None = None
     extra: dict = field(default_factory=dict)
     _PATH = "body."
 

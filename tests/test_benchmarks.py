@@ -38,8 +38,10 @@ BENCHMARKS = {
              {"optimiser_ms_per_design_min_cycles"}),
     "physics": ({"finger_steps", "finger_1000_step_stroke_s", "joint_samples_per_s",
                  "joint_given_direction_samples_per_s", "joint_numpy_ceiling_samples_per_s", "joint_vs_numpy_ceiling",
-                 "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s", "n", "repeats"},
-                {"finger_1000_step_stroke_s", "joint_samples_per_s"}),
+                 "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s", "n", "repeats",
+                 "mujoco_default_finger_stroke_s", "rjcad_default_finger_stroke_s", "mujoco_over_rjcad",
+                 "mujoco_steps", "mujoco_vs_rjcad_max_deg"},
+                {"finger_1000_step_stroke_s", "joint_samples_per_s", "mujoco_default_finger_stroke_s"}),
     "spring": ({"optimiser_median_ms_per_design_paper_joint", "optimiser_median_ms_per_design_random",
                 "optimiser_max_ms_per_design_random", "vector_designs", "numpy_plain_a_b3_over_c_per_s",
                 "stiffness_evals_per_s", "stiffness_vs_numpy_ceiling", "full_model_evals_per_s",
@@ -90,6 +92,7 @@ def check_identify(d):
 
 def check_physics(d):
     assert d["finger_steps"] == 41 and d["n"] == 2000
+    assert d["mujoco_steps"] == 41 and d["mujoco_vs_rjcad_max_deg"] < 1.0
 
 
 def check_finger(d):

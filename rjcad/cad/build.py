@@ -112,9 +112,12 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
-    """Name, volume [mm³] and mass [g] (at ``p``'s material density) of each solid."""
+    """Name, volume [mm³], mass [g] (at ``p``'s material density) and centre of mass [mm] of each solid."""
+    import cadquery as cq
+
     dens = p.material_spec.density_g_cm3
-    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0) for n, s in solids.items()]
+    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0,
+                      [float(c) for c in cq.Shape.centerOfMass(s).toTuple()]) for n, s in solids.items()]
 
 
 def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:
@@ -284,8 +287,9 @@ def build_finger_model(fp) -> FingerBuild:
                                                       "measure_s": t3 - t2})
 
 
-def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | str]:
-    """finger.stl/.3mf/.step/.png/.json as bytes."""
+def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False,
+                        gravity=None) -> dict[str, bytes | str]:
+    """finger.stl/.3mf/.step/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": ex.stl_bytes(list(b.meshes.values())),
@@ -304,6 +308,10 @@ def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | s
     t2 = time.perf_counter()
     b.timings.update({"exports_s": t1 - t0, "png_s": t2 - t1})
     files["finger.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
+    if mjcf:
+        from rjcad.mjcf.export import mjcf_files
+
+        files.update(mjcf_files(b.manifest, b.meshes, "finger.xml", "finger.json", gravity=gravity))
     return files
 
 
@@ -324,9 +332,10 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
             ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0))]
 
 
-def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,png,json} into ``out_dir`` (as one set)."""
+def write_finger(fp, out_dir: str | Path, png: bool = True, mjcf: bool = False, gravity=None) -> FingerBuild:
+    """Build the finger and write finger.{stl,3mf,step,png,json} (and with ``mjcf`` finger.xml and one STL per
+    body) into ``out_dir`` (as one set)."""
     check_writable(out_dir)
     b = build_finger_model(fp)
-    ex.write_outputs(out_dir, render_finger_files(b, png=png), remove=("finger.png",))
+    ex.write_outputs(out_dir, render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity), remove=("finger.png",))
     return b

@@ -25,7 +25,7 @@ import warnings
 
 import click
 
-from rjcad.cli import build, check, identify, life, simulate, spring, sweep
+from rjcad.cli import build, check, identify, life, mjcf, simulate, spring, sweep
 from rjcad.errors import RjcadError
 
 
@@ -37,7 +37,7 @@ def cli(debug: bool) -> None:
 
 
 COMMANDS = (spring.spring, build.joint, build.finger, sweep.sweep, check.check, simulate.simulate,
-            simulate.finger_design, simulate.paper_finger, life.life, identify.bench, identify.identify)
+            simulate.finger_design, simulate.paper_finger, life.life, identify.bench, identify.identify, mjcf.mjcf)
 for _command in COMMANDS:
     cli.add_command(_command)
 

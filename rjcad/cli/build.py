@@ -76,7 +76,10 @@ def print_joint(m: dict) -> None:
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
-def finger(template, out_dir, no_png):
+@click.option("--mjcf", is_flag=True, help="Also write finger.xml (MuJoCo, SI units) and one STL per body.")
+@click.option("--gravity", default="horizontal-palm-down", show_default=True,
+              help="With --mjcf: gravity relative to the finger (see rjcad mjcf --help).")
+def finger(template, out_dir, no_png, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
     from rjcad.cad.finger import FingerParams
@@ -85,12 +88,18 @@ def finger(template, out_dir, no_png):
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     check_writable(out_dir)
+    grav = None
+    if mjcf:
+        from rjcad.mjcf.export import gravity_of
+
+        grav = gravity_of(gravity)
     from rjcad.cad.build import write_finger
 
-    b = write_finger(fp, out_dir, png=not no_png)
+    b = write_finger(fp, out_dir, png=not no_png, mjcf=mjcf, gravity=grav)
     m = b.manifest
     click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
-               f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
+               f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
+               + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else ""))
     print_finger(m)
 
 

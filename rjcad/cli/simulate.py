@@ -124,39 +124,64 @@ MAX_MU_T = 2.0
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write θ_i(t_d) as a PNG.")
-def simulate_finger(source, stroke, steps, mu_t, as_json, plot):
+@click.option("--engine", type=click.Choice(["rjcad", "mujoco"]), default="rjcad", show_default=True,
+              help="rjcad's solver, or MuJoCo (SOURCE may then also be an MJCF .xml).")
+@click.option("--compare", is_flag=True, help="Run both engines; overlay them in --plot (the JSON is --engine's).")
+def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare):
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
     import numpy as np
-
-    from rjcad.physics.finger import load_finger_model, simulate_stroke
 
     from rjcad.validate import in_range
 
     in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
+    runs = {e: _finger_run(e, source, stroke, steps, mu_t) for e in (("rjcad", "mujoco") if compare else (engine,))}
+    c = runs[engine]
+    if plot:
+        def draw(ax):
+            for k, (name, run) in enumerate(runs.items()):
+                pull = np.array([p == "pull" for p in run.phase])
+                for i in range(run.theta.shape[1]):
+                    tag = f"{name} " if compare else ""
+                    ax.plot(run.tendon_mm[pull], np.degrees(run.theta[pull, i]), color=f"C{i}", lw=1.6 - 0.7 * k,
+                            ls="-" if k == 0 else ":", label=f"{tag}θ{i + 1} pull")
+                    ax.plot(run.tendon_mm[~pull], np.degrees(run.theta[~pull, i]), color=f"C{i}", lw=1.6 - 0.7 * k,
+                            ls="--" if k == 0 else "-.", label=f"{tag}θ{i + 1} release")
+            ax.set_xlabel("tendon displacement t_d [mm]")
+            ax.set_ylabel("joint angle [deg]")
+            ax.legend(fontsize=7, ncol=2 if compare else 1)
+        _plot(plot, draw)
+    if as_json:
+        click.echo(json.dumps(c.to_dict()))
+    else:
+        for name, run in runs.items():
+            end = np.degrees(run.theta[steps])
+            click.echo(f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
+                       f"deg, tension {run.tension[steps]:.2f} N")
+
+
+def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
+    """The pull/release of ``source`` by one engine (a ``Closure``)."""
+    from pathlib import Path
+
+    if engine == "mujoco":
+        if mu_t > 0:
+            raise ParameterError("--mu-t", mu_t, "MuJoCo has no capstan (one tension along a tendon): use 0 with "
+                                                 "--engine mujoco")
+        from rjcad.cli.mjcf import mujoco_model
+        from rjcad.mjcf.simulate import run_stroke
+
+        return run_stroke(mujoco_model(source), stroke, steps)
+    if source is not None and Path(source).suffix.lower() == ".xml":
+        raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
+    from rjcad.physics.finger import load_finger_model, simulate_stroke
+
     model = load_finger_model(source, mu_t=mu_t)
     if mu_t > 0 and not any(model.wrap):
         raise ParameterError("--mu-t", mu_t, "has nothing to act on: this finger's joints carry no tendon wrap "
                                              "angle (a template has none); give a finger manifest (.json) that "
                                              "`rjcad finger` wrote, whose joints carry their measured wraps")
-    c = simulate_stroke(model, stroke, steps=steps)
-    if plot:
-        def draw(ax):
-            pull = np.array([p == "pull" for p in c.phase])
-            for i in range(model.n):
-                ax.plot(c.tendon_mm[pull], np.degrees(c.theta[pull, i]), color=f"C{i}", label=f"θ{i + 1} pull")
-                ax.plot(c.tendon_mm[~pull], np.degrees(c.theta[~pull, i]), "--", color=f"C{i}",
-                        label=f"θ{i + 1} release")
-            ax.set_xlabel("tendon displacement t_d [mm]")
-            ax.set_ylabel("joint angle [deg]")
-            ax.legend(fontsize=8)
-        _plot(plot, draw)
-    if as_json:
-        click.echo(json.dumps(c.to_dict()))
-    else:
-        end = np.degrees(c.theta[steps])
-        click.echo(f"at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) deg, "
-                   f"tension {c.tension[steps]:.2f} N")
+    return simulate_stroke(model, stroke, steps=steps)
 
 
 @click.command("finger-design")

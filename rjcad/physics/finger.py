@@ -60,6 +60,9 @@ class FingerModel:
     cubic: tuple[float, ...] = ()  # k3_i: stiffening, + k3·(θ + θ0)³ [N·mm/rad³]
     relax_stiffness: tuple[float, ...] = ()  # K_M,i: the Maxwell arm's stiffness [N·mm/rad]
     relax_time: float = 1.0  # T_r: the Maxwell arm's time constant, shared (one polymer) [s]
+    #: centre of mass of joint i's child link from axis i, in that link's frame (x along the straight finger,
+    #: y towards the palm) [mm] (default: (link_length/2, 0), the middle of the link)
+    link_com: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self):
         n = len(self.stiffness)
@@ -82,6 +85,11 @@ class FingerModel:
                 object.__setattr__(self, name, tuple([default] * n))
             elif len(v) != n:
                 raise ParameterError(name, len(v), f"needs {n} values, one per joint")
+        if not self.link_com:
+            object.__setattr__(self, "link_com", tuple((L / 2, 0.0) for L in self.link_length))
+        elif len(self.link_com) != n or not all(len(c) == 2 and all(isinstance(x, (int, float)) and math.isfinite(x)
+                                                                   for x in c) for c in self.link_com):
+            raise ParameterError("link_com", self.link_com, f"needs {n} finite (x, y) pairs [mm], one per joint")
         for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "gamma_pos",
                      "gamma_neg", "link_length", "link_mass", "damping", "cubic", "relax_stiffness"):
             v = getattr(self, name)
@@ -151,7 +159,8 @@ class Closure:
 def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
     """Torque of the links' weight about each joint, resisting flexion when positive [N·mm].
 
-    Links are point masses at their middles; flexion is positive about +Z.
+    Links are point masses at their centres of mass (``link_com``, by default their middles); flexion is
+    positive about +Z.
     """
     n = m.n
     if m.gravity is None or not any(m.link_mass):
@@ -163,8 +172,9 @@ def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
     for i in range(n):
         x[i + 1] = x[i] + m.link_length[i] * math.cos(ang[i])
         y[i + 1] = y[i] + m.link_length[i] * math.sin(ang[i])
-    cx = (x[:-1] + x[1:]) / 2
-    cy = (y[:-1] + y[1:]) / 2
+    lx, ly = np.asarray(m.link_com, dtype=float).T
+    cx = x[:-1] + lx * np.cos(ang) - ly * np.sin(ang)
+    cy = y[:-1] + lx * np.sin(ang) + ly * np.cos(ang)
     w = np.asarray(m.link_mass) * G
     tau = np.zeros(n)
     for i in range(n):
@@ -359,6 +369,11 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
         return tuple(out)
 
     masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
+    coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
+    link_com = ()
+    if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
+        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1])
+                         for j in joints)
     return FingerModel(
         stiffness=num("joint_stiffness_nmm_per_rad"),
         preload=tuple(x * DEG for x in num("preload_deg")),
@@ -373,6 +388,7 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
         link_length=num("link_length_mm", 40.0),
         link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
         gravity=gravity,
+        link_com=link_com,
     )
 
 

@@ -34,20 +34,23 @@ def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gp, gn, out):
 
 
 @njit(cache=True)
-def _gravity(prev, length, weight, gx, gy, out):
+def _gravity(prev, length, com, weight, gx, gy, out):
     n = len(prev)
     ang = 0.0
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
+    c = np.zeros(n)
+    s = np.zeros(n)
     for i in range(n):
         ang += prev[i]
+        c[i], s[i] = math.cos(ang), math.sin(ang)
         x[i + 1] = x[i] + length[i] * math.cos(ang)
         y[i + 1] = y[i] + length[i] * math.sin(ang)
     for i in range(n):
         tau = 0.0
         for j in range(i, n):
-            rx = 0.5 * (x[j] + x[j + 1]) - x[i]
-            ry = 0.5 * (y[j] + y[j + 1]) - y[i]
+            rx = x[j] + com[j, 0] * c[j] - com[j, 1] * s[j] - x[i]
+            ry = y[j] + com[j, 0] * s[j] + com[j, 1] * c[j] - y[i]
             tau -= weight[j] * (rx * gy - ry * gx)
         out[i] = tau
 
@@ -121,7 +124,8 @@ def _step(t_d, prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
 
 
 @njit(cache=True, nogil=True)
-def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weight, gx, gy, gravity, k3, c, km, tr):
+def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com, weight, gx, gy, gravity, k3, c, km,
+          tr):
     n_steps, n = len(td), len(K)
     theta = np.zeros((n_steps, n))
     tension = np.zeros(n_steps)
@@ -142,7 +146,7 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, weig
             rc[i] = r[i] * (c_pull[i] if pulling else c_rel[i])
         prev_T = tension[k - 1] if k > 0 else 0.0
         if gravity:
-            _gravity(prev, length, weight, gx, gy, tg)
+            _gravity(prev, length, com, weight, gx, gy, tg)
         a, b, inv_dt = 0.0, 0.0, 0.0  # as rjcad.physics.finger.step_terms
         if timed and k > 0:
             dt = t[k] - t[k - 1]
@@ -176,4 +180,5 @@ def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np
     gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
     return _path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), K, th0, thmax, r,
                  np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),
-                 np.asarray(m.link_mass, float) * G, float(gx), float(gy), grav, k3, c, km, tr)
+                 np.ascontiguousarray(m.link_com, dtype=float), np.asarray(m.link_mass, float) * G, float(gx),
+                 float(gy), grav, k3, c, km, tr)

@@ -1,0 +1,240 @@
+"""The MJCF of a built finger: from its manifest (joints, masses, tendon path) and its body meshes.
+
+Meshes: ``<stem>_<body>.stl`` beside the manifest (written by ``rjcad finger --mjcf``), else the body's named
+part in ``<stem>.3mf``. Mass from the manifest (else mesh volume × the material's density); centre of mass
+and inertia from the mesh, scaled to that mass. Sites: the manifest's ``tendon_path_mm``, each point in the
+body whose span of x (between its joint's axis and the next) holds it. Joint friction, damping and armature:
+an ``rjcad identify`` result when given (its pin friction per joint, and its stiffness and preload if fitted),
+else the stated defaults below.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from rjcad.errors import ParameterError, RjcadError, quote
+from rjcad.manifest import Manifest
+from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON, BodySpec, FingerSpec, JointSpec, to_xml, unit
+from rjcad.units import DEG
+
+#: Stated defaults where nothing is known: damping = K·DAMPING_S [N·m·s/rad] (a 20 ms spring–damper time
+#: constant, a guess), no armature (no rotor), no friction loss (the design model is frictionless).
+DAMPING_S, ARMATURE, FRICTIONLOSS = 0.02, 0.0, 0.0
+
+#: --gravity: rjcad's finger orientations (x along the straight finger, y towards the palm, z along the axes)
+GRAVITY = {
+    "horizontal-palm-down": (0.0, 1.0, 0.0),   # gravity helps flexion
+    "horizontal-palm-up": (0.0, -1.0, 0.0),    # gravity opposes flexion
+    "vertical-tip-down": (1.0, 0.0, 0.0),
+    "vertical-tip-up": (-1.0, 0.0, 0.0),
+    "lying-as-printed": (0.0, 0.0, -1.0),      # on the bed, axes vertical: no torque on the joints
+    "off": (0.0, 0.0, 0.0),
+}
+DEFAULT_GRAVITY = "horizontal-palm-down"
+G = 9.81
+
+
+def gravity_of(value: str | float) -> tuple[float, float, float]:
+    """Gravity [m/s²] in the finger frame for a --gravity value: a name, or the angle from x towards y [deg]."""
+    if isinstance(value, str) and value in GRAVITY:
+        return tuple(G * x for x in GRAVITY[value])
+    try:
+        a = float(value) * DEG
+    except (TypeError, ValueError):
+        raise ParameterError("--gravity", value, f"must be one of {', '.join(GRAVITY)}, or the angle of gravity "
+                                                 "from the finger's axis towards the palm [deg]") from None
+    if not math.isfinite(a):
+        raise ParameterError("--gravity", value, "must be finite")
+    return (G * math.cos(a), G * math.sin(a), 0.0)
+
+
+def _path_points(man: Manifest, source: str) -> np.ndarray:
+    pts = man.extra.get("tendon_path_mm")
+    ok = isinstance(pts, list) and len(pts) >= 2 and all(
+        isinstance(p, list) and len(p) == 3 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
+                                                    and math.isfinite(x) for x in p) for p in pts)
+    if not ok:
+        raise ParameterError(f"{source}: tendon_path_mm", pts, "must be a list of at least 2 [x, y, z] points "
+                             "(a finger manifest written by rjcad finger)")
+    return np.asarray(pts, dtype=float)
+
+
+def check_manifest(man: Manifest, source: str) -> None:
+    """A finger manifest the MJCF can be made of: joints with axes, stiffness, preload, rotation, arm; bodies."""
+    if not man.joints:
+        raise ParameterError(f"{source}: joints", [], "must hold at least one joint (a finger manifest)")
+    if not man.bodies:
+        raise ParameterError(f"{source}: bodies", None, "must list the finger's bodies")
+    names = {b.name for b in man.bodies}
+    for i, j in enumerate(man.joints):
+        for key in ("parent", "child", "axis_point_mm", "axis_dir", "joint_stiffness_nmm_per_rad", "preload_deg",
+                    "rotation_deg", "tendon_moment_arm_mm"):
+            if getattr(j, key) is None:
+                raise ParameterError(f"{source}: {man.key_path(i, key)}", None, "is required for the MJCF")
+        for key in ("parent", "child"):
+            if getattr(j, key) not in names:
+                raise ParameterError(f"{source}: {man.key_path(i, key)}", getattr(j, key), "names no body in bodies")
+
+
+def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
+    """Where each body's mesh is: ``<stem>_<body>.stl`` beside the manifest, else ``<stem>.3mf``."""
+    p = Path(manifest_path)
+    out = {}
+    threemf = p.with_suffix(".3mf")
+    for b in man.bodies:
+        stl = p.with_name(f"{p.stem}_{b.name}.stl")
+        if stl.is_file():
+            out[b.name] = stl
+        elif threemf.is_file():
+            out[b.name] = threemf
+        else:
+            raise RjcadError(f"{stl}: mesh file not found (nor {threemf.name}): the MJCF needs each body's mesh; "
+                             "build the finger with rjcad finger (--mjcf writes one STL per body)")
+    return out
+
+
+def read_meshes(sources: dict[str, Path]) -> dict:
+    """Each body's trimesh from its source (a per-body STL, or the named part of a 3MF)."""
+    import trimesh
+
+    from rjcad.check.load import load_bodies
+
+    out, parts = {}, {}
+    for name, path in sources.items():
+        if path.suffix.lower() == ".stl":
+            try:
+                mesh = trimesh.load(str(path), force="mesh")
+            except Exception as e:  # trimesh raises many kinds on garbage
+                raise RjcadError(f"{path}: not a readable STL ({type(e).__name__})") from None
+        else:
+            if path not in parts:
+                bodies, names = load_bodies(path)
+                parts[path] = dict(zip(names or [], bodies))
+            mesh = parts[path].get(name)
+            if mesh is None:
+                raise RjcadError(f"{path}: no part named {quote(name)} (the manifest's body)")
+        if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+            raise RjcadError(f"{path}: holds no triangles for body {quote(name)}")
+        out[name] = mesh
+    return out
+
+
+def _mass_properties(mesh, mass_kg: float) -> tuple[tuple, tuple]:
+    """Centre of mass [m] and inertia about it (ixx iyy izz ixy ixz iyz) [kg·m²] of a mesh in mm, of mass m."""
+    vol = abs(float(mesh.volume))
+    com = np.asarray(mesh.center_mass, dtype=float)
+    inertia = np.asarray(mesh.moment_inertia, dtype=float) * np.sign(mesh.volume) * (mass_kg / vol) * 1e-6
+    return tuple(com * 1e-3), (inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2],
+                               inertia[1, 2])
+
+
+def _site_owner(man: Manifest, point: np.ndarray) -> str:
+    """The body holding a path point: the child of the last joint whose axis lies before it along the finger."""
+    owner = man.joints[0].parent
+    for j in man.joints:
+        a, d = np.asarray(j.axis_point_mm), np.asarray(unit(j.axis_dir))
+        w = point - a
+        w -= np.dot(w, d) * d
+        if w[0] > 0:  # along the finger (+x, the frame of rjcad's fingers)
+            owner = j.child
+    return owner
+
+
+def spec_from_manifest(man: Manifest, meshes: dict, stem: str, source: str = "manifest", gravity=None,
+                       identified: dict | None = None) -> FingerSpec:
+    """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
+    from rjcad.materials import MATERIALS
+
+    check_manifest(man, source)
+    dens = MATERIALS[man.material].density_g_cm3 if man.material in MATERIALS else None
+    bodies = []
+    for b in man.bodies:
+        mesh = meshes[b.name]
+        mass_g = b.mass_g if b.mass_g is not None else (abs(float(mesh.volume)) * dens / 1000.0 if dens else None)
+        if mass_g is None or mass_g <= 0:
+            raise ParameterError(f"{source}: bodies.{b.name}.mass_g", b.mass_g, "is required (or a known material)")
+        com, inertia = _mass_properties(mesh, mass_g * 1e-3)
+        bodies.append(BodySpec(b.name, mass_g * 1e-3, com, inertia, mesh_file=f"{stem}_{b.name}.stl"))
+    order = [b.name for b in man.bodies]
+    bodies.sort(key=lambda b: ([j.child for j in man.joints].index(b.name) + 1) if b.name != man.joints[0].parent
+                else 0)
+    if [b.name for b in bodies] != [man.joints[0].parent] + [j.child for j in man.joints] or len(order) != len(bodies):
+        raise ParameterError(f"{source}: joints", [j.child for j in man.joints],
+                             "must chain the bodies base → distal, each joint's parent the previous child")
+    params = joint_parameters(man, identified)
+    joints = tuple(JointSpec(j.parent, j.child, tuple(x * 1e-3 for x in j.axis_point_mm), unit(j.axis_dir),
+                             p["stiffness"] * 1e-3, p["preload"], j.rotation_deg * DEG, j.tendon_moment_arm_mm * 1e-3,
+                             p["stiffness"] * 1e-3 * DAMPING_S, p["friction"] * 1e-3, ARMATURE)
+                   for j, p in zip(man.joints, params))
+    pts = _path_points(man, source)
+    sites = tuple((_site_owner(man, pt), tuple(pt * 1e-3)) for pt in pts)
+    grav = gravity if gravity is not None else gravity_of(DEFAULT_GRAVITY)
+    notes = _notes(man, source, identified, grav)
+    return FingerSpec(tuple(bodies), joints, sites, gravity=grav, notes=notes,
+                      model_name=f"rjcad finger ({len(joints)} joints)")
+
+
+def joint_parameters(man: Manifest, identified: dict | None) -> list[dict]:
+    """Per joint: stiffness [N·mm/rad], preload [rad], pin friction [N·mm]: the manifest's, or identified."""
+    out = []
+    params = (identified or {}).get("params", {})
+    for k, j in enumerate(man.joints, start=1):
+        out.append({"stiffness": float(params.get(f"stiffness_nmm_per_rad_j{k}", j.joint_stiffness_nmm_per_rad)),
+                    "preload": float(params.get(f"preload_deg_j{k}", j.preload_deg)) * DEG,
+                    "friction": float(params.get(f"friction_nmm_j{k}", FRICTIONLOSS * 1e3))})
+    return out
+
+
+def _notes(man: Manifest, source: str, identified: dict | None, grav) -> tuple[str, ...]:
+    fitted = sorted((identified or {}).get("params", {}))
+    lost = [k for k in fitted if k.startswith(("gamma", "beta", "mu_alpha"))]
+    return (
+        f"written by rjcad mjcf from {Path(source).name}: SI units (m, kg, N·m, rad); finger frame: x along the "
+        "straight finger, y towards the palm (flexion), z along the joint axes",
+        f"tendon '{PATH_TENDON}': the built tendon path (sites), wrapping each eye's groove; tendon "
+        f"'{GROOVE_TENDON}': rjcad's model, length -sum(r_i q_i) (constant moment arms); actuator 'pull' "
+        "(position, tension only) acts on one of them",
+        "joints: springref = -preload (the spring presses each joint on its extension stop at q = 0); "
+        + (f"stiffness, preload and pin friction (frictionloss) from the identify result: {', '.join(fitted)}"
+           if identified else f"frictionloss {FRICTIONLOSS} (design model), damping K*{DAMPING_S} s and "
+                              f"armature {ARMATURE}: stated defaults, not measured"),
+        "MuJoCo cannot represent: a tension that changes along the tendon (capstan), nor pin friction that grows "
+        "with the tendon load" + (f" (identified, left out: {', '.join(lost)})" if lost else "")
+        + "; see docs/mujoco.md",
+        f"gravity {tuple(round(g, 3) for g in grav)} m/s^2 in the finger frame",
+    )
+
+
+def check_identified(data, man: Manifest, source: str) -> dict:
+    """An ``rjcad identify`` finger result for this design (same joints and stiffness within 2 %), else one error."""
+    if not isinstance(data, dict) or data.get("kind") != "finger" or not isinstance(data.get("design"), dict):
+        raise RjcadError(f"{source}: not an rjcad identify result of a finger (kind 'finger' with a design)")
+    design = data["design"]
+    ks = design.get("stiffness_nmm_per_rad")
+    mine = [j.joint_stiffness_nmm_per_rad for j in man.joints]
+    if design.get("joints") != len(man.joints) or not isinstance(ks, list) or len(ks) != len(mine) or any(
+            not isinstance(a, (int, float)) or abs(a - b) > 0.02 * b for a, b in zip(ks, mine)):
+        raise RjcadError(f"{source}: identify result for another design: its finger has "
+                         f"{quote(design.get('joints'))} joints, K = {quote(ks)} N·mm/rad; the manifest's has "
+                         f"{len(mine)}, K = {[round(k, 2) for k in mine]}")
+    params = data.get("params", {})
+    if not isinstance(params, dict) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                               and math.isfinite(v) for v in params.values()):
+        raise RjcadError(f"{source}: params must be an object of finite numbers")
+    for k, v in params.items():
+        if k.startswith("friction_nmm_j") and v < 0:
+            raise RjcadError(f"{source}: params.{k} = {quote(v)} must be >= 0")
+    return data
+
+
+def mjcf_files(man: Manifest, meshes: dict, xml_name: str, source: str, gravity=None,
+               identified: dict | None = None) -> dict[str, bytes | str]:
+    """The MJCF ``xml_name`` and one binary STL per body beside it (``<stem>_<body>.stl``), in memory."""
+    stem = Path(xml_name).stem
+    spec = spec_from_manifest(man, meshes, stem, source, gravity, identified)
+    files: dict[str, bytes | str] = {f"{stem}_{b}.stl": meshes[b].export(file_type="stl") for b in meshes}
+    files[xml_name] = to_xml(spec)
+    return files
