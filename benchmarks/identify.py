@@ -32,13 +32,15 @@ def run(path):
     return identify(camp)
 
 
-def finger(repeats: int, samples: int = 3000, sets=(("moment_arm",), ("moment_arm", "coulomb_pin"))) -> dict:
-    """Whole-finger identification (3 joints, 3 experiments × 3000 samples) and the finger solver's speed."""
+def finger(repeats: int, samples: int = 3000,
+           sets=(("moment_arm",), ("viscous",), ("moment_arm", "coulomb_pin"))) -> dict:
+    """Whole-finger identification (3 joints, 3 experiments × 3000 samples), with the candidate fits in one thread
+    and in two (the last set, same run), and the finger solver's speed."""
     import numpy as np
 
     from rjcad.identify.campaign import load_campaign as load_any
     from rjcad.identify.finger.bench import write_finger_campaign
-    from rjcad.identify.finger.problem import identify_finger
+    from rjcad.identify.finger.problem import FingerSelector, identify_finger
     from rjcad.physics.finger import FingerModel, simulate_path
     from rjcad.physics.finger_fast import simulate_angles
     from rjcad.units import DEG
@@ -51,6 +53,15 @@ def finger(repeats: int, samples: int = 3000, sets=(("moment_arm",), ("moment_ar
             t, ident = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
             out["finger_campaign_s"]["+".join(effects)] = round(t, 3)
             out["finger_campaign_found"]["+".join(effects)] = ident.effects
+        threads, workers = {}, FingerSelector.workers
+        try:
+            for w in (1, 2):
+                FingerSelector.workers = w
+                threads[str(w)], _ = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
+        finally:
+            FingerSelector.workers = workers
+        out["finger_campaign_threads_s"] = {"set": "+".join(effects), **{k: round(v, 3) for k, v in threads.items()},
+                                            "ratio_1_over_2": round(threads["1"] / threads["2"], 2)}
     m = FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3,
                     gamma=(1.0,) * 3)
     td = np.concatenate([np.linspace(0, 25, 1500), np.linspace(25, 0, 1500)])

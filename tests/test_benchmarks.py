@@ -25,7 +25,7 @@ BENCHMARKS = {
                {"worst_ratio_time_n_over_n_time_1"}),
     "identify": ({"paper_campaign_s", "paper_campaign_load_s", "paper_campaign_effects", "samples_per_experiment",
                   "seconds", "effects_found", "us_per_sample", "scaling_exponent", "finger_campaign_s",
-                  "finger_campaign_found", "finger_solver_us_per_step", "finger_samples"},
+                  "finger_campaign_found", "finger_solver_us_per_step", "finger_samples", "finger_campaign_threads_s"},
                  {"paper_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"}),
     "joint": ({"median_total_s", "median_cad_build_s", "median_tessellate_s", "median_measure_s",
                "median_stl_3mf_export_s", "median_step_export_s", "median_png_s", "png_share_of_total", "triangles",
