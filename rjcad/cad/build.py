@@ -1,4 +1,4 @@
-"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,png,json}."""
+"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,glb,png,json}."""
 
 from __future__ import annotations
 
@@ -23,6 +23,9 @@ from rjcad.manifest import BodyEntry, JointEntry, Manifest
 from rjcad.mesh import to_manifold
 from rjcad.outputs import check_writable
 from rjcad.params import KEY_ENGAGEMENT, JointParams
+
+#: The joint's body colours (preview and GLB).
+JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
 
 GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
              "max(clearance, the printer's vertical minimum)")
@@ -204,22 +207,23 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     }
     t1 = time.perf_counter()
     files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
+    files[f"{name}.glb"] = ex.glb_bytes(b.meshes, JOINT_COLOURS)
     t2 = time.perf_counter()
     if png:
         files[f"{name}.png"] = ex.preview_png(
             b.meshes,
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
-            lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
+            lines=[tendon_polyline(p)], colours=JOINT_COLOURS,
             sections=preview_sections(p))
     t3 = time.perf_counter()
-    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "png_s": t3 - t2})
+    b.timings.update({"stl_3mf_s": t1 - t0, "step_glb_s": t2 - t1, "png_s": t3 - t2})
     files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
 
 
 def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointBuild:
-    """Build the joint and write joint.stl, .3mf, .step, .png and .json into ``out_dir`` (as one set)."""
+    """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set)."""
     check_writable(out_dir)
     b = build(p)
     files = render_files(b, "joint", png=png)
@@ -285,12 +289,13 @@ def build_finger_model(fp) -> FingerBuild:
 
 
 def render_finger_files(b: FingerBuild, png: bool = True) -> dict[str, bytes | str]:
-    """finger.stl/.3mf/.step/.png/.json as bytes."""
+    """finger.stl/.3mf/.step/.glb/.png/.json as bytes."""
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": ex.stl_bytes(list(b.meshes.values())),
         "finger.3mf": ex.threemf_bytes(b.meshes, "finger"),
         "finger.step": ex.step_bytes(b.solids, "finger"),
+        "finger.glb": ex.glb_bytes(b.meshes),
     }
     t1 = time.perf_counter()
     if png:
@@ -325,7 +330,7 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
 
 
 def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,png,json} into ``out_dir`` (as one set)."""
+    """Build the finger and write finger.{stl,3mf,step,glb,png,json} into ``out_dir`` (as one set)."""
     check_writable(out_dir)
     b = build_finger_model(fp)
     ex.write_outputs(out_dir, render_finger_files(b, png=png), remove=("finger.png",))

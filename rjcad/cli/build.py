@@ -26,7 +26,7 @@ FIELDS = requirement(
 
 
 def _outputs(out_dir: str, stem: str, no_png: bool) -> str:
-    return f"{out_dir}/{stem}.{{stl,3mf,step{'' if no_png else ',png'},json}}"
+    return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json}}"
 
 
 def _springs(n: int) -> str:
@@ -43,7 +43,7 @@ def _bodies(m: dict) -> tuple[str, str, str]:
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
-    """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
+    """Build the one-piece joint module: STL, 3MF, STEP, GLB, PNG preview and JSON manifest."""
     from rjcad.outputs import check_writable
     from rjcad.params import JointParams
 
