@@ -207,8 +207,9 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     }
     t1 = time.perf_counter()
     files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
-    files[f"{name}.glb"] = ex.glb_bytes(b.meshes, JOINT_COLOURS)
     t2 = time.perf_counter()
+    files[f"{name}.glb"] = ex.glb_bytes(b.meshes, JOINT_COLOURS)
+    t3 = time.perf_counter()
     if png:
         files[f"{name}.png"] = ex.preview_png(
             b.meshes,
@@ -216,8 +217,8 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
             lines=[tendon_polyline(p)], colours=JOINT_COLOURS,
             sections=preview_sections(p))
-    t3 = time.perf_counter()
-    b.timings.update({"stl_3mf_s": t1 - t0, "step_glb_s": t2 - t1, "png_s": t3 - t2})
+    t4 = time.perf_counter()
+    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "glb_s": t3 - t2, "png_s": t4 - t3})
     files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
 
