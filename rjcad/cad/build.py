@@ -330,9 +330,15 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
             ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0))]
 
 
-def write_finger(fp, out_dir: str | Path, png: bool = True) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,glb,png,json} into ``out_dir`` (as one set)."""
+def write_finger(fp, out_dir: str | Path, png: bool = True, more=None) -> FingerBuild:
+    """Build the finger and write finger.{stl,3mf,step,glb,png,json} into ``out_dir`` (as one set).
+
+    ``more(build, files)``, if given, returns further files of the set (``rjcad finger --html``: finger.html);
+    without it, a finger.html of an earlier run is removed with the set's other stale files."""
     check_writable(out_dir)
     b = build_finger_model(fp)
-    ex.write_outputs(out_dir, render_finger_files(b, png=png), remove=("finger.png",))
+    files = render_finger_files(b, png=png)
+    if more is not None:
+        files.update(more(b, files))
+    ex.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
     return b

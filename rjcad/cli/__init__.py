@@ -32,7 +32,7 @@ from rjcad.errors import RjcadError
 #: Command name → ``module:attribute`` in rjcad.cli; a command's module is imported only when it runs
 #: (or when ``--help`` lists them all), so a command pays only for its own imports.
 COMMANDS = {
-    "spring": "spring:spring", "joint": "build:joint", "finger": "build:finger",
+    "spring": "spring:spring", "joint": "build:joint", "finger": "build:finger", "view": "view:view",
     "sweep": "sweep:sweep", "check": "check:check", "simulate": "simulate:simulate",
     "finger-design": "simulate:finger_design", "paper-finger": "simulate:paper_finger", "life": "life:life",
     "bench": "identify:bench", "identify": "identify:identify",

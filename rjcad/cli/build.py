@@ -25,8 +25,18 @@ FIELDS = requirement(
 )
 
 
-def _outputs(out_dir: str, stem: str, no_png: bool) -> str:
-    return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json}}"
+def _outputs(out_dir: str, stem: str, no_png: bool, html: bool = False) -> str:
+    return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json{',html' if html else ''}}}"
+
+
+def _viewer(b, files: dict) -> dict:
+    """finger.html for ``rjcad finger --html``: ``rjcad view``'s page at its defaults."""
+    from rjcad.cli.view import DEFAULT_STEPS
+    from rjcad.paper import FINGER
+    from rjcad.view import viewer_html
+
+    return {"finger.html": viewer_html(b.manifest.to_json(), files["finger.glb"], "rjcad finger: finger.json",
+                                       FINGER.stroke, DEFAULT_STEPS)}
 
 
 def _springs(n: int) -> str:
@@ -76,7 +86,8 @@ def print_joint(m: dict) -> None:
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
-def finger(template, out_dir, no_png):
+@click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
+def finger(template, out_dir, no_png, html):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
     from rjcad.cad.finger import FingerParams
@@ -85,11 +96,15 @@ def finger(template, out_dir, no_png):
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     check_writable(out_dir)
+    if html:
+        from rjcad.view import vendored_three
+
+        vendored_three()  # a missing three.js is said before the build
     from rjcad.cad.build import write_finger
 
-    b = write_finger(fp, out_dir, png=not no_png)
+    b = write_finger(fp, out_dir, png=not no_png, more=_viewer if html else None)
     m = b.manifest
-    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
+    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
                f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)")
     print_finger(m)
 
