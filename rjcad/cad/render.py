@@ -86,9 +86,12 @@ def _actor(V, source, colour: str, *, width: float = 0.0, port=None, diffuse: fl
     prop.SetAmbient(0.25)
     prop.SetDiffuse(diffuse)
     prop.SetSpecular(0.15)
-    if width:
+    if width:  # an unlit line in its exact colour
         prop.SetLineWidth(width)
         prop.LightingOff()
+        prop.SetAmbient(0.0)
+        prop.SetDiffuse(1.0)
+        prop.SetSpecular(0.0)
     return actor
 
 
@@ -199,7 +202,7 @@ def preview_png(meshes: dict, title: str, lines=(), colours: dict[str, str] | No
     head = V.vtkRenderer()
     head.SetViewport(0, top, 1, 1)
     head.SetBackground(1, 1, 1)
-    head.AddActor2D(_text(V, title, 17, y=0.85))
+    head.AddViewProp(_text(V, title, 17, y=0.85))
     win.AddRenderer(head)
     for k in range(n):
         r, c = divmod(k, cols)
@@ -213,7 +216,7 @@ def preview_png(meshes: dict, title: str, lines=(), colours: dict[str, str] | No
         else:
             label, origin, normal = sections[k - 1]
             section_panel(V, ren, meshes, colours, lines, origin, normal, bounds)
-            ren.AddActor2D(_text(V, label, 13))
+            ren.AddViewProp(_text(V, label, 13))
         win.AddRenderer(ren)
     return _png(V, win)
 
@@ -237,8 +240,8 @@ def _legend(V, ren, colours: dict[str, str], tendon: bool) -> None:
     """Body names in their colours (and 'tendon' in red), top left of the isometric panel."""
     entries = list(colours.items()) + ([("tendon", TENDON)] if tendon else [])
     for i, (name, colour) in enumerate(entries):
-        ren.AddActor2D(_text(V, f"■ {name}", 14, rgb(colour), x=0.02, y=0.97 - 0.045 * i, bold=True))
-    ren.AddActor2D(_text(V, "isometric", 14, y=0.97))
+        ren.AddViewProp(_text(V, f"■ {name}", 14, rgb(colour), x=0.02, y=0.97 - 0.045 * i, bold=True))
+    ren.AddViewProp(_text(V, "isometric", 14, y=0.97))
 
 
 def _png(V, win) -> bytes:
