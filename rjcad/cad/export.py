@@ -179,13 +179,15 @@ def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.n
 
 def glb_bytes(meshes: dict[str, trimesh.Trimesh], colours: dict[str, str] | None = None) -> bytes:
     """A binary glTF (GLB) of the bodies, one named node and mesh each, at their modelled positions [mm];
-    each body's material in its preview colour. Web and AR viewers read it (and ``rjcad view`` embeds it)."""
+    each body's material in its preview colour (linear, as glTF says). Web and AR viewers read it (and ``rjcad
+    view`` embeds it)."""
     from rjcad.cad.render import PALETTE, rgb
 
     scene = trimesh.Scene()
     for i, (name, m) in enumerate(meshes.items()):
         colour = (colours or {}).get(name, PALETTE[i % len(PALETTE)])
-        mat = trimesh.visual.material.PBRMaterial(name=name, baseColorFactor=[*rgb(colour), 1.0],
+        linear = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb(colour)]  # glTF: linear
+        mat = trimesh.visual.material.PBRMaterial(name=name, baseColorFactor=[*linear, 1.0],
                                                   metallicFactor=0.0, roughnessFactor=0.7)
         body = trimesh.Trimesh(m.vertices, m.faces, process=False,
                                visual=trimesh.visual.TextureVisuals(material=mat))
