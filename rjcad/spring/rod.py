@@ -48,6 +48,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import solve_banded
+from scipy.spatial import cKDTree
 
 TWO_PI = 2.0 * math.pi
 _BW = 5  # half-bandwidth of the global stiffness (3 dofs/node, 2 nodes/element)
@@ -104,13 +106,6 @@ def _scatter(fe, n_nodes):
     g[: 3 * (n_nodes - 1)] += fe[:, :3].ravel()
     g[3:] += fe[:, 3:].ravel()
     return g
-
-
-def _solve_banded():
-    """``scipy.linalg.solve_banded``, imported on first use (scipy takes longer to import than a cached verdict)."""
-    from scipy.linalg import solve_banded
-
-    return solve_banded
 
 
 def _band(ke, n_nodes, fixed):
@@ -204,7 +199,7 @@ def _newton(X0, U, lam, f_ext, fixed, target, EA, EI, tol, max_iter):
             r -= _scatter(np.einsum("eij,ej->ei", ke, np.concatenate([dp[:-1], dp[1:]], axis=1)), n)
         r[fixed] = du_p[fixed] if it == 1 else 0.0
         try:
-            du = _solve_banded()((_BW, _BW), _band(ke, n, fixed), r, check_finite=False)
+            du = solve_banded((_BW, _BW), _band(ke, n, fixed), r, check_finite=False)
         except (np.linalg.LinAlgError, ValueError):
             return None
         if not np.all(np.isfinite(du)) or np.abs(du[2::3]).max(initial=0) > 1.0:
@@ -323,8 +318,6 @@ def _curve_distance(P, X, tang, seg):
 
 def _nearest_gap(P, X, tang, aP=None, aX=None, k=16):
     """Per point of P: distance to the curve through X, skipping nodes with |aP − aX| < π."""
-    from scipy.spatial import cKDTree  # imported on first use: scipy is slow to import
-
     d, j = cKDTree(X).query(P, k=min(k, len(X)))
     if aP is not None:
         d = np.where(np.abs(aP[:, None] - aX[j]) < math.pi, np.inf, d)
