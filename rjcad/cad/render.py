@@ -160,16 +160,26 @@ def section_panel(V, ren, meshes: dict, colours: dict[str, str], lines, origin, 
         dense = _dashes(pts, max(0.5, float(np.ptp(bounds, axis=0).max()) / 120))
         ren.AddActor(_actor(V, polydata(V, dense, lines=np.arange(len(dense)).reshape(-1, 2)), TENDON,
                             width=1.5))
-    cam = ren.GetActiveCamera()
+    _look_along(ren.GetActiveCamera(), nrm, org, bounds)
+    ren.ResetCameraClippingRange()
+
+
+def _look_along(cam, nrm: np.ndarray, org: np.ndarray, bounds: np.ndarray) -> None:
+    """Orthographic camera onto the section plane, +X (or +Y) to the right, framing the bodies' extent."""
+    up = np.array([0.0, 1.0, 0.0]) if abs(nrm[2]) > 0.5 else np.array([0.0, 0.0, 1.0])
+    side = -1.0 if abs(nrm[1]) > 0.5 else 1.0  # a y-section seen from -Y keeps +X to the right
+    right = np.cross(-side * nrm, up)
     lo, hi = bounds
     centre = (lo + hi) / 2
     centre = centre - ((centre - org) @ nrm) * nrm
+    span = float(np.ptp(bounds, axis=0).max()) + 10
     cam.SetFocalPoint(*centre)
-    cam.SetPosition(*(centre + nrm * float(np.ptp(bounds, axis=0).max() + 10)))
-    cam.SetViewUp(*((0, 1, 0) if abs(nrm[2]) > 0.5 else (0, 0, 1)))
+    cam.SetPosition(*(centre + side * nrm * span))
+    cam.SetViewUp(*up)
     cam.ParallelProjectionOn()
-    ren.ResetCamera()
-    ren.ResetCameraClippingRange()
+    half_w, half_h = np.abs(right) @ (hi - lo) / 2, up @ (hi - lo) / 2
+    cam.SetParallelScale(1.12 * max(half_h, half_w * PANEL[1] / PANEL[0]) + 1.0)
+    cam.SetClippingRange(0.1, 2 * span)
 
 
 def _dashes(pts: np.ndarray, dash: float) -> np.ndarray:
