@@ -2,11 +2,12 @@
 module in the same run when it is installed.
 
 Times the median of --repeats runs (after one untimed warm-up) of: `rjcad joint --out DIR` (every output),
-`rjcad finger --out DIR`, `rjcad spring --config templates/spring.toml` (the paper's joint, fully verified), `rjcad check` on the default
-joint, `python -c "import rjcad.cli"`; `openscad -o knuckle.stl benchmarks/knuckle.scad` (a two-body knuckle
-with two spiral springs of the default spring's size, tessellated as finely as rjcad's meshes) if `openscad` is
-on PATH, with the ratio openscad / rjcad joint. In process: the default joint's build + STL + STEP (no preview),
-and its ratio to OpenSCAD.
+`rjcad finger --out DIR`, `rjcad spring --config templates/spring.toml` (the paper's joint, fully verified),
+`rjcad check` on the default joint, `python -c "import rjcad.cli"`; and `openscad -o knuckle.stl
+benchmarks/knuckle.scad` (a two-body knuckle with two spiral springs of the default spring's size, tessellated
+as finely as rjcad's meshes) if `openscad` is on PATH, with the ratio openscad / rjcad joint, in wall time and
+in CPU time (user + system; steadier when other work shares the machine: the load average is reported). In
+process: the default joint's build + STL + STEP (no preview), and its ratio to OpenSCAD.
 Targets: rjcad joint >= 2x faster than OpenSCAD end to end; rjcad spring <= 1 s; build + STL + STEP <= 0.5 s
 (>= 10x OpenSCAD).
 Run: .venv/bin/python benchmarks/cli.py [--repeats 5] [--quick]   (--quick: one run, no finger, no OpenSCAD)
@@ -15,6 +16,8 @@ Run: .venv/bin/python benchmarks/cli.py [--repeats 5] [--quick]   (--quick: one 
 from __future__ import annotations
 
 import argparse
+import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -33,17 +36,23 @@ def rjcad(*args: str) -> list[str]:
     return [sys.executable, "-m", "rjcad", *args]
 
 
-def run(argv: list[str]) -> None:
-    """Run ``argv`` from the repository's root; a failure stops the benchmark with its stderr."""
+def run(argv: list[str]) -> float:
+    """Run ``argv`` from the repository's root; its CPU seconds (user + system). A failure stops the benchmark."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     r = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True)
     if r.returncode != 0:
         raise SystemExit(f"{' '.join(argv)} failed ({r.returncode}): {r.stderr[-2000:]}")
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
 
 def process_times(argv: list[str], repeats: int) -> dict:
-    """Median and every wall time [s] of ``repeats`` runs of ``argv`` as a new process, after one warm-up."""
-    times = [t for t, _ in timed_runs(lambda: run(argv), repeats)]
-    return {"median_s": statistics.median(times), "runs_s": times}
+    """Median and every wall time [s] of ``repeats`` runs of ``argv`` as a new process, after one warm-up; and
+    the median CPU seconds (a check on the wall times when other work shares the machine)."""
+    runs = timed_runs(lambda: run(argv), repeats)
+    times = [t for t, _ in runs]
+    return {"median_s": statistics.median(times), "runs_s": times,
+            "median_cpu_s": statistics.median(cpu for _, cpu in runs)}
 
 
 def in_process_build_stl_step(repeats: int) -> float:
@@ -86,6 +95,10 @@ def main() -> None:
     out.update({
         "in_process_build_stl_step_s": build_s,
         "ratio_openscad_over_rjcad_joint": ratio,
+        "ratio_openscad_over_rjcad_joint_cpu": (out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"]
+                                                if osc else None),
+        "load_average_1min": os.getloadavg()[0],
+        "cpus": os.cpu_count(),
         "ratio_openscad_over_in_process_build_stl_step": osc / build_s if osc else None,
         "repeats": n,
         "targets": {
