@@ -73,8 +73,12 @@ def test_light_commands_import_no_cad_no_plotting(root, tmp_path):
     assert not sim & (HEAVY | {"scipy", "numba"}), sim & (HEAVY | {"scipy", "numba"})
 
 
-def test_the_joint_build_imports_no_matplotlib(root, tmp_path):
-    """The preview is VTK's (already loaded by CadQuery): building and rendering a joint loads no matplotlib."""
+def test_the_joint_build_imports_no_matplotlib_and_check_no_cad(root, tmp_path):
+    """The preview is VTK's (already loaded by CadQuery): building and rendering a joint loads no matplotlib;
+    checking it loads no CAD kernel, VTK or matplotlib."""
     mods = imported(root, tmp_path, "joint", "--out", str(tmp_path / "joint"))
     assert "cadquery" in mods and "vtkmodules" in mods and "matplotlib" not in mods
     assert (tmp_path / "joint" / "joint.png").stat().st_size > 10_000
+    check = imported(root, tmp_path, "check", str(tmp_path / "joint" / "joint.3mf"), "--manifest",
+                     str(tmp_path / "joint" / "joint.json"))
+    assert "trimesh" in check and not check & {"cadquery", "OCP", "vtk", "vtkmodules", "matplotlib"}
