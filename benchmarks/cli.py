@@ -49,7 +49,7 @@ def run(argv: list[str]) -> float:
 def process_times(argv: list[str], repeats: int) -> dict:
     """Median and every wall time [s] of ``repeats`` runs of ``argv`` as a new process, after one warm-up; and
     the median CPU seconds (a check on the wall times when other work shares the machine)."""
-    runs = timed_runs(lambda: run(argv), repeats)
+    runs = timed_runs(lambda: run(argv), repeats, warmup=1 if repeats > 1 else 0)  # --quick: no warm-up
     times = [t for t, _ in runs]
     return {"median_s": statistics.median(times), "runs_s": times,
             "median_cpu_s": statistics.median(cpu for _, cpu in runs)}
@@ -66,7 +66,7 @@ def in_process_build_stl_step(repeats: int) -> float:
         ex.stl_bytes(list(b.meshes.values()))
         ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, "joint")
 
-    return median_time(once, repeats, setup=JointParams)[0]
+    return median_time(once, repeats, warmup=1 if repeats > 1 else 0, setup=JointParams)[0]
 
 
 def main() -> None:
