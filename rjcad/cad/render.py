@@ -3,7 +3,8 @@
 VTK comes with CadQuery's OCP (``import cadquery`` already loads it), so the preview costs a render, not
 an import. The window is off-screen: EGL (Mesa's software rasteriser when there is no GPU) unless
 ``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display is needed. One window holds every panel
-(a viewport each): the isometric view (bodies in their colours, the tendon as a red tube), then each
+(a viewport each): the isometric view (bodies in their colours, the tendon as a red tube, dashed on an
+overlay where a body hides it), then each
 section (label, point, normal) as the bodies' cut outlines seen along the normal, the tendon dashed.
 Units: mm in, pixels out.
 """
@@ -250,7 +251,7 @@ def _legend(V, ren, colours: dict[str, str], tendon: bool) -> None:
     """Body names in their colours (and 'tendon' in red), top left of the isometric panel."""
     entries = list(colours.items()) + ([("tendon", TENDON)] if tendon else [])
     for i, (name, colour) in enumerate(entries):
-        ren.AddViewProp(_text(V, f"■ {name}", 14, rgb(colour), x=0.02, y=0.97 - 0.045 * i, bold=True))
+        ren.AddViewProp(_text(V, name, 14, rgb(colour), x=0.02, y=0.97 - 0.045 * i, bold=True))
     ren.AddViewProp(_text(V, "isometric", 14, y=0.97))
 
 
