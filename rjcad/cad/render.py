@@ -11,6 +11,7 @@ Units: mm in, pixels out.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 
@@ -30,6 +31,7 @@ def rgb(colour: str) -> tuple[float, float, float]:
     return tuple(int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
 
 
+@functools.cache
 def _vtk():
     """The VTK modules the preview uses (imported on first use; registers the OpenGL and font back ends)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
