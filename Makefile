@@ -5,14 +5,29 @@ VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
 
-.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc
+.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
+
+# three.js for `rjcad view`'s pages, from the npm registry (pinned; MIT licence kept beside it); not committed.
+THREE_VERSION ?= 0.170.0
+VENDOR = rjcad/data/vendor
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "rjcad needs Python >= 3.11"'
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -e '.[test]'
+	$(MAKE) --no-print-directory vendor || echo "warning: could not fetch three.js (npm); rjcad view will say so"
 	touch $@
+
+vendor: $(VENDOR)/three.module.min.js
+
+$(VENDOR)/three.module.min.js:
+	mkdir -p $(VENDOR)
+	tmp=$$(mktemp -d) && trap 'rm -rf "$$tmp"' EXIT && \
+	  (cd "$$tmp" && npm pack --silent three@$(THREE_VERSION) >/dev/null) && \
+	  tar -xzf "$$tmp/three-$(THREE_VERSION).tgz" -C "$$tmp" package/build/three.module.min.js package/LICENSE && \
+	  cp "$$tmp/package/LICENSE" $(VENDOR)/three.LICENSE && \
+	  cp "$$tmp/package/build/three.module.min.js" $@.tmp && mv $@.tmp $@
 
 demo: $(VENV)/.installed
 	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger
@@ -20,7 +35,7 @@ demo: $(VENV)/.installed
 # regenerate the images the README shows
 docs-images: $(VENV)/.installed
 	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
-	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger
+	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger --html
 	mkdir -p docs && cp out/joint/joint.png docs/joint.png && cp out/finger/finger.png docs/finger.png
 
 test: $(VENV)/.installed

@@ -20,6 +20,10 @@ BENCHMARKS = {
                "big_check_peak_rss_gb"},
               {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s",
                "big_check_s", "big_check_peak_rss_gb"}),
+    "cli": ({"import_cli", "joint", "finger", "spring", "check", "openscad", "openscad_version",
+             "in_process_build_stl_step_s", "ratio_openscad_over_rjcad_joint",
+             "ratio_openscad_over_in_process_build_stl_step", "repeats"},
+            {"ratio_openscad_over_rjcad_joint", "spring_s", "in_process_build_stl_step_s"}),
     "finger": ({"median_build_s", "median_build_tessellate_measure_s", "ratio_time_n_over_n_time_1",
                 "ratio_full_n_over_n_full_1", "repeats"},
                {"worst_ratio_time_n_over_n_time_1"}),
@@ -114,7 +118,14 @@ def check_check(d):
     assert d["targets"]["big_check_s"]["value"] is None  # quick: far below 1.5 M triangles
 
 
-EXTRA = {"identify": check_identify, "physics": check_physics, "finger": check_finger, "check": check_check}
+def check_cli(d):
+    for command in ("import_cli", "joint", "spring", "check"):
+        assert d[command]["median_s"] > 0 and len(d[command]["runs_s"]) == d["repeats"]
+    assert d["openscad"] is None and d["targets"]["ratio_openscad_over_rjcad_joint"]["value"] is None  # quick
+
+
+EXTRA = {"cli": check_cli, "identify": check_identify, "physics": check_physics, "finger": check_finger,
+         "check": check_check}
 
 
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))

@@ -1,10 +1,13 @@
 """The default finger (the paper's): built once through the CLI, checked as a printer and a user need it."""
 
+import importlib.resources
+import io
 import itertools
 import json
 import math
 import shutil
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,15 +17,17 @@ from rjcad.cad.finger import DEFAULT_FINGER, FingerParams, PAPER_FINGER
 from rjcad.finger_lengths import shortest_lengths
 from rjcad.cad.joint import LEAD_IN
 from rjcad.cli import main
+from rjcad.view import THREE_FILE
 
 DEG = math.pi / 180
+THREE = (importlib.resources.files("rjcad") / "data" / "vendor" / THREE_FILE).is_file()
 
 
 @pytest.fixture(scope="module")
 def default_finger(tmp_path_factory, root):
     out = tmp_path_factory.mktemp("finger")
-    with pytest.raises(SystemExit) as e:
-        main(["finger", str(root / "templates" / "finger.toml"), "--out", str(out)])
+    with pytest.raises(SystemExit) as e:  # with the viewer when three.js is vendored (make vendor)
+        main(["finger", str(root / "templates" / "finger.toml"), "--out", str(out), *(["--html"] if THREE else [])])
     assert e.value.code == 0
     manifest = json.loads((out / "finger.json").read_text())
     bodies = load_bodies(out / "finger.stl")
@@ -51,7 +56,7 @@ def test_default_finger_links_are_the_shortest_whole_mm_and_the_paper_finger_kee
 
 def test_outputs(default_finger):
     out = default_finger[0]
-    for ext in ("stl", "3mf", "step", "png", "json"):
+    for ext in ("stl", "3mf", "step", "glb", "png", "json", *(["html"] if THREE else [])):
         assert (out / f"finger.{ext}").stat().st_size > 1000, ext
 
 
@@ -241,3 +246,88 @@ def test_the_physics_runs_on_the_desktop_finger_manifest(default_finger, capsys)
     d = _json.loads(capsys.readouterr().out)
     theta = np.array(d["theta_deg"])
     assert theta.shape[0] == 3 and theta.max() > 10.0 and theta.min() >= -1e-6
+
+
+# ---------------------------------------------------------------- the viewer, in a real browser
+
+ARTEFACTS = Path(__file__).resolve().parents[1] / "out" / "test-artifacts"
+BODY_COLOURS = ("#9aa5b1", "#3b82c4", "#e0a33a", "#6aa84f")  # base, link1, link2, distal (the GLB's palette)
+
+
+def chromium_page(pw):
+    """Debian's Chromium (never Playwright's own download), software WebGL, no network: every request that
+    is not the file itself or a data: URL is aborted and recorded."""
+    browser = pw.chromium.launch(executable_path=shutil.which("chromium"),
+                                 args=["--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+    context = browser.new_context(offline=True, viewport={"width": 960, "height": 720})
+    blocked: list[str] = []
+
+    def route(r):
+        if r.request.url.startswith(("file:", "data:")):
+            r.continue_()
+        else:
+            blocked.append(r.request.url)
+            r.abort()
+
+    context.route("**/*", route)
+    return browser, context.new_page(), blocked
+
+
+def canvas_rgb(page) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(page.locator("canvas").screenshot())).convert("RGB")).astype(int)
+
+
+def colour_mask(img: np.ndarray, colour: str, tol: float = 0.05) -> np.ndarray:
+    """Pixels whose chromaticity (r, g, b)/(r+g+b) is ``colour``'s (shading keeps it), not grey background."""
+    c = np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    s = img.sum(axis=-1, keepdims=True)
+    return (np.abs(img / np.maximum(s, 1) - c / c.sum()).max(axis=-1) < tol) & (img.std(axis=-1) > 6) & \
+        (s[..., 0] > 60)
+
+
+@pytest.mark.skipif(not THREE, reason="three.js not vendored (make vendor: npm pack three)")
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium not installed (apt-get install chromium)")
+def test_viewer_in_chromium_offline(default_finger, tmp_path, capsys):
+    """`rjcad view` writes the same page as `rjcad finger --html`; opened from disk in Chromium with the network
+    off, the model loads, the canvas shows every body, the slider at full stroke moves the distal link and the
+    page's angles are the physics' (`rjcad simulate finger MANIFEST --json`) within 0.1°."""
+    sync_playwright = pytest.importorskip("playwright.sync_api").sync_playwright
+    out, manifest, *_ = default_finger
+    page_file = tmp_path / "view.html"
+    with pytest.raises(SystemExit) as e:
+        main(["view", str(out / "finger.json"), "--out", str(page_file)])
+    assert e.value.code == 0
+    assert page_file.read_bytes() == (out / "finger.html").read_bytes()
+    capsys.readouterr()
+    with pytest.raises(SystemExit):
+        main(["simulate", "finger", str(out / "finger.json"), "--json"])
+    physics = json.loads(capsys.readouterr().out)
+    steps = 500  # rjcad simulate finger's default, and the viewer's
+    end = [physics["theta_deg"][i][steps] for i in range(len(manifest["joints"]))]
+    assert physics["tendon_mm"][steps] == 25.0
+    with sync_playwright() as pw:
+        browser, page, blocked = chromium_page(pw)
+        errors: list[str] = []
+        page.on("pageerror", lambda err: errors.append(str(err)))
+        page.goto(page_file.as_uri())
+        page.wait_for_function("window.rjcad && window.rjcad.ready === true", timeout=60_000)
+        assert page.evaluate("window.rjcad.bodies") == [b["name"] for b in manifest["bodies"]]
+        rest = canvas_rgb(page)
+        slider = page.locator("#stroke")
+        slider.fill(slider.get_attribute("max"))
+        closed = canvas_rgb(page)
+        angles = page.evaluate("window.rjcad.angles_deg")
+        shown = page.locator("#readout").inner_text()
+        ARTEFACTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(ARTEFACTS / "viewer_full_stroke.png"))
+        browser.close()
+    assert not errors and not blocked, (errors, blocked)
+    assert rest.std() > 10 and closed.std() > 10  # not blank
+    for colour in BODY_COLOURS:
+        assert colour_mask(rest, colour).mean() > 0.002, colour
+    distal = [np.argwhere(colour_mask(img, BODY_COLOURS[3])).mean(axis=0) for img in (rest, closed)]
+    assert np.linalg.norm(distal[1] - distal[0]) > 40  # the distal link's centroid moved by > 40 px
+    assert np.abs(np.array(angles) - np.array(end)).max() < 0.1, (angles, end)
+    assert "tension" in shown and f"{end[-1]:.2f}" in shown

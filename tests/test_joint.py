@@ -33,9 +33,44 @@ def by_name(manifest, bodies):
 
 def test_all_outputs_written(default_joint):
     out, _, _ = default_joint
-    for ext in ("stl", "3mf", "step", "png", "json"):
+    for ext in ("stl", "3mf", "step", "glb", "png", "json"):
         assert (out / f"joint.{ext}").stat().st_size > 1000, ext
     assert not list(out.glob("*.tmp")) and not list(out.glob(".*"))
+
+
+def test_preview_shows_both_bodies_and_the_tendon_and_the_glb_holds_the_stl_meshes(default_joint):
+    """The rendered preview (off-screen, no display): not blank, each body's colour in the shaded view and in the
+    sections, the tendon drawn; the GLB's bodies are the STL's triangles (one tessellation, reused)."""
+    import io
+
+    import numpy as np
+    import trimesh
+    from PIL import Image
+
+    from rjcad.cad.build import JOINT_COLOURS
+    from rjcad.cad.render import PANEL, TENDON, TITLE_PX, rgb
+
+    out, manifest, bodies = default_joint
+    img = np.asarray(Image.open(out / "joint.png").convert("RGB")).astype(int)
+    assert img.std() > 10
+    view = img[TITLE_PX:TITLE_PX + PANEL[1], :PANEL[0]]
+    sections = img[TITLE_PX:, PANEL[0]:]
+    for colour in (*JOINT_COLOURS.values(), TENDON):
+        c = np.array(rgb(colour))
+        chrom = view / np.maximum(view.sum(axis=-1, keepdims=True), 1)
+        shaded = (np.abs(chrom - c / c.sum()).max(axis=-1) < 0.03) & (view.std(axis=-1) > 4)
+        assert shaded.mean() > (0.0005 if colour == TENDON else 0.01), colour  # the tendon: a thin line
+        exact = np.all(sections == np.round(255 * c).astype(int), axis=-1)
+        assert exact.sum() > 200, colour
+    scene = trimesh.load(io.BytesIO((out / "joint.glb").read_bytes()), file_type="glb", process=False)
+    assert sorted(scene.geometry) == ["ground", "moving"]
+
+    def rows(meshes):  # every triangle's 9 coordinates, rows sorted: the same set whatever the order
+        t = np.round(np.vstack([m.triangles.reshape(-1, 9) for m in meshes]), 4)
+        return t[np.lexsort(t.T[::-1])]
+
+    glb, stl = rows(scene.geometry.values()), rows(bodies)
+    assert glb.shape == stl.shape and np.allclose(glb, stl, atol=2e-4)
 
 
 def test_two_watertight_manifold_bodies(default_joint):

@@ -1,4 +1,4 @@
-"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,png,json}."""
+"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,glb,png,json}."""
 
 from __future__ import annotations
 
@@ -23,6 +23,9 @@ from rjcad.manifest import BodyEntry, JointEntry, Manifest
 from rjcad.mesh import to_manifold
 from rjcad.outputs import check_writable
 from rjcad.params import KEY_ENGAGEMENT, JointParams
+
+#: The joint's body colours (preview and GLB).
+JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
 
 GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
              "max(clearance, the printer's vertical minimum)")
@@ -208,21 +211,23 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     t1 = time.perf_counter()
     files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
     t2 = time.perf_counter()
+    files[f"{name}.glb"] = ex.glb_bytes(b.meshes, JOINT_COLOURS)
+    t3 = time.perf_counter()
     if png:
         files[f"{name}.png"] = ex.preview_png(
             b.meshes,
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
-            lines=[tendon_polyline(p)], colours={"ground": "#9aa5b1", "moving": "#3b82c4"},
+            lines=[tendon_polyline(p)], colours=JOINT_COLOURS,
             sections=preview_sections(p))
-    t3 = time.perf_counter()
-    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "png_s": t3 - t2})
+    t4 = time.perf_counter()
+    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "glb_s": t3 - t2, "png_s": t4 - t3})
     files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
     return files
 
 
 def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointBuild:
-    """Build the joint and write joint.stl, .3mf, .step, .png and .json into ``out_dir`` (as one set)."""
+    """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set)."""
     check_writable(out_dir)
     b = build(p)
     files = render_files(b, "joint", png=png)
@@ -289,12 +294,13 @@ def build_finger_model(fp) -> FingerBuild:
 
 def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False,
                         gravity=None) -> dict[str, bytes | str]:
-    """finger.stl/.3mf/.step/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
+    """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": ex.stl_bytes(list(b.meshes.values())),
         "finger.3mf": ex.threemf_bytes(b.meshes, "finger"),
         "finger.step": ex.step_bytes(b.solids, "finger"),
+        "finger.glb": ex.glb_bytes(b.meshes),
     }
     t1 = time.perf_counter()
     if png:
@@ -332,10 +338,17 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
             ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0))]
 
 
-def write_finger(fp, out_dir: str | Path, png: bool = True, mjcf: bool = False, gravity=None) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,png,json} (and with ``mjcf`` finger.xml and one STL per
-    body) into ``out_dir`` (as one set)."""
+def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False,
+                 gravity=None) -> FingerBuild:
+    """Build the finger and write finger.{stl,3mf,step,glb,png,json} (and with ``mjcf`` finger.xml and one STL per
+    body) into ``out_dir`` (as one set).
+
+    ``more(build, files)``, if given, returns further files of the set (``rjcad finger --html``: finger.html);
+    without it, a finger.html of an earlier run is removed with the set's other stale files."""
     check_writable(out_dir)
     b = build_finger_model(fp)
-    ex.write_outputs(out_dir, render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity), remove=("finger.png",))
+    files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
+    if more is not None:
+        files.update(more(b, files))
+    ex.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
     return b

@@ -1,4 +1,4 @@
-"""Meshes, measurements on the built geometry, and atomic STL/3MF/STEP/PNG/JSON export."""
+"""Meshes, measurements on the built geometry, and atomic STL/3MF/STEP/GLB/PNG/JSON export."""
 
 from __future__ import annotations
 
@@ -16,7 +16,6 @@ import trimesh
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from rjcad.outputs import write_set
-from rjcad.plotting import png_bytes, pyplot
 
 #: Tessellation: absolute chord deviation [mm] and angular deflection [rad].
 #: A 0.1 rad angle keeps the sagitta on a 2 mm pin at 2·(1 − cos 0.05) = 2.5 µm,
@@ -171,61 +170,29 @@ def step_bytes(solids: dict[str, cq.Shape], name: str) -> bytes:
 def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.ndarray] = (),
                 colours: dict[str, str] | None = None,
                 sections: list[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = ()) -> bytes:
-    """Preview: a shaded isometric view plus plane sections (label, origin, normal); PNG bytes."""
-    plt = pyplot()
-    import matplotlib
-    from matplotlib.collections import LineCollection
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    """Preview: a shaded, depth-correct isometric view plus plane sections (label, origin, normal); PNG bytes
+    (rendered off-screen by ``rjcad.cad.render``)."""
+    from rjcad.cad.render import preview_png as render
 
-    palette = ["#9aa5b1", "#3b82c4", "#e0a33a", "#6aa84f", "#b45f9e", "#cc4125", "#45818e"]
-    colours = {name: (colours or {}).get(name, palette[i % len(palette)]) for i, name in enumerate(meshes)}
-    n_panels = 1 + len(sections)
-    cols = 2 if n_panels > 1 else 1
-    rows = math.ceil(n_panels / cols)
-    fig = plt.figure(figsize=(7 * cols, 5.5 * rows), dpi=100)
-    light = np.array([0.3, -0.5, 0.8])
-    light /= np.linalg.norm(light)
-    allv = np.vstack([m.vertices for m in meshes.values()])
-    lo, hi = allv.min(axis=0), allv.max(axis=0)
-    centre, span = (lo + hi) / 2, float((hi - lo).max())
+    return render(meshes, title, lines, colours, sections)
 
-    ax = fig.add_subplot(rows, cols, 1, projection="3d")
-    for name, m in meshes.items():
-        base = np.array(matplotlib.colors.to_rgb(colours[name]))
-        shade = 0.45 + 0.55 * np.clip(m.face_normals @ light, 0, 1)
-        ax.add_collection3d(Poly3DCollection(m.triangles, facecolors=np.clip(base * shade[:, None], 0, 1),
-                                             edgecolors="none", linewidths=0))
-    for pts in lines:
-        ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], color="#d62728", lw=1.5)
-    for a, c in zip("xyz", centre):
-        getattr(ax, f"set_{a}lim")(c - span / 2, c + span / 2)
-    ax.set_box_aspect((1, 1, 1))
-    ax.view_init(elev=28, azim=-60)
-    ax.set_title("isometric")
-    for k, (label, origin, normal) in enumerate(sections):
-        ax = fig.add_subplot(rows, cols, k + 2)
-        nrm = np.asarray(normal, dtype=float)
-        keep = [i for i in range(3) if abs(nrm[i]) < 0.5]  # the two in-plane axes
-        for name, m in meshes.items():
-            segs = trimesh.intersections.mesh_plane(m, nrm, np.asarray(origin, dtype=float))
-            if len(segs):
-                ax.add_collection(LineCollection(segs[:, :, keep], colors=colours[name], linewidths=0.8))
-        for pts in lines:
-            ax.plot(pts[:, keep[0]], pts[:, keep[1]], color="#d62728", lw=1.0, ls="--")
-        ax.set_xlim(lo[keep[0]] - 1, hi[keep[0]] + 1)
-        ax.set_ylim(lo[keep[1]] - 1, hi[keep[1]] + 1)
-        ax.set_aspect("equal")
-        ax.set_xlabel("xyz"[keep[0]] + " [mm]")
-        ax.set_ylabel("xyz"[keep[1]] + " [mm]")
-        ax.set_title(label, fontsize=10)
-        ax.grid(alpha=0.3)
-    handles = [plt.Line2D([], [], color=c, lw=3, label=n) for n, c in colours.items()]
-    if lines:
-        handles.append(plt.Line2D([], [], color="#d62728", lw=1.5, label="tendon"))
-    fig.legend(handles=handles, loc="upper right")
-    fig.suptitle(title)
-    fig.tight_layout()
-    return png_bytes(fig)
+
+def glb_bytes(meshes: dict[str, trimesh.Trimesh], colours: dict[str, str] | None = None) -> bytes:
+    """A binary glTF (GLB) of the bodies, one named node and mesh each, at their modelled positions [mm];
+    each body's material in its preview colour (linear, as glTF says). Web and AR viewers read it (and ``rjcad
+    view`` embeds it)."""
+    from rjcad.cad.render import PALETTE, rgb
+
+    scene = trimesh.Scene()
+    for i, (name, m) in enumerate(meshes.items()):
+        colour = (colours or {}).get(name, PALETTE[i % len(PALETTE)])
+        linear = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb(colour)]  # glTF: linear
+        mat = trimesh.visual.material.PBRMaterial(name=name, baseColorFactor=[*linear, 1.0],
+                                                  metallicFactor=0.0, roughnessFactor=0.7)
+        body = trimesh.Trimesh(m.vertices, m.faces, process=False,
+                               visual=trimesh.visual.TextureVisuals(material=mat))
+        scene.add_geometry(body, node_name=name, geom_name=name)
+    return scene.export(file_type="glb")
 
 
 def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str],

@@ -10,12 +10,14 @@ its printers beside it: ``spring``, ``build`` (joint, finger), ``check``,
 ``life``, ``identify`` (bench, identify); ``options`` holds what several share
 (design options and their TOML keys, ``--config`` merging, the table printer).
 A new command: a ``click.command`` in its group's module (or a new module),
-registered in ``COMMANDS`` below. Heavy imports (CAD, matplotlib, scipy,
-identify) stay inside the command functions, so ``rjcad spring`` starts fast.
+registered by name in ``COMMANDS`` below; the group imports a command's module only
+when that command runs. Heavy imports (CAD, matplotlib, scipy, VTK, identify) stay
+inside the command functions, so each command imports only what it needs.
 """
 
 from __future__ import annotations
 
+import importlib
 import re
 import signal
 import sys
@@ -25,21 +27,36 @@ import warnings
 
 import click
 
-from rjcad.cli import build, check, identify, life, mjcf, simulate, spring, sweep
 from rjcad.errors import RjcadError
 
+#: Command name → ``module:attribute`` in rjcad.cli; a command's module is imported only when it runs
+#: (or when ``--help`` lists them all), so a command pays only for its own imports.
+COMMANDS = {
+    "spring": "spring:spring", "joint": "build:joint", "finger": "build:finger", "view": "view:view",
+    "sweep": "sweep:sweep", "check": "check:check", "simulate": "simulate:simulate",
+    "finger-design": "simulate:finger_design", "paper-finger": "simulate:paper_finger", "life": "life:life",
+    "bench": "identify:bench", "identify": "identify:identify", "mjcf": "mjcf:mjcf",
+}
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+
+class LazyGroup(click.Group):
+    """A click group that imports a command's module on first use (``COMMANDS``)."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name not in COMMANDS:
+            return None
+        module, attr = COMMANDS[name].split(":")
+        return getattr(importlib.import_module(f"rjcad.cli.{module}"), attr)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--debug", is_flag=True, help="Show tracebacks on errors.")
 @click.version_option(package_name="rjcad")
 def cli(debug: bool) -> None:
     """Design, build and check 3D-printable elastic joints for robotic fingers."""
-
-
-COMMANDS = (spring.spring, build.joint, build.finger, sweep.sweep, check.check, simulate.simulate,
-            simulate.finger_design, simulate.paper_finger, life.life, identify.bench, identify.identify, mjcf.mjcf)
-for _command in COMMANDS:
-    cli.add_command(_command)
 
 
 #: Longest error line printed (a safety net: messages quote at most a short prefix of a value, rjcad.errors.quote).

@@ -25,8 +25,18 @@ FIELDS = requirement(
 )
 
 
-def _outputs(out_dir: str, stem: str, no_png: bool) -> str:
-    return f"{out_dir}/{stem}.{{stl,3mf,step{'' if no_png else ',png'},json}}"
+def _outputs(out_dir: str, stem: str, no_png: bool, html: bool = False) -> str:
+    return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json{',html' if html else ''}}}"
+
+
+def _viewer(b, files: dict) -> dict:
+    """finger.html for ``rjcad finger --html``: ``rjcad view``'s page at its defaults."""
+    from rjcad.cli.view import DEFAULT_STEPS
+    from rjcad.paper import FINGER
+    from rjcad.view import viewer_html
+
+    return {"finger.html": viewer_html(b.manifest.to_json(), files["finger.glb"], "rjcad finger: finger.json",
+                                       FINGER.stroke, DEFAULT_STEPS)}
 
 
 def _springs(n: int) -> str:
@@ -43,7 +53,7 @@ def _bodies(m: dict) -> tuple[str, str, str]:
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
-    """Build the one-piece joint module: STL, 3MF, STEP, PNG preview and JSON manifest."""
+    """Build the one-piece joint module: STL, 3MF, STEP, GLB, PNG preview and JSON manifest."""
     from rjcad.outputs import check_writable
     from rjcad.params import JointParams
 
@@ -76,10 +86,11 @@ def print_joint(m: dict) -> None:
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
               help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
+@click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
 @click.option("--mjcf", is_flag=True, help="Also write finger.xml (MuJoCo, SI units) and one STL per body.")
 @click.option("--gravity", default="horizontal-palm-down", show_default=True,
               help="With --mjcf: gravity relative to the finger (see rjcad mjcf --help).")
-def finger(template, out_dir, no_png, mjcf, gravity):
+def finger(template, out_dir, no_png, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
     from rjcad.cad.finger import FingerParams
@@ -93,11 +104,15 @@ def finger(template, out_dir, no_png, mjcf, gravity):
         from rjcad.mjcf.export import gravity_of
 
         grav = gravity_of(gravity)
+    if html:
+        from rjcad.view import vendored_three
+
+        vendored_three()  # a missing three.js is said before the build
     from rjcad.cad.build import write_finger
 
-    b = write_finger(fp, out_dir, png=not no_png, mjcf=mjcf, gravity=grav)
+    b = write_finger(fp, out_dir, png=not no_png, more=_viewer if html else None, mjcf=mjcf, gravity=grav)
     m = b.manifest
-    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png)} "
+    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
                f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
                + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else ""))
     print_finger(m)

@@ -166,11 +166,13 @@ NUMERIC = {
     "design": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "f.toml"],
                ["--stroke", "--base-stiffness"]),
     "bench": (["bench", "--out", "c", "--samples", "200"], ["--rotation"]),
+    "view": (["view", "{joint}/joint.json", "--out", "v.html"], ["--stroke", "--mu-t"]),
 }
 INTEGER = {
     "spring": (["spring", "--stiffness", "5.2"], ["--springs"]),
     "check": (["check", "{joint}/joint.stl"], ["--bodies"]),
     "simfinger": (["simulate", "finger"], ["--steps"]),
+    "view": (["view", "{joint}/joint.json", "--out", "v.html"], ["--steps"]),
     "bench": (["bench", "--out", "c"], ["--samples", "--seed"]),
     "life": (["life"], ["--sims"]),
     "sweep": (["sweep", "{sweep_file}", "--out", "o"], ["--workers"]),

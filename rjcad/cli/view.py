@@ -1,0 +1,43 @@
+"""``rjcad view``: write a built finger's interactive viewer, one self-contained HTML file (``rjcad.view``)."""
+
+from __future__ import annotations
+
+import click
+
+from rjcad.paper import FINGER
+
+#: Tendon stroke the viewer accepts [mm] and the tendon friction coefficient (as ``rjcad simulate finger``).
+MAX_STROKE_MM = 1000.0
+MAX_MU_T = 2.0
+#: Samples over the pull: the same default as ``rjcad simulate finger --steps``.
+DEFAULT_STEPS = 500
+
+
+def check_view_options(stroke: float, mu_t: float) -> None:
+    """The viewer's physics options in their ranges (one error line naming the option, exit 2)."""
+    from rjcad.validate import in_range
+
+    in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
+    in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
+
+
+@click.command()
+@click.argument("manifest", type=click.Path(dir_okay=False))
+@click.option("--out", "out_path", type=click.Path(dir_okay=False), default=None,
+              help="HTML file to write (default: the manifest's name with .html).")
+@click.option("--stroke", type=float, default=FINGER.stroke, show_default=True,
+              help="Tendon stroke the slider runs over [mm].")
+@click.option("--steps", type=click.IntRange(10, 100000), default=DEFAULT_STEPS, show_default=True,
+              help="Samples of the closure over the stroke.")
+@click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
+def view(manifest, out_path, stroke, steps, mu_t):
+    """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over
+    the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`."""
+    from pathlib import Path
+
+    from rjcad.view import write_viewer
+
+    check_view_options(stroke, mu_t)
+    out = Path(out_path) if out_path else Path(manifest).with_suffix(".html")
+    write_viewer(manifest, out, stroke, steps, mu_t)
+    click.echo(f"viewer written to {out} (open it in a browser; no network needed)")

@@ -1,0 +1,125 @@
+"""``rjcad view``: one self-contained HTML page of a built finger (or joint) that animates its closure.
+
+The page holds everything it needs, so it opens from disk with no network: three.js (vendored from the npm
+registry at setup time into ``rjcad/data/vendor/``, inlined as a module), the bodies as the builder's GLB
+(base64), and the closure from ``rjcad.physics.finger.simulate_stroke`` (the same model and numbers as
+``rjcad simulate finger MANIFEST --json``). A slider runs over the pull's tendon stroke; each link turns about
+its joint's axis (the manifest's ``axis_point_mm``, ``axis_dir``) by the physics' angle, children with their
+parents. The page reports the current angles and tension in ``#readout`` and ``window.rjcad``.
+Units: mm and N in the page's data, degrees in its display.
+"""
+
+from __future__ import annotations
+
+import base64
+import importlib.resources
+import json
+import math
+import re
+from pathlib import Path
+
+from rjcad.errors import RjcadError
+
+THREE_FILE = "three.module.min.js"
+#: The page template, in rjcad/data/.
+TEMPLATE = "viewer.html"
+
+
+class ViewerError(RjcadError):
+    """The viewer cannot be written (a missing GLB beside the manifest, three.js not vendored)."""
+
+
+def vendored_three() -> str:
+    """The vendored three.js module's source (``make vendor`` fetches it from the npm registry)."""
+    f = importlib.resources.files("rjcad") / "data" / "vendor" / THREE_FILE
+    if not f.is_file():
+        raise ViewerError(f"rjcad/data/vendor/{THREE_FILE} is missing: run `make vendor` (npm pack three) once")
+    return f.read_text(encoding="utf-8")
+
+
+def chains(joints: list[dict]) -> dict[str, list[int]]:
+    """Per body, the joints (indices, root first) whose rotation moves it: those between the root and it."""
+    parent_joint = {j["child"]: i for i, j in enumerate(joints)}
+    out: dict[str, list[int]] = {}
+    for i, j in enumerate(joints):
+        for name in (j["parent"], j["child"]):
+            path, body = [], name
+            while body in parent_joint:
+                k = parent_joint[body]
+                path.insert(0, k)
+                body = joints[k]["parent"]
+            out[name] = path
+    return out
+
+
+def tendon_owner(path_mm: list[list[float]], joints: list[dict]) -> list[str]:
+    """The body each rest tendon point moves with: the parent of the first joint whose axis is beyond it
+    along the finger (+X), else the last child."""
+    xs = [j["axis_point_mm"][0] for j in joints]
+    return [next((joints[i]["parent"] for i, x in enumerate(xs) if p[0] < x), joints[-1]["child"])
+            for p in path_mm]
+
+
+def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
+    """A built finger's (or joint's) manifest (JSON object) and the GLB beside it (same stem)."""
+    from rjcad.manifest import Manifest
+
+    path = Path(manifest_path)
+    man = Manifest.read(str(path)).to_json()
+    glb = path.with_suffix(".glb")
+    if not glb.is_file():
+        raise ViewerError(f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild "
+                          "to get it)")
+    return man, glb.read_bytes()
+
+
+def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0) -> dict:
+    """What the page needs besides three.js: bodies (GLB base64), joints, tendon path and the closure
+    (the pull, ``steps + 1`` samples from 0 to ``stroke`` mm)."""
+    from rjcad.physics.finger import model_from_manifest, simulate_stroke
+
+    c = simulate_stroke(model_from_manifest(man, mu_t=mu_t), stroke, steps=steps)
+    pull = slice(0, steps + 1)
+    joints = [{"parent": j["parent"], "child": j["child"], "axis_point_mm": j["axis_point_mm"],
+               "axis_dir": j["axis_dir"]} for j in man["joints"]]
+    tendon = man.get("tendon_path_mm") or []
+    return {
+        "title": title,
+        "glb_base64": base64.b64encode(glb).decode("ascii"),
+        "joints": joints,
+        "chains": chains(joints),
+        "tendon_mm": tendon,
+        "tendon_owner": tendon_owner(tendon, joints) if tendon else [],
+        "closure": {
+            "stroke_mm": stroke, "steps": steps, "mu_t": mu_t,
+            "tendon_mm": c.tendon_mm[pull].tolist(),
+            "theta_deg": [[math.degrees(v) for v in row] for row in c.theta[pull].tolist()],
+            "tension_n": c.tension[pull].tolist(),
+        },
+    }
+
+
+def viewer_html(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0) -> str:
+    """The self-contained page of the built finger ``man`` (manifest JSON object) whose bodies are ``glb``."""
+    three = vendored_three()
+    data = page_data(man, glb, title, stroke, steps, mu_t)
+    template = (importlib.resources.files("rjcad") / "data" / TEMPLATE).read_text(encoding="utf-8")
+    three_url = "data:text/javascript;base64," + base64.b64encode(three.encode("utf-8")).decode("ascii")
+    # "</" cannot end the script element inside JSON: written "<\/". One pass: no value is scanned again.
+    values = {"THREE_URL": three_url, "TITLE": _html_text(title),
+              "DATA": json.dumps(data, separators=(",", ":")).replace("</", "<\\/")}
+    return re.sub(r"@@([A-Z_]+)@@", lambda m: values[m.group(1)], template)
+
+
+def _html_text(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def write_viewer(manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0) -> Path:
+    """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path."""
+    from rjcad.config import write_atomic
+
+    vendored_three()  # before the simulation: a missing three.js is the first thing to say
+    man, glb = read_built(manifest_path)
+    title = f"rjcad {man.get('kind', 'finger')}: {Path(manifest_path).name}"
+    return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t))

@@ -1,0 +1,99 @@
+"""The preview renderer (rjcad/cad/render.py) off-screen, with no display: not blank, every body in its colour,
+depth-correct (the nearer body hides the farther whatever the drawing order), the tendon drawn; and the GLB
+export (named bodies, their colours, the same triangles)."""
+
+import io
+import os
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from rjcad.cad import export as ex
+from rjcad.cad.render import PANEL, TITLE_PX, TENDON, preview_png, rgb
+
+COLOURS = {"near": "#3b82c4", "far": "#e0a33a"}
+
+
+def scene():
+    """Two boxes on the isometric view's line of sight: 'near' in front of 'far' (the camera is at azimuth
+    -60°, elevation 28°), and a tendon polyline through both."""
+    az, el = np.radians(-60.0), np.radians(28.0)
+    towards_camera = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+    near = trimesh.creation.box((10, 10, 10))
+    near.apply_translation(towards_camera * 30)
+    far = trimesh.creation.box((20, 20, 20))
+    tendon = np.array([[-30.0, 0, 0], [0, 0, 0], [30.0, 0, 0]])
+    return near, far, tendon
+
+
+def render(order):
+    """The preview of the bodies named in ``order``, drawn in that order, as an RGB array."""
+    near, far, tendon = scene()
+    meshes = {name: {"near": near, "far": far}[name] for name in order}
+    png = preview_png(meshes, "test", lines=[tendon], colours=COLOURS,
+                      sections=[("z = 9.5", (0, 0, 9.5), (0, 0, 1))])  # cuts both boxes
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+
+
+def iso(img):
+    """The isometric panel (top left, below the title)."""
+    return img[TITLE_PX:TITLE_PX + PANEL[1], :PANEL[0]]
+
+
+def hue_share(img, colour, tol=0.06):
+    """Share of pixels whose chromaticity (r, g, b)/(r+g+b) is within ``tol`` of ``colour``'s (shading keeps it)."""
+    c = np.array(rgb(colour))
+    c = c / c.sum()
+    s = img.sum(axis=-1, keepdims=True)
+    chrom = img / np.maximum(s, 1)
+    close = np.abs(chrom - c).max(axis=-1) < tol
+    return float((close & (s[..., 0] > 60) & (img.std(axis=-1) > 8)).mean())
+
+
+@pytest.fixture(scope="module")
+def images():
+    return render(["near", "far"]), render(["far", "near"])
+
+
+def test_renders_without_a_display(images):
+    img = images[0]
+    assert img.shape == (PANEL[1] * 1 + TITLE_PX, PANEL[0] * 2, 3)  # the view and one section, side by side
+    assert img.std() > 10  # not blank
+    panel = iso(img)
+    assert (panel.std(axis=-1) > 8).mean() > 0.02  # coloured, shaded pixels in the view
+
+
+def test_each_body_in_its_colour_and_the_tendon_drawn(images):
+    panel = iso(images[0])
+    for name, colour in COLOURS.items():
+        assert hue_share(panel, colour) > 0.002, name
+    section = images[0][TITLE_PX:, PANEL[0]:]
+    exact = {tuple(int(round(255 * v)) for v in rgb(c)) for c in (*COLOURS.values(), TENDON)}
+    present = {tuple(p) for p in section.reshape(-1, 3)}
+    assert exact <= present  # the section's outlines are drawn unlit, in the bodies' exact colours
+
+
+def test_depth_correct_whatever_the_drawing_order(images):
+    a, b = (iso(im)[120:] for im in images)  # below the legend (which lists the bodies in the order given)
+    assert np.abs(a - b).max() <= 2  # painter's order would swap the overlap between the two renders
+    alone = iso(render(["near"]))[120:]  # framed a little closer: the camera fits the bodies shown
+    seen, whole = hue_share(a, COLOURS["near"]), hue_share(alone, COLOURS["near"])
+    assert whole > 0.01 and seen > 0.6 * whole  # the far box, drawn after it in `a`, does not cover the near one
+
+
+def test_glb_holds_the_named_bodies_in_their_colours():
+    near, far, _ = scene()
+    glb = ex.glb_bytes({"near": near, "far": far}, COLOURS)
+    back = trimesh.load(io.BytesIO(glb), file_type="glb", process=False)
+    assert sorted(back.geometry) == ["far", "near"]
+    for name, m in (("near", near), ("far", far)):
+        g = back.geometry[name]
+        assert np.allclose(np.sort(g.triangles.reshape(-1, 9), axis=0), np.sort(m.triangles.reshape(-1, 9), axis=0),
+                           atol=1e-5)
+        linear = np.array(g.visual.material.baseColorFactor[:3], dtype=float)
+        linear = linear / 255 if linear.max() > 1 else linear
+        srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+        assert np.allclose(srgb, rgb(COLOURS[name]), atol=2 / 255), name  # glTF's colour factors are linear
+    assert ex.glb_bytes({"near": near, "far": far}, COLOURS) == glb  # reruns give the same bytes

@@ -1,0 +1,84 @@
+"""`rjcad view`'s pieces (which joints move which body, the tendon's owners, its errors) and what each command
+imports (a command pays only for what it needs). The page itself is tested in Chromium in test_finger.py."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from rjcad.view import chains, tendon_owner
+
+JOINTS = [{"parent": "base", "child": "link1", "axis_point_mm": [0.0, 0, 0], "axis_dir": [0, 0, 1]},
+          {"parent": "link1", "child": "link2", "axis_point_mm": [40.0, 0, 0], "axis_dir": [0, 0, 1]},
+          {"parent": "link2", "child": "distal", "axis_point_mm": [80.0, 0, 0], "axis_dir": [0, 0, 1]}]
+
+
+def test_each_body_moves_with_the_joints_between_the_root_and_it():
+    assert chains(JOINTS) == {"base": [], "link1": [0], "link2": [0, 1], "distal": [0, 1, 2]}
+    shuffled = [JOINTS[2], JOINTS[0], JOINTS[1]]  # the manifest's order does not matter
+    assert chains(shuffled) == {"base": [], "link1": [1], "link2": [1, 2], "distal": [1, 2, 0]}
+
+
+def test_tendon_points_move_with_the_body_they_run_through():
+    path = [[-20.0, 6, 5], [-0.5, 6, 5], [0.5, 6, 5], [39.0, 6, 5], [41.0, 6, 5], [120.0, 6, 5]]
+    assert tendon_owner(path, JOINTS) == ["base", "base", "link1", "link1", "link2", "distal"]
+
+
+def test_view_refuses_a_manifest_without_its_glb(cli, tmp_path, root):
+    man = tmp_path / "finger.json"
+    man.write_text((root / "tests" / "data" / "manifest_v0_finger.json").read_text())
+    r = cli("view", str(man), "--out", str(tmp_path / "f.html"))
+    assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("rjcad: error:"), r.err
+    assert "finger.glb: not found" in r.err
+    assert not (tmp_path / "f.html").exists()
+
+
+@pytest.mark.parametrize("option, value", [("--stroke", "0"), ("--stroke", "nan"), ("--mu-t", "5")])
+def test_view_refuses_bad_options_naming_them(cli, tmp_path, option, value):
+    r = cli("view", str(tmp_path / "finger.json"), option, value)
+    assert r.code == 2 and option in r.err and r.err.count("\n") == 1, r.err
+
+
+IMPORTS = """
+import json, sys
+from rjcad.cli import main
+try:
+    main(sys.argv[2:])
+except SystemExit as e:
+    assert e.code == 0, e.code
+top = sorted({m.split(".")[0] for m in sys.modules})
+open(sys.argv[1], "w").write(json.dumps(top))
+"""
+
+
+def imported(root, tmp_path, *argv) -> set[str]:
+    """Top-level packages a new process has imported after running `rjcad ARGV`."""
+    out = tmp_path / "modules.json"
+    subprocess.run([sys.executable, "-c", IMPORTS, str(out), *argv], cwd=root, check=True, capture_output=True,
+                   timeout=120)
+    return set(json.loads(out.read_text()))
+
+
+HEAVY = {"cadquery", "OCP", "vtk", "vtkmodules", "matplotlib", "trimesh", "manifold3d"}
+
+
+@pytest.mark.fast_lane
+def test_light_commands_import_no_cad_no_plotting(root, tmp_path):
+    """Fast lane on purpose (about 3 s: two short processes): the import budget of the quick commands is what
+    a refactor breaks without noticing."""
+    spring = imported(root, tmp_path, "spring", "--config", "templates/spring.toml", "--json")
+    assert not spring & HEAVY, spring & HEAVY  # scipy: the rod model verifies the design
+    sim = imported(root, tmp_path, "simulate", "finger", "--json")
+    assert not sim & (HEAVY | {"scipy", "numba"}), sim & (HEAVY | {"scipy", "numba"})
+
+
+def test_the_joint_build_imports_no_matplotlib_and_check_no_cad(root, tmp_path):
+    """The preview is VTK's (already loaded by CadQuery): building and rendering a joint loads no matplotlib;
+    checking it loads no CAD kernel, VTK or matplotlib."""
+    mods = imported(root, tmp_path, "joint", "--out", str(tmp_path / "joint"))
+    assert "cadquery" in mods and "vtkmodules" in mods and "matplotlib" not in mods
+    assert (tmp_path / "joint" / "joint.png").stat().st_size > 10_000
+    check = imported(root, tmp_path, "check", str(tmp_path / "joint" / "joint.3mf"), "--manifest",
+                     str(tmp_path / "joint" / "joint.json"))
+    assert "trimesh" in check and not check & {"cadquery", "OCP", "vtk", "vtkmodules", "matplotlib"}
