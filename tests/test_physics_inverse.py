@@ -133,6 +133,7 @@ def test_inverse_design_reaches_the_target(sequence, tmp_path):
     assert np.degrees(c.theta[400]) == pytest.approx([65, 50, 50], abs=1.0)
 
 
+@pytest.mark.slow  # the longest test of the fast lane (a search over moment arms before it gives up)
 def test_inverse_design_unreachable_targets_say_why():
     from rjcad.physics.inverse import design_finger
 
