@@ -63,6 +63,15 @@ def test_single_hidden_effect(tmp_path, effect):
 
 
 @pytest.mark.slow
+def test_a_damped_record_does_not_invite_gravity(tmp_path):
+    """Damping alone, another noise draw: exactly `viscous` back. Integrated over the fit's subsampled steps the
+    damped model was off the record enough that `link_weight` (whose model runs on every sample) was accepted for
+    it (ΔBIC −33): the rate effects now run on every sample too."""
+    truth, js = _identify(tmp_path, ["viscous"], seed=1)
+    _check(truth, js)
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("pair", [("moment_arm", "coulomb_pin"), ("tendon_stretch", "capstan_along_finger"),
                                   ("spring_calibration", "tendon_stretch")])
 def test_hidden_pairs(tmp_path, pair):
