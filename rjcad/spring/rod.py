@@ -49,7 +49,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import solve_banded
-from scipy.spatial import cKDTree
 
 TWO_PI = 2.0 * math.pi
 _BW = 5  # half-bandwidth of the global stiffness (3 dofs/node, 2 nodes/element)
@@ -316,19 +315,30 @@ def _curve_distance(P, X, tang, seg):
         x = np.clip(x + ((P - C) * dC).sum(1) / (dC * dC).sum(1), 0.0, 1.0)
 
 
-def _nearest_gap(P, X, tang, aP=None, aX=None, k=16):
-    """Per point of P: distance to the curve through X, skipping nodes with |aP − aX| < π."""
-    d, j = cKDTree(X).query(P, k=min(k, len(X)))
-    if aP is not None:
-        d = np.where(np.abs(aP[:, None] - aX[j]) < math.pi, np.inf, d)
-    rows = np.arange(len(P))
-    j = j[rows, np.argmin(d, axis=1)]
-    lost = ~np.isfinite(d.min(axis=1))
-    if lost.any() and aP is not None:  # every candidate excluded: brute force for those points
-        d2 = ((P[lost, None, :] - X[None, :, :]) ** 2).sum(-1)
-        d2[np.abs(aP[lost, None] - aX[None, :]) < math.pi] = np.inf
-        j[lost] = np.argmin(d2, axis=1)
-        lost[lost] = ~np.isfinite(d2.min(axis=1))
+def _nearest_nodes(P, X, aP=None, aX=None, chunk: int = 1 << 22):
+    """Per point of P: index of the nearest node of X, skipping nodes with |aP − aX| < π; and whether one was left.
+
+    Brute force over all pairs in blocks of about ``chunk`` pairs (a spring has a few hundred nodes: 0.1–1 ms a
+    call, and no k-d tree, whose import costs more than every query of a design).
+    """
+    j = np.zeros(len(P), dtype=int)
+    found = np.ones(len(P), dtype=bool)
+    step = max(1, chunk // max(1, len(X)))
+    xx = np.einsum("ij,ij->i", X, X)
+    for s in range(0, len(P), step):
+        p = P[s:s + step]
+        d2 = np.einsum("ij,ij->i", p, p)[:, None] + xx[None, :] - 2.0 * (p @ X.T)  # |p − x|², to rounding
+        if aP is not None:
+            d2[np.abs(aP[s:s + step, None] - aX[None, :]) < math.pi] = np.inf
+        j[s:s + step] = np.argmin(d2, axis=1)
+        found[s:s + step] = np.isfinite(d2.min(axis=1))
+    return j, found
+
+
+def _nearest_gap(P, X, tang, aP=None, aX=None):
+    """Per point of P: distance to the curve through X, skipping nodes with |aP − aX| < π (inf if none is left)."""
+    j, found = _nearest_nodes(P, X, aP, aX)
+    lost = ~found
     best = np.full(len(P), np.inf)
     for seg in (j - 1, j):
         best = np.minimum(best, _curve_distance(P, X, tang, np.clip(seg, 0, len(X) - 2)))
