@@ -10,6 +10,7 @@ from scipy.optimize import minimize
 
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.physics import finger as fm
+from rjcad.templates import PAPER_FINGER
 
 DEG = math.pi / 180
 TOL = 1e-6  # N·mm
@@ -111,6 +112,45 @@ def test_gravity_torque_of_one_horizontal_link():
     # pointing down (gravity along +x): the weight pulls the link towards the axis, no torque either way
     m2 = fm.FingerModel((5.0,), (0.5,), (90 * DEG,), (6.0,), link_mass=(30.0,), gravity=(1.0, 0.0))
     assert fm.gravity_torques(m2, np.array([0.0]))[0] == pytest.approx(0.0, abs=1e-9)
+
+
+
+def test_gravity_slope_is_the_torques_derivative():
+    """∂τ_i/∂θ_i of gravity_terms against central differences of gravity_torques (links off their axes too)."""
+    m = fm.FingerModel((5.0, 6.0, 7.0), (1.0, 1.0, 1.0), (1.5, 1.5, 1.5), (6.0, 6.0, 6.0), link_mass=(20.0, 15.0, 10.0),
+                       link_length=(40.0, 35.0, 30.0), link_com=((18.0, 2.0), (15.0, -1.0), (12.0, 3.0)),
+                       gravity=(0.6, 0.8))
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        th = rng.uniform(0, 1.5, 3)
+        _, slope = fm.gravity_terms(m, th)
+        for i in range(3):
+            e = np.zeros(3)
+            e[i] = 1e-6
+            d = (fm.gravity_torques(m, th + e)[i] - fm.gravity_torques(m, th - e)[i]) / 2e-6
+            assert slope[i] == pytest.approx(d, rel=1e-6, abs=1e-9)
+
+
+@pytest.mark.parametrize("gravity", [(1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (-1.0, 0.0)])
+def test_heavy_links_each_reading_is_an_equilibrium(gravity):
+    """Links whose weight is stiffer than their springs (40/30/20 g on 40 mm links): every reading balances each
+    free joint, r·T = K(θ + θ0) + τ_g(θ) to 1e-3 N·mm (and K(θ + θ0) + τ_g ≥ r·T at the straight stop, ≤ at the
+    limit). With the weight taken at the previous angles only, these flipped by up to 90° from step to step."""
+    m = fm.model_from_template(PAPER_FINGER)
+    m = fm.FingerModel(m.stiffness, m.preload, m.rotation, m.moment_arm, link_mass=(40.0, 30.0, 20.0),
+                       link_length=m.link_length, gravity=gravity)
+    c = fm.simulate_stroke(m, 25.0, 250)
+    K, th0, thmax, r, *_ = m.arrays()
+    unbalanced = 0
+    for th, T in zip(c.theta, c.tension):
+        net = r * T - (K * (th + th0) + fm.gravity_torques(m, th))  # flexing torque left over [N·mm]
+        free = (th > 1e-9) & (th < thmax - 1e-9)
+        ok = np.where(free, np.abs(net) < 1e-3, np.where(th <= 1e-9, net < 1e-3, net > -1e-3))
+        unbalanced += int(not ok.all())
+    moved = np.degrees(np.abs(np.diff(c.theta, axis=0))).max()
+    assert unbalanced == 0, unbalanced
+    if gravity[0] >= 0 and gravity != (0.0, -1.0):  # hanging or palm down: one smooth branch, no snap
+        assert moved < 1.0, moved
 
 
 def small_manifest():

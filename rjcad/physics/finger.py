@@ -118,6 +118,11 @@ class FingerModel:
         return len(self.stiffness)
 
     @property
+    def has_gravity(self) -> bool:
+        """Whether the links' weight acts (a gravity direction and a link mass)."""
+        return self.gravity is not None and any(self.link_mass)
+
+    @property
     def rate_dependent(self) -> bool:
         """Whether the response depends on time (damping or relaxation): a path then needs its times."""
         return any(self.damping) or any(self.relax_stiffness)
@@ -156,15 +161,18 @@ class Closure:
         }
 
 
-def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
-    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm].
+def gravity_terms(m: FingerModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
+    joint's own angle [N·mm/rad].
 
-    Links are point masses at their centres of mass (``link_com``, by default their middles); flexion is
-    positive about +Z.
+    Links are point masses w_j at their centres of mass p_j (``link_com``, by default their middles); flexion is
+    positive about +Z; g is gravity's direction in the plane. With r_ij = p_j − (joint i):
+    τ_i = −Σ_{j≥i} w_j (r_ij × g)_z, and turning joint i turns every r_ij, so ∂τ_i/∂θ_i = Σ_{j≥i} w_j r_ij·g
+    (positive where the links hang below the joint: gravity then stiffens it).
     """
     n = m.n
-    if m.gravity is None or not any(m.link_mass):
-        return np.zeros(n)
+    if not m.has_gravity:
+        return np.zeros(n), np.zeros(n)
     gx, gy = m.gravity
     ang = np.cumsum(theta)
     x = np.zeros(n + 1)
@@ -177,17 +185,40 @@ def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
     cy = y[:-1] + lx * np.sin(ang) + ly * np.cos(ang)
     w = np.asarray(m.link_mass) * G
     tau = np.zeros(n)
+    slope = np.zeros(n)
     for i in range(n):
-        # moment about +Z of the weights hanging from joint i: Σ (r × F)_z, F = w·(gx, gy)
         rx, ry = cx[i:] - x[i], cy[i:] - y[i]
         tau[i] = -np.sum(w[i:] * (rx * gy - ry * gx))
-    return tau
+        slope[i] = np.sum(w[i:] * (rx * gx + ry * gy))
+    return tau, slope
 
 
-def step_terms(m: FingerModel, prev, tg, dt: float, tau_m):
+def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm] (``gravity_terms``)."""
+    return gravity_terms(m, theta)[0]
+
+
+#: The weight's slope enters a step's linearisation down to −this × the joint's own slope (a weight that softens
+#: a joint more than that tips it over: the step stays a step, the snap takes a few).
+GRAVITY_SOFTENING = 0.9
+#: With gravity, a step re-linearises the weight about its own result (Newton on each joint's own angle), up to
+#: GRAVITY_ITERATIONS times, until no angle moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium.
+#: The joints' weights couple them, which a joint's own slope leaves out: once a move is not at most
+#: GRAVITY_CONTRACTION of the one before (the full steps cycle), the step takes half moves.
+GRAVITY_ITERATIONS = 40
+GRAVITY_TOL = 1e-7
+GRAVITY_CONTRACTION = 0.5
+
+
+def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=None):
     """(E, B, a, b) of a step of ``dt`` s from the angles ``prev``: each joint's elastic torque is E + B·(θ − prev)
     [N·mm]; the Maxwell arm's torque after the step is a·τ_M + K_M·b·(θ − prev). ``dt`` = inf: no rate terms
-    (a first step, or a rate-independent model)."""
+    (a first step, or a rate-independent model).
+
+    ``tg``, ``tg_slope``: the weight's torque and its slope (``gravity_terms``) at the angles ``at`` (default
+    ``prev``); the weight enters as tg + k_g·(θ − at), k_g = max(tg_slope, −GRAVITY_SOFTENING·B). The slope makes
+    the weight implicit in the step: an explicit weight stiffer than the spring flips the joint step to step.
+    """
     K, th0 = np.asarray(m.stiffness, float), np.asarray(m.preload, float)
     k3, c, km, tr = m.rate_arrays()
     s = prev + th0
@@ -195,7 +226,31 @@ def step_terms(m: FingerModel, prev, tg, dt: float, tau_m):
     b = 0.0 if math.isinf(dt) else tr * (1.0 - a) / dt
     E = K * s + k3 * s**3 + a * tau_m + tg
     B = K + 3.0 * k3 * s**2 + (0.0 if math.isinf(dt) else 1.0 / dt) * c + km * b
+    if tg_slope is not None:
+        kg = np.maximum(tg_slope, -GRAVITY_SOFTENING * B)
+        if at is not None:
+            E = E - kg * (np.asarray(at) - prev)
+        B = B + kg
     return E, B, a, b
+
+
+def gravity_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
+    """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``, the weight
+    re-linearised about the step's result until it is an equilibrium (``GRAVITY_ITERATIONS``), starting from
+    ``guess`` (default ``prev``; the path passes the last two readings' extrapolation: 2 to 5 solves a step)."""
+    at, last, w = (prev if guess is None else guess), math.inf, 1.0
+    for _ in range(GRAVITY_ITERATIONS if m.has_gravity else 1):
+        tg, tg_slope = gravity_terms(m, at)
+        E, B, a, b = step_terms(m, prev, tg, dt, tau_m, tg_slope, at)
+        th, T, ti, slack = equilibrium(m, t_d, prev, pulling, None, prev_T, (E, B))
+        moved = float(np.max(np.abs(th - at), initial=0.0))
+        if moved <= GRAVITY_TOL:
+            break
+        if moved > GRAVITY_CONTRACTION * last:
+            w = 0.5
+        last = moved
+        at = at + w * (th - at)
+    return th, T, ti, slack, a, b
 
 
 def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gam):
@@ -300,8 +355,8 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s
         if k and td[k] != td[k - 1]:
             pulling = td[k] > td[k - 1]
         dt = math.inf if t is None or k == 0 else float(t[k] - t[k - 1])
-        E, B, a, b = step_terms(m, prev, gravity_torques(m, prev), dt, tau_m)
-        th, Tk, tik, sl = equilibrium(m, float(t_d), prev, pulling, None, T[k - 1] if k else 0.0, (E, B))
+        guess = np.clip(2.0 * prev - theta[k - 2], 0.0, thmax) if k >= 2 and m.has_gravity else None
+        th, Tk, tik, sl, a, b = gravity_step(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0, dt, tau_m, guess)
         tau_m = a * tau_m + km * b * (th - prev)
         moved = th - prev
         st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))

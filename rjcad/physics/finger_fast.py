@@ -15,7 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
-from rjcad.physics.finger import FLAT_MM, G, FingerModel, _times
+from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_SOFTENING, GRAVITY_TOL,
+                                  G, FingerModel, _times)
 
 
 @njit(cache=True)
@@ -34,7 +35,8 @@ def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gp, gn, out):
 
 
 @njit(cache=True)
-def _gravity(prev, length, com, weight, gx, gy, out):
+def _gravity(prev, length, com, weight, gx, gy, out, slope):
+    """As rjcad.physics.finger.gravity_terms: the weight's torque about each joint and its slope."""
     n = len(prev)
     ang = 0.0
     x = np.zeros(n + 1)
@@ -48,11 +50,14 @@ def _gravity(prev, length, com, weight, gx, gy, out):
         y[i + 1] = y[i] + length[i] * math.sin(ang)
     for i in range(n):
         tau = 0.0
+        k = 0.0
         for j in range(i, n):
             rx = x[j] + com[j, 0] * c[j] - com[j, 1] * s[j] - x[i]
             ry = y[j] + com[j, 0] * s[j] + com[j, 1] * c[j] - y[i]
             tau -= weight[j] * (rx * gy - ry * gx)
+            k += weight[j] * (rx * gx + ry * gy)
         out[i] = tau
+        slope[i] = k
 
 
 @njit(cache=True)
@@ -131,6 +136,8 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
     tension = np.zeros(n_steps)
     prev = np.zeros(n)
     tg = np.zeros(n)
+    tk = np.zeros(n)
+    at = np.zeros(n)
     th = np.zeros(n)
     rc = np.zeros(n)
     E = np.zeros(n)
@@ -145,19 +152,38 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
         for i in range(n):
             rc[i] = r[i] * (c_pull[i] if pulling else c_rel[i])
         prev_T = tension[k - 1] if k > 0 else 0.0
-        if gravity:
-            _gravity(prev, length, com, weight, gx, gy, tg)
         a, b, inv_dt = 0.0, 0.0, 0.0  # as rjcad.physics.finger.step_terms
         if timed and k > 0:
             dt = t[k] - t[k - 1]
             a = math.exp(-dt / tr)
             b = tr * (1.0 - a) / dt
             inv_dt = 1.0 / dt
-        for i in range(n):
-            s = prev[i] + th0[i]
-            E[i] = K[i] * s + k3[i] * s**3 + a * tau[i] + tg[i]
-            B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
-        T = _step(td[k], prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
+        for i in range(n):  # the last two readings' extrapolation (as rjcad.physics.finger.simulate_path)
+            at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
+        T = 0.0
+        last, w = math.inf, 1.0
+        for _ in range(GRAVITY_ITERATIONS if gravity else 1):  # as rjcad.physics.finger.gravity_step
+            if gravity:
+                _gravity(at, length, com, weight, gx, gy, tg, tk)
+            for i in range(n):
+                s = prev[i] + th0[i]
+                E[i] = K[i] * s + k3[i] * s**3 + a * tau[i] + tg[i]
+                B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
+                if gravity:
+                    kg = max(tk[i], -GRAVITY_SOFTENING * B[i])
+                    E[i] -= kg * (at[i] - prev[i])
+                    B[i] += kg
+            T = _step(td[k], prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
+            moved = 0.0
+            for i in range(n):
+                moved = max(moved, abs(th[i] - at[i]))
+            if moved <= GRAVITY_TOL:
+                break
+            if moved > GRAVITY_CONTRACTION * last:
+                w = 0.5
+            last = moved
+            for i in range(n):
+                at[i] = at[i] + w * (th[i] - at[i])
         for i in range(n):
             tau[i] = a * tau[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]
