@@ -106,13 +106,24 @@ def _step(t_d, prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
         _sort(bps, m)  # ascending in place; 0 is the first
         grid = bps[:m]
         tol = FLAT_MM * max(1.0, abs(t_d))
-        S_prev, k = -1.0, -1
-        for g in range(len(grid)):
-            S = _sum(grid[g], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp)
-            if S >= t_d - tol:
-                k = g
-                break
-            S_prev = S
+        # the first grid tension whose take-up meets t_d - tol: S(T) never decreases, so bisect (about 4 sums of
+        # a dozen, where a scan from 0 took half of them)
+        g_lo, g_hi = 0, len(grid)  # S(grid[g]) < t_d - tol for g < g_lo; >= for g >= g_hi
+        S_hi = 0.0
+        while g_lo < g_hi:
+            mid = (g_lo + g_hi) // 2
+            Sm = _sum(grid[mid], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp)
+            if Sm >= t_d - tol:
+                g_hi, S_hi = mid, Sm
+            else:
+                g_lo = mid + 1
+        k = g_lo if g_lo < len(grid) else -1
+        S = S_hi
+        S_prev = -1.0
+        if k > 0:
+            S_prev = _sum(grid[k - 1], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp)
+        elif k < 0:
+            S_prev = _sum(grid[len(grid) - 1], prev, E, B, th0, thmax, r, rc, f0, gp, gn, th, comp)
         if k < 0:
             T = grid[-1] if comp == 0.0 else grid[-1] + (t_d - S_prev) / comp
         elif S <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
