@@ -233,7 +233,7 @@ def test_the_condition_checker_rejects_a_wrong_answer():
 # ---------------------------------------------------------------- the paper's finger: honest uncertainties
 
 def test_fit_uncertainty_says_not_identified_when_it_is_not():
-    from rjcad.physics.paper_finger import _std
+    from rjcad.physics.uncertainty import parameter_std as _std
 
     rng = np.random.default_rng(1)
     J = rng.normal(size=(3, 2))

@@ -18,6 +18,7 @@ from rjcad.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
 from rjcad.params import JointParams
 from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
+from rjcad.physics.uncertainty import parameter_std
 from rjcad.plotting import png_bytes, pyplot
 from rjcad.units import DEG
 
@@ -70,46 +71,13 @@ def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
         if best is None or res.cost < best.cost:
             best = res
     end, onset, _ = end_and_onset(build(best.x))
-    std, why = _std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float), names)
+    std, why = parameter_std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float), names)
     dof = len(MEASURED_DEG) - int(np.isfinite(std).sum())
     chi2 = 2.0 * float(best.cost)
     scale = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
     return Explanation(name, cause, dict(zip(names, map(float, best.x))), dict(zip(names, map(float, std * scale))),
                        list(map(float, end)), list(map(float, onset)),
                        float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x), dict(zip(names, why)), scale)
-
-
-def _std(jac, x, lb, ub, names) -> tuple[np.ndarray, list[str]]:
-    """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones (NaN otherwise), and why not.
-
-    Why not: "at its bound" (the fit pushed it onto a bound: the data reject the values inside, and the
-    Gaussian interval does not apply), "no effect" (the end angles do not depend on it: its Jacobian column is
-    ~0), "trades off with X" (it loads on a null direction of the free columns with X: fewer informative
-    angles than parameters).
-    """
-    jac = np.asarray(jac, dtype=float)
-    norms = np.linalg.norm(jac, axis=0)
-    span = np.where(np.isfinite(ub - lb), ub - lb, 1.0)
-    on_bound = (x - lb <= 1e-4 * span) | (ub - x <= 1e-4 * span)
-    no_effect = norms <= 1e-6 * max(norms.max(), 1e-300)
-    free = ~no_effect & ~on_bound
-    std = np.full(len(x), np.nan)
-    why = ["at its bound" if b else "no effect" if z else "" for b, z in zip(on_bound, no_effect)]
-    if free.any():
-        # SVD of the free columns: a parameter that loads on a (near-)null direction trades off with
-        # others without changing the fit (fewer informative angles than parameters): not identified
-        _, sv, vt = np.linalg.svd(jac[:, free], full_matrices=True)
-        sv = np.concatenate([sv, np.zeros(vt.shape[0] - len(sv))])
-        null = sv <= 1e-6 * sv.max()
-        loads = np.abs(vt[null].T) > 1e-3 if null.any() else np.zeros((vt.shape[0], 0), bool)
-        ident = ~loads.any(axis=1)
-        var = (vt[~null].T ** 2) @ (1.0 / sv[~null] ** 2)
-        idx = np.flatnonzero(free)
-        std[idx[ident]] = np.sqrt(var[ident])
-        for a in np.flatnonzero(~ident):
-            partners = [names[idx[b]] for b in range(len(idx)) if b != a and (loads[a] & loads[b]).any()]
-            why[idx[a]] = "trades off with " + (", ".join(partners) if partners else "the others")
-    return std, why
 
 
 def _k(scale2, scale3):

@@ -32,7 +32,7 @@ from rjcad.identify.finger.catalogue import catalogue, model_of
 from rjcad.identify.finger.data import FingerDesign, finger_design
 from rjcad.identify.result import _r
 from rjcad.physics.finger_fast import simulate_angles
-from rjcad.physics.paper_finger import _std
+from rjcad.physics.uncertainty import parameter_std
 from rjcad.units import DEG
 
 ENDPOINT_KEYS = ("tendon_mm", "theta_deg", "sigma_deg")
@@ -232,7 +232,7 @@ def fit_set(prob: EndpointProblem, combo) -> SetFit:
 def _setfit(prob, effects, names, values, r, res, lb, ub) -> SetFit:
     ends = prob.ends(values) / DEG
     if res is not None:
-        std, why = _std(res.jac, res.x, lb, ub, list(names))
+        std, why = parameter_std(res.jac, res.x, lb, ub, list(names))
     else:
         std, why = np.zeros(0), []
     return SetFit(effects, names, values, float(r @ r), float(np.sqrt(np.mean(r**2))), ends.tolist(),
