@@ -74,7 +74,7 @@ def test_light_commands_import_no_cad_no_plotting(root, tmp_path):
 
 
 def test_the_joint_build_imports_no_matplotlib_and_check_no_cad(root, tmp_path):
-    """The preview is VTK's (already loaded by CadQuery): building and rendering a joint loads no matplotlib;
+    """The preview is VTK's (CadQuery loads part of it): building and rendering a joint loads no matplotlib;
     checking it loads no CAD kernel, VTK or matplotlib."""
     mods = imported(root, tmp_path, "joint", "--out", str(tmp_path / "joint"))
     assert "cadquery" in mods and "vtkmodules" in mods and "matplotlib" not in mods

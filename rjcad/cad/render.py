@@ -1,7 +1,7 @@
 """The preview PNG, rendered off-screen with VTK: a shaded, depth-correct view and plane sections.
 
-VTK comes with CadQuery's OCP (``import cadquery`` already loads it), so the preview costs a render, not
-an import. The window is off-screen: EGL (Mesa's software rasteriser when there is no GPU) unless
+VTK comes with CadQuery's OCP; the preview imports only the VTK modules it draws with (``rjcad.cad`` defers
+VTK's all-modules ``vtk``, which OCP imports for nothing: 1.3 s). The window is off-screen: EGL (Mesa's software rasteriser when there is no GPU) unless
 ``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display is needed. One window holds every panel
 (a viewport each): the isometric view (bodies in their colours, the tendon as a red tube, dashed on an
 overlay where a body hides it), then each

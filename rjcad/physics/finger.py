@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rjcad.errors import ParameterError
+from rjcad.physics.gravity import G, gravity_terms, gravity_torques  # noqa: F401  (re-exported)
 from rjcad.units import DEG
-G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
 
 
 @dataclass(frozen=True)
@@ -161,43 +161,6 @@ class Closure:
         }
 
 
-def gravity_terms(m: FingerModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
-    joint's own angle [N·mm/rad].
-
-    Links are point masses w_j at their centres of mass p_j (``link_com``, by default their middles); flexion is
-    positive about +Z; g is gravity's direction in the plane. With r_ij = p_j − (joint i):
-    τ_i = −Σ_{j≥i} w_j (r_ij × g)_z, and turning joint i turns every r_ij, so ∂τ_i/∂θ_i = Σ_{j≥i} w_j r_ij·g
-    (positive where the links hang below the joint: gravity then stiffens it).
-    """
-    n = m.n
-    if not m.has_gravity:
-        return np.zeros(n), np.zeros(n)
-    gx, gy = m.gravity
-    ang = np.cumsum(theta)
-    x = np.zeros(n + 1)
-    y = np.zeros(n + 1)
-    for i in range(n):
-        x[i + 1] = x[i] + m.link_length[i] * math.cos(ang[i])
-        y[i + 1] = y[i] + m.link_length[i] * math.sin(ang[i])
-    lx, ly = np.asarray(m.link_com, dtype=float).T
-    cx = x[:-1] + lx * np.cos(ang) - ly * np.sin(ang)
-    cy = y[:-1] + lx * np.sin(ang) + ly * np.cos(ang)
-    w = np.asarray(m.link_mass) * G
-    tau = np.zeros(n)
-    slope = np.zeros(n)
-    for i in range(n):
-        rx, ry = cx[i:] - x[i], cy[i:] - y[i]
-        tau[i] = -np.sum(w[i:] * (rx * gy - ry * gx))
-        slope[i] = np.sum(w[i:] * (rx * gx + ry * gy))
-    return tau, slope
-
-
-def gravity_torques(m: FingerModel, theta: np.ndarray) -> np.ndarray:
-    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm] (``gravity_terms``)."""
-    return gravity_terms(m, theta)[0]
-
-
 #: The weight's slope enters a step's linearisation down to −this × the joint's own slope (a weight that softens
 #: a joint more than that tips it over: the step stays a step, the snap takes a few).
 GRAVITY_SOFTENING = 0.9
@@ -289,10 +252,13 @@ def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg:
                 prev_T: float = 0.0, terms=None):
     """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles.
 
-    ``terms``: (E, B) of the step (``step_terms``); default the spring alone, with ``tg`` (gravity) added.
+    ``terms``: (E, B) of the step (``step_terms``), which already hold any weight; without them, the spring
+    alone plus ``tg`` (the weight's torque at ``prev``, held constant over the step). Giving both is an error.
     Where the tendon constraint holds for a range of tensions (every joint sticking, the tendon inextensible),
     the tension stays as close to ``prev_T`` as that range allows: nothing moved, so nothing changed.
     """
+    if terms is not None and tg is not None:
+        raise ValueError("equilibrium: give the weight's torque in `terms` (step_terms) or as `tg`, not both")
     K, th0, thmax, r, wrap, f0, gam = m.arrays()
     tg = np.zeros(m.n) if tg is None else tg
     E, B = terms if terms is not None else step_terms(m, prev, tg, math.inf, np.zeros(m.n))[:2]
@@ -337,7 +303,7 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s
     """Quasi-static response along a tendon-displacement path [mm] at times ``t_s`` [s] (needed, and only
     used, when the model has damping or relaxation)."""
     td = np.asarray(tendon_mm, dtype=float)
-    t = _times(m, td, t_s)
+    t = path_times(m, td, t_s)
     n = m.n
     thmax = np.asarray(m.rotation, float)
     theta = np.zeros((len(td), n))
@@ -366,7 +332,7 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s
     return Closure(td, list(phase), theta, T, Ti, state, slack)
 
 
-def _times(m: FingerModel, td: np.ndarray, t_s) -> np.ndarray | None:
+def path_times(m: FingerModel, td: np.ndarray, t_s) -> np.ndarray | None:
     """The path's times [s] when the model needs them (strictly increasing, one per step), else None."""
     if not m.rate_dependent:
         return None

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_SOFTENING, GRAVITY_TOL,
-                                  G, FingerModel, _times)
+                                  G, FingerModel, path_times)
 
 
 @njit(cache=True)
@@ -210,7 +210,7 @@ def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np
     K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
     k3, c, km, tr = m.rate_arrays()
     td = np.ascontiguousarray(tendon_mm, dtype=float)
-    t = _times(m, td, t_s)
+    t = path_times(m, td, t_s)
     cum = np.cumsum(wrap)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
     grav = m.gravity is not None and any(m.link_mass)

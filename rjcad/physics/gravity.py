@@ -1,0 +1,51 @@
+"""The finger links' weight: its torque about each joint and that torque's slope in the joint's own angle.
+
+Pure numpy over a ``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports these; ``m`` is not
+imported here: the model module imports this one): links are point masses
+[g] at their centres of mass, lengths in mm, torques in N·mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
+
+
+def gravity_terms(m, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
+    joint's own angle [N·mm/rad].
+
+    Links are point masses w_j at their centres of mass p_j (``link_com``, by default their middles); flexion is
+    positive about +Z; g is gravity's direction in the plane. With r_ij = p_j − (joint i):
+    τ_i = −Σ_{j≥i} w_j (r_ij × g)_z, and turning joint i turns every r_ij, so ∂τ_i/∂θ_i = Σ_{j≥i} w_j r_ij·g
+    (positive where the links hang below the joint: gravity then stiffens it).
+    """
+    n = m.n
+    if not m.has_gravity:
+        return np.zeros(n), np.zeros(n)
+    gx, gy = m.gravity
+    ang = np.cumsum(theta)
+    x = np.zeros(n + 1)
+    y = np.zeros(n + 1)
+    for i in range(n):
+        x[i + 1] = x[i] + m.link_length[i] * math.cos(ang[i])
+        y[i + 1] = y[i] + m.link_length[i] * math.sin(ang[i])
+    lx, ly = np.asarray(m.link_com, dtype=float).T
+    cx = x[:-1] + lx * np.cos(ang) - ly * np.sin(ang)
+    cy = y[:-1] + lx * np.sin(ang) + ly * np.cos(ang)
+    w = np.asarray(m.link_mass) * G
+    tau = np.zeros(n)
+    slope = np.zeros(n)
+    for i in range(n):
+        rx, ry = cx[i:] - x[i], cy[i:] - y[i]
+        tau[i] = -np.sum(w[i:] * (rx * gy - ry * gx))
+        slope[i] = np.sum(w[i:] * (rx * gx + ry * gy))
+    return tau, slope
+
+
+def gravity_torques(m, theta: np.ndarray) -> np.ndarray:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm] (``gravity_terms``)."""
+    return gravity_terms(m, theta)[0]
