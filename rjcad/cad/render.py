@@ -1,12 +1,11 @@
 """The preview PNG, rendered off-screen with VTK: a shaded, depth-correct view and plane sections.
 
 VTK comes with CadQuery's OCP; the preview imports only the VTK modules it draws with (``rjcad.cad`` defers
-VTK's all-modules ``vtk``, which OCP imports for nothing: 1.3 s). The window is off-screen: EGL (Mesa's software rasteriser when there is no GPU) unless
-``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display is needed. One window holds every panel
-(a viewport each): the isometric view (bodies in their colours, the tendon as a red tube, dashed on an
-overlay where a body hides it), then each
-section (label, point, normal) as the bodies' cut outlines seen along the normal, the tendon dashed.
-Units: mm in, pixels out.
+VTK's all-modules ``vtk``, which OCP imports for nothing: 1.3 s). The window is off-screen: EGL (Mesa's
+software rasteriser when there is no GPU) unless ``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display
+is needed. One window holds every panel (a viewport each): the isometric view (bodies in their colours, the
+tendon as a red tube, dashed on an overlay where a body hides it), then each section (label, point, normal)
+as the bodies' cut outlines seen along the normal, the tendon dashed. Units: mm in, pixels out.
 """
 
 from __future__ import annotations

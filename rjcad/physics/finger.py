@@ -161,8 +161,8 @@ class Closure:
         }
 
 
-#: The weight's slope enters a step's linearisation down to −this × the joint's own slope (a weight that softens
-#: a joint more than that tips it over: the step stays a step, the snap takes a few).
+#: The weight's slope enters a step's linearisation down to −this × the joint's own step stiffness B (a weight
+#: that softens a joint more than that tips it over: the step stays a step, the snap takes a few).
 GRAVITY_SOFTENING = 0.9
 #: With gravity, a step re-linearises the weight about its own result (Newton on each joint's own angle), up to
 #: GRAVITY_ITERATIONS times, until no angle moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium.
@@ -197,7 +197,7 @@ def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=Non
     return E, B, a, b
 
 
-def gravity_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
+def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
     """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``, the weight
     re-linearised about the step's result until it is an equilibrium (``GRAVITY_ITERATIONS``), starting from
     ``guess`` (default ``prev``; the path passes the last two readings' extrapolation: 2 to 5 solves a step)."""
@@ -322,7 +322,7 @@ def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s
             pulling = td[k] > td[k - 1]
         dt = math.inf if t is None or k == 0 else float(t[k] - t[k - 1])
         guess = np.clip(2.0 * prev - theta[k - 2], 0.0, thmax) if k >= 2 and m.has_gravity else None
-        th, Tk, tik, sl, a, b = gravity_step(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0, dt, tau_m, guess)
+        th, Tk, tik, sl, a, b = path_step(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0, dt, tau_m, guess)
         tau_m = a * tau_m + km * b * (th - prev)
         moved = th - prev
         st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))

@@ -173,7 +173,7 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
             at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
         T = 0.0
         last, w = math.inf, 1.0
-        for _ in range(GRAVITY_ITERATIONS if gravity else 1):  # as rjcad.physics.finger.gravity_step
+        for _ in range(GRAVITY_ITERATIONS if gravity else 1):  # as rjcad.physics.finger.path_step
             if gravity:
                 _gravity(at, length, com, weight, gx, gy, tg, tk)
             for i in range(n):
@@ -213,7 +213,7 @@ def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np
     t = path_times(m, td, t_s)
     cum = np.cumsum(wrap)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    grav = m.gravity is not None and any(m.link_mass)
+    grav = m.has_gravity
     gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
     return _path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), K, th0, thmax, r,
                  np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),

@@ -1,8 +1,8 @@
 """The finger links' weight: its torque about each joint and that torque's slope in the joint's own angle.
 
-Pure numpy over a ``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports these; ``m`` is not
-imported here: the model module imports this one): links are point masses
-[g] at their centres of mass, lengths in mm, torques in N·mm.
+Pure numpy over a ``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports these; the model is not
+imported here, since its module imports this one): links are point masses [g] at their centres of mass, lengths
+in mm, torques in N·mm.
 """
 
 from __future__ import annotations

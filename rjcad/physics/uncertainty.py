@@ -1,5 +1,6 @@
-"""Parameter uncertainty of a least-squares fit from its Jacobian: pure numpy (no plotting, no CAD), shared by the
-paper-finger fits (``rjcad.physics.paper_finger``) and the finger endpoint critique (``rjcad.identify.finger.endpoint``)."""
+"""Parameter uncertainty of a least-squares fit from its Jacobian: pure numpy (no plotting, no CAD), shared by
+the paper-finger fits (``rjcad.physics.paper_finger``) and the finger endpoint critique
+(``rjcad.identify.finger.endpoint``)."""
 
 from __future__ import annotations
 

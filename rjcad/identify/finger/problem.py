@@ -63,10 +63,10 @@ def tendon_path(t, tendon) -> tuple[np.ndarray, np.ndarray, Motion]:
 
 #: Samples per experiment the fit works on: without damping, relaxation and gravity the model is
 #: rate-independent, so simulating it on every q-th sample, every turn of the tendon kept, is exact at those
-#: samples; q = ⌈n / FIT_SAMPLES⌉. With gravity (it lags one step), damping or relaxation (integrated over each
-#: step) the model runs on every sample and is compared on those: integrated over the kept samples' longer steps
-#: instead, a damped model differs from the record by enough that switching gravity on (which runs on every
-#: sample) "improved" the fit by ΔBIC −33 on a bench record without gravity.
+#: samples; q = ⌈n / FIT_SAMPLES⌉. With gravity (iterated to an equilibrium within each step), damping or
+#: relaxation (integrated over each step) the model runs on every sample and is compared on those: integrated
+#: over the kept samples' longer steps instead, a damped model differs from the record by enough that switching
+#: gravity on (which runs on every sample) "improved" the fit by ΔBIC −33 on a bench record without gravity.
 FIT_SAMPLES = 1000
 
 
