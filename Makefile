@@ -4,6 +4,8 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
+# test processes (pytest-xdist): one per core, at most 4 (each imports CadQuery; the CAD tests are CPU-bound)
+JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 
 .PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
 
@@ -43,7 +45,7 @@ test: $(VENV)/.installed
 
 # pytest's exit code 5 (nothing collected) is not a failure; every other non-zero is.
 pytest:
-	$(PY) -m pytest $(PYTEST_ARGS) || { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
+	$(PY) -m pytest -n $(JOBS) $(PYTEST_ARGS) || { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
 
 bench: $(VENV)/.installed
 	@for b in benchmarks/[!_]*.py; do echo "== $$b"; $(PY) $$b || exit 1; done

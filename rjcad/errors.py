@@ -39,6 +39,15 @@ def quote(value, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
     return text if len(text) <= limit else text[:limit] + "…"
 
 
+def _name(parameter: str, limit: int = 4 * QUOTE_CHARS) -> str:
+    """A parameter's name for an error line, on one line: over ``limit`` characters, its middle is cut, so a
+    name built as "file: experiment 2: key" keeps the key whole however long the path."""
+    text, head = str(parameter), limit // 4
+    if len(text) > limit:
+        text = text[:head] + "…" + text[-(limit - head):]
+    return " ".join(text.split())
+
+
 class RjcadError(Exception):
     """Base class: a user-facing problem with the input, never a bug."""
 
@@ -54,7 +63,7 @@ class ParameterError(RjcadError, ValueError):
         self.value = value
         self.limit = limit
         self.unit = unit
-        super().__init__(f"{quote(parameter, 2 * QUOTE_CHARS, repr_=False)} = {quote(value)}"
+        super().__init__(f"{_name(parameter)} = {quote(value)}"
                          f"{' ' + unit if unit else ''} is invalid: {limit}")
 
 

@@ -119,6 +119,22 @@ def pytest_sessionstart(session):
     _count_calls(rjcad.cad.finger, "build_finger", "fingers")
 
 
+def pytest_sessionfinish(session):
+    """Under pytest-xdist, a worker hands its lines and counts to the controller, which prints the section."""
+    out = getattr(session.config, "workeroutput", None)
+    if out is not None:
+        out["rjcad_summary"] = list(session.config.stash.get(_SUMMARY, []))
+        out["rjcad_built"] = dict(_BUILT)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """pytest-xdist's controller: a worker finished; add its "designs built" lines and CAD build counts."""
+    out = getattr(node, "workeroutput", {})
+    node.config.stash.setdefault(_SUMMARY, []).extend(out.get("rjcad_summary", []))
+    _BUILT.update(out.get("rjcad_built", {}))
+
+
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
     lines = config.stash.get(_SUMMARY, [])
     if _BUILT:

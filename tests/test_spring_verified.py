@@ -66,8 +66,8 @@ def test_default_design_is_contact_free_in_the_rod_model():
 @settings(max_examples=50, deadline=None)
 @given(st.floats(1.0, 15.0), st.floats(30.0, 150.0), st.floats(0.0, 120.0), st.sampled_from(sorted(MATERIALS)),
        st.sampled_from(sorted(PRINTERS)))
-@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
-def test_random_requirements_are_contact_free_or_say_why(K, rot, pre, material, printer):
+def _random_requirement(K, rot, pre, material, printer):
+    """One random requirement: designed and right in the rod model, or refused with a named constraint."""
     req = sp.SpringRequirement(K, rot * DEG, pre * DEG, material=material, printer=printer)
     try:
         d = opt.design_spring(req)
@@ -81,11 +81,14 @@ def test_random_requirements_are_contact_free_or_say_why(K, rot, pre, material, 
     assert_right_in_the_rod_model(d)
 
 
-def test_random_requirements_counted():
-    """Runs after the property test (file order): how many of the 50 were feasible, and why the others not."""
-    if sum(OUTCOMES.values()) < 50:
-        pytest.skip("run with test_random_requirements_are_contact_free_or_say_why")
+@pytest.mark.slow  # many full rod-model verifications: full suite only (fast lane < 2 min)
+def test_random_requirements_are_contact_free_or_say_why():
+    """50 random requirements, then how many were feasible and why the others not (one test, so that the
+    count is made in the process that ran them, whatever the test order or the number of workers)."""
+    OUTCOMES.clear()
+    _random_requirement()
     print(f"\n50 random requirements: {dict(OUTCOMES)}")
+    assert sum(OUTCOMES.values()) >= 50
     assert OUTCOMES["feasible"] >= 25  # most requirements in this range are printable
 
 

@@ -124,6 +124,16 @@ def test_quote_cuts_values_short():
     assert len(str(e)) < 120 and str(e).endswith("… is invalid: known materials: pla")
 
 
+def test_a_long_parameter_name_keeps_its_key():
+    """A name built from a deep path and a key is cut in the middle: the key, at its end, stays whole."""
+    name = "/" + "deep/" * 60 + "campaign.toml: experiment 1 (exp1.csv): normal_load_n"
+    text = str(ParameterError(name, -1.0, "must be >= 0"))
+    assert text.endswith(": normal_load_n = -1 is invalid: must be >= 0") and text.startswith("/deep/")
+    assert "…" in text and len(text) < 300
+    huge = str(ParameterError("k" * 50_000_000 + "\nkey", 1.0, "unknown"))
+    assert len(huge) < 300 and huge.endswith("k key = 1 is invalid: unknown")
+
+
 # ---------------------------------------------------------------- every command's files
 
 def _campaign(folder, top=90.0, radians=False, file="exp1.csv", write_csv=True):
