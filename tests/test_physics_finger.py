@@ -3,6 +3,7 @@
 
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -464,7 +465,7 @@ def test_damping_vanishes_when_pulled_slowly_and_lags_when_fast():
     """Viscous damping: a pull 1000× slower than another gives the rate-free angles; a fast pull needs more tension
     (c·θ̇ adds to the springs) and the joint that moves most carries most of it."""
     m0 = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG,) * 3, (6.0, 7.0, 8.0))
-    m = fm.FingerModel(**{**m0.__dict__, "damping": (0.6, 0.4, 0.3)})
+    m = replace(m0, damping=(0.6, 0.4, 0.3))
     ref = fm.simulate_path(m0, _ramp(20.0, 1.0)[1])
     slow = fm.simulate_path(m, _ramp(20.0, 1000.0)[1], t_s=_ramp(20.0, 1000.0)[0])
     fast = fm.simulate_path(m, _ramp(20.0, 1.0)[1], t_s=_ramp(20.0, 1.0)[0])
@@ -487,7 +488,7 @@ def test_relaxation_tension_decays_to_the_relaxed_value_during_a_hold():
     model's; held for 10·T_r it decays to it, exponentially with T_r (the decay over one T_r is 1 − 1/e of it)."""
     m0 = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG,) * 3, (6.0, 7.0, 8.0))
     tr = 1.5
-    m = fm.FingerModel(**{**m0.__dict__, "relax_stiffness": (1.5, 2.3, 3.1), "relax_time": tr})
+    m = replace(m0, relax_stiffness=(1.5, 2.3, 3.1), relax_time=tr)
     t, td = _ramp(20.0, 0.2, n=200, hold_s=10 * tr, hold_n=3000)
     c = fm.simulate_path(m, td, t_s=t)
     ref = fm.simulate_path(m0, td).tension[-1]

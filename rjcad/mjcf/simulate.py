@@ -5,7 +5,8 @@ tendon (force KP·(ctrl − L), never pushing: a released tendon goes slack, as 
 t_d the set point is L_rest − t_d − T/KP with T the last tension (so that the length comes out at L_rest − t_d);
 it moves there from the previous point in ``RAMP_STEPS`` time steps (``RAMP_CHUNKS`` equal moves: a slow,
 steady pull or pay-out), MuJoCo runs ``SETTLE_STEPS`` more, the set point is corrected by the remaining length
-error (``CORRECTIONS`` times, ``SETTLE_STEPS`` each), then qpos and the actuator's force are read. A spring, not a
+error (``CORRECTIONS`` times, and once more per ``LONG_STEP_MM`` of the step's displacement: a coarse path settles
+longer; ``SETTLE_STEPS`` each), then qpos and the actuator's force are read. A spring, not a
 hard length limit: moving a hard limit lets the tendon go slack for an instant at each move, and a joint that
 friction should hold then slips. To settle fast without changing the statics, the run (on a copy of the model):
 
@@ -25,15 +26,16 @@ import numpy as np
 from rjcad.physics.finger import Closure
 
 DT = 5e-4  # time step [s]
-RAMP_STEPS = 40  # time steps over which the set point moves from one point to the next
+RAMP_STEPS = 32  # time steps over which the set point moves from one point to the next
 RAMP_CHUNKS = 8  # in this many equal moves
-SETTLE_STEPS = 40  # then time steps before a correction and before the reading
+SETTLE_STEPS = 24  # then time steps before a correction and before the reading
 CORRECTIONS = 1  # set point corrections by the length error
 KP = 1e4  # the pulling actuator's stiffness in the run [N/m]
 SETTLE_S = 0.02  # damping / stiffness [s]
 ARMATURE_S = 0.01  # sqrt(armature / stiffness) [s]: 1 / the hinges' own frequency
 MASS_SCALE = 1e6
 SOLIMP = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+LONG_STEP_MM = 0.15  # one more correction and settle per this much tendon displacement in a step [mm]
 FIRST_SETTLE = 400  # time steps at t_d = 0 before the first reading
 
 
@@ -128,6 +130,7 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     theta = np.zeros((len(td), len(q)))
     tension = np.zeros(len(td))
     mujoco.mj_step(m, d, nstep=FIRST_SETTLE)
+    last = 0.0
     for k, x in enumerate(td):
         goal = rest - x * 1e-3
         start, aim = float(d.ctrl[a]), goal + float(d.actuator_force[a]) / KP  # feed-forward: the last tension
@@ -135,11 +138,13 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
             d.ctrl[a] = start + (aim - start) * s / RAMP_CHUNKS
             mujoco.mj_step(m, d, nstep=RAMP_STEPS // RAMP_CHUNKS)
         mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
-        for _ in range(CORRECTIONS):
+        for _ in range(CORRECTIONS + int(abs(x - last) / LONG_STEP_MM)):  # a long step settles longer
             err = goal - float(d.ten_length[t])
-            if d.actuator_force[a] < 0 or err < 0:  # taut (or too long): the length error moves the set point
-                d.ctrl[a] += err
-                mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
+            if not (d.actuator_force[a] < 0 or err < 0):
+                break  # slack (and not too long): nothing to correct
+            d.ctrl[a] += err  # taut (or too long): the length error moves the set point
+            mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
+        last = x
         theta[k] = d.qpos[q]
         tension[k] = -float(d.actuator_force[a])
     if phase is None:

@@ -34,108 +34,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rjcad.errors import ParameterError
+from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
 from rjcad.physics.gravity import G, gravity_terms, gravity_torques  # noqa: F401  (re-exported)
 from rjcad.units import DEG
-
-
-@dataclass(frozen=True)
-class FingerModel:
-    """Per-joint arrays (length N, proximal first), lengths in mm, angles in rad."""
-
-    stiffness: tuple[float, ...]
-    preload: tuple[float, ...]
-    rotation: tuple[float, ...]
-    moment_arm: tuple[float, ...]
-    wrap: tuple[float, ...] = ()
-    mu_t: float = 0.0
-    friction: tuple[float, ...] = ()  # f0_i [N·mm]
-    gamma: tuple[float, ...] = ()  # γ_i [N·mm/rad], both directions (shorthand for gamma_pos = gamma_neg)
-    link_length: tuple[float, ...] = ()  # axis i to axis i+1 (or the tip) [mm]
-    link_mass: tuple[float, ...] = ()  # mass of the child link of joint i [g]
-    gravity: tuple[float, float] | None = None  # unit direction of gravity in the finger plane (x, y)
-    tendon_stiffness: float = math.inf  # k_t: the tendon stretches T/k_t [N/mm]
-    gamma_pos: tuple[float, ...] = ()  # γ⁺_i while joint i closes [N·mm/rad] (default: gamma)
-    gamma_neg: tuple[float, ...] = ()  # γ⁻_i while joint i opens [N·mm/rad] (default: gamma)
-    damping: tuple[float, ...] = ()  # c_i: viscous damping [N·mm·s/rad]
-    cubic: tuple[float, ...] = ()  # k3_i: stiffening, + k3·(θ + θ0)³ [N·mm/rad³]
-    relax_stiffness: tuple[float, ...] = ()  # K_M,i: the Maxwell arm's stiffness [N·mm/rad]
-    relax_time: float = 1.0  # T_r: the Maxwell arm's time constant, shared (one polymer) [s]
-    #: centre of mass of joint i's child link from axis i, in that link's frame (x along the straight finger,
-    #: y towards the palm) [mm] (default: (link_length/2, 0), the middle of the link)
-    link_com: tuple[tuple[float, float], ...] = ()
-
-    def __post_init__(self):
-        n = len(self.stiffness)
-        for name in ("gamma_pos", "gamma_neg"):  # gamma is the shorthand for both; all zeros: not given
-            if not getattr(self, name):
-                object.__setattr__(self, name, tuple(self.gamma))
-            elif any(self.gamma) and tuple(getattr(self, name)) != tuple(self.gamma):
-                raise ParameterError("gamma", self.gamma, f"contradicts {name}: give gamma (both directions) "
-                                                          "or gamma_pos and gamma_neg")
-        if not 1 <= n <= 12:
-            raise ParameterError("joints", n, "a finger has 1 to 12 joints")
-        for name in ("preload", "rotation", "moment_arm"):
-            if len(getattr(self, name)) != n:
-                raise ParameterError(name, len(getattr(self, name)), f"needs {n} values, one per joint")
-        for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("gamma_pos", 0.0),
-                              ("gamma_neg", 0.0), ("link_length", 40.0), ("link_mass", 0.0), ("damping", 0.0),
-                              ("cubic", 0.0), ("relax_stiffness", 0.0)):
-            v = getattr(self, name)
-            if not v:
-                object.__setattr__(self, name, tuple([default] * n))
-            elif len(v) != n:
-                raise ParameterError(name, len(v), f"needs {n} values, one per joint")
-        if not self.link_com:
-            object.__setattr__(self, "link_com", tuple((L / 2, 0.0) for L in self.link_length))
-        elif len(self.link_com) != n or not all(len(c) == 2 and all(isinstance(x, (int, float)) and math.isfinite(x)
-                                                                   for x in c) for c in self.link_com):
-            raise ParameterError("link_com", self.link_com, f"needs {n} finite (x, y) pairs [mm], one per joint")
-        for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "gamma_pos",
-                     "gamma_neg", "link_length", "link_mass", "damping", "cubic", "relax_stiffness"):
-            v = getattr(self, name)
-            if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
-                raise ParameterError(name, v, "must be finite numbers")
-            if min(v) < 0:
-                raise ParameterError(name, min(v), "must be >= 0")
-        if min(self.rotation) <= 0:
-            raise ParameterError("rotation", min(self.rotation), "must be > 0 rad")
-        if not (math.isfinite(self.relax_time) and self.relax_time > 0):
-            raise ParameterError("relax_time", self.relax_time, "must be > 0 s")
-        if not (math.isfinite(self.mu_t) and self.mu_t >= 0):
-            raise ParameterError("mu_t", self.mu_t, "must be >= 0")
-        if not self.tendon_stiffness > 0:
-            raise ParameterError("tendon_stiffness", self.tendon_stiffness, "must be > 0 N/mm")
-        if any(k <= 0 for k in self.stiffness):
-            raise ParameterError("stiffness", min(self.stiffness), "must be > 0 N·mm/rad")
-        if any(r <= 0 for r in self.moment_arm):
-            raise ParameterError("moment_arm", min(self.moment_arm), "must be > 0 mm")
-        for name in ("gamma_pos", "gamma_neg"):
-            if any(g >= k for g, k in zip(getattr(self, name), self.stiffness)):
-                raise ParameterError(name, max(getattr(self, name)), "must stay below each joint's stiffness")
-
-    @property
-    def n(self) -> int:
-        return len(self.stiffness)
-
-    @property
-    def has_gravity(self) -> bool:
-        """Whether the links' weight acts (a gravity direction and a link mass)."""
-        return self.gravity is not None and any(self.link_mass)
-
-    @property
-    def rate_dependent(self) -> bool:
-        """Whether the response depends on time (damping or relaxation): a path then needs its times."""
-        return any(self.damping) or any(self.relax_stiffness)
-
-    def rate_arrays(self):
-        """(k3, c, K_M) as arrays and T_r."""
-        f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
-        return f(self.cubic), f(self.damping), f(self.relax_stiffness), float(self.relax_time)
-
-    def arrays(self):
-        f = lambda x: np.asarray(x, dtype=float)  # noqa: E731
-        return (f(self.stiffness), f(self.preload), f(self.rotation), f(self.moment_arm), f(self.wrap),
-                f(self.friction), (f(self.gamma_pos), f(self.gamma_neg)))
 
 
 @dataclass
@@ -182,7 +83,7 @@ def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=Non
     ``prev``); the weight enters as tg + k_g·(θ − at), k_g = max(tg_slope, −GRAVITY_SOFTENING·B). The slope makes
     the weight implicit in the step: an explicit weight stiffer than the spring flips the joint step to step.
     """
-    K, th0 = np.asarray(m.stiffness, float), np.asarray(m.preload, float)
+    K, th0 = m.arrays()[:2]
     k3, c, km, tr = m.rate_arrays()
     s = prev + th0
     a = 0.0 if math.isinf(dt) else math.exp(-dt / tr)
@@ -369,113 +270,6 @@ def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
     return out
 
 
-def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
-                        gravity: tuple[float, float] | None = None, gamma_pos=None, gamma_neg=None) -> FingerModel:
-    """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
-    preload, range, measured arms and wraps, and each joint's child body's mass."""
-    from rjcad.manifest import Manifest
-
-    man = Manifest.coerce(manifest)
-    joints = man.joints
-    if not joints:
-        raise ParameterError("joints", [], "must be a non-empty list of joints, proximal first")
-
-    def num(key: str, default=None) -> tuple[float, ...]:
-        out = []
-        for i, j in enumerate(joints):
-            v = getattr(j, key)
-            if v is None and default is None:
-                raise ParameterError(man.key_path(i, key), None, "is required in a finger manifest")
-            out.append(float(default if v is None else v))
-        return tuple(out)
-
-    masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
-    coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
-    link_com = ()
-    if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
-        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1])
-                         for j in joints)
-    return FingerModel(
-        stiffness=num("joint_stiffness_nmm_per_rad"),
-        preload=tuple(x * DEG for x in num("preload_deg")),
-        rotation=tuple(x * DEG for x in num("rotation_deg")),
-        moment_arm=num("tendon_moment_arm_mm"),
-        wrap=num("tendon_wrap_angle_rad", 0.0),
-        mu_t=mu_t,
-        friction=tuple(friction) if friction is not None else (),
-        gamma=tuple(gamma) if gamma is not None else (),
-        gamma_pos=tuple(gamma_pos) if gamma_pos is not None else (),
-        gamma_neg=tuple(gamma_neg) if gamma_neg is not None else (),
-        link_length=num("link_length_mm", 40.0),
-        link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
-        gravity=gravity,
-        link_com=link_com,
-    )
-
-
-def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
-    """A finger model from a finger template's physics keys; the purely geometric keys are ignored.
-
-    Per joint (``[[joint]]`` over ``[defaults]``): stiffness_nmm_per_rad (required), preload_deg (90),
-    rotation_deg (90), tendon_moment_arm_mm (``default_arm`` = 6 mm, the joint builder's default),
-    link_length_mm (40). No wrap angle in a template: 0 (frictionless path).
-    """
-    defaults = data.get("defaults", {})
-    joints = data.get("joint", [])
-    if not isinstance(defaults, dict):
-        raise ParameterError("defaults", defaults, "must be a table")
-    if not isinstance(joints, list) or not joints:
-        raise ParameterError("joint", joints, "a finger template needs at least one [[joint]] table")
-    ks, pre, rot, arm, lengths = [], [], [], [], []
-    for i, j in enumerate(joints, start=1):
-        if not isinstance(j, dict):
-            raise ParameterError(f"joint[{i}]", j, "must be a table")
-        merged = {**defaults, **j}
-
-        def num(key, default=None):
-            v = merged.get(key, default)
-            if v is None:
-                raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
-            return float(v)
-
-        ks.append(num("stiffness_nmm_per_rad"))
-        pre.append(num("preload_deg", 90) * DEG)
-        rot.append(num("rotation_deg", 90) * DEG)
-        arm.append(num("tendon_moment_arm_mm", default_arm))
-        lengths.append(num("link_length_mm", 40))
-    return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
-
-
-def _check_template_keys(data: dict, name: str) -> None:
-    """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
-    from rjcad.config import check_key
-    from rjcad.templates import FINGER_JOINT_KEYS, FINGER_KEYS
-
-    for key, value in data.items():
-        check_key(f"{name}: ", key, value, FINGER_KEYS)
-    tables = [("defaults.", data.get("defaults", {}))]
-    tables += [(f"joint[{i}].", j) for i, j in enumerate(data.get("joint", []), start=1) if isinstance(j, dict)]
-    for where, table in tables:
-        for key, value in table.items():
-            check_key(f"{name}: {where}", key, value, FINGER_JOINT_KEYS)
-
-
-def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
-    """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
-    from pathlib import Path
-
-    from rjcad.manifest import Manifest
-    from rjcad.untrusted import read_toml
-
-    if source is None:
-        from rjcad.templates import PAPER_FINGER
-
-        return model_from_template(PAPER_FINGER)
-    if Path(source).suffix.lower() == ".json":
-        return model_from_manifest(Manifest.read(source), mu_t=mu_t)
-    data = read_toml(source)
-    _check_template_keys(data, Path(source).name)
-    m = model_from_template(data)
-    return m if mu_t == 0 else FingerModel(**{**m.__dict__, "mu_t": mu_t})
+# the model from a manifest, a template or a file (rjcad/physics/finger_sources.py), re-exported
+from rjcad.physics.finger_sources import (load_finger_model, model_from_manifest,  # noqa: E402,F401
+                                          model_from_template)

@@ -27,22 +27,19 @@ def gravity_terms(m, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if not m.has_gravity:
         return np.zeros(n), np.zeros(n)
     gx, gy = m.gravity
+    length, lx, ly, w, upper = m.link_arrays()
     ang = np.cumsum(theta)
+    c, s = np.cos(ang), np.sin(ang)
     x = np.zeros(n + 1)
     y = np.zeros(n + 1)
-    for i in range(n):
-        x[i + 1] = x[i] + m.link_length[i] * math.cos(ang[i])
-        y[i + 1] = y[i] + m.link_length[i] * math.sin(ang[i])
-    lx, ly = np.asarray(m.link_com, dtype=float).T
-    cx = x[:-1] + lx * np.cos(ang) - ly * np.sin(ang)
-    cy = y[:-1] + lx * np.sin(ang) + ly * np.cos(ang)
-    w = np.asarray(m.link_mass) * G
-    tau = np.zeros(n)
-    slope = np.zeros(n)
-    for i in range(n):
-        rx, ry = cx[i:] - x[i], cy[i:] - y[i]
-        tau[i] = -np.sum(w[i:] * (rx * gy - ry * gx))
-        slope[i] = np.sum(w[i:] * (rx * gx + ry * gy))
+    x[1:] = np.cumsum(length * c)  # joint i+1's position: joint i's + the link
+    y[1:] = np.cumsum(length * s)
+    cx = x[:-1] + lx * c - ly * s  # link j's centre of mass
+    cy = y[:-1] + lx * s + ly * c
+    rx = cx[None, :] - x[:-1, None]  # r_ij = p_j − (joint i), used where j ≥ i
+    ry = cy[None, :] - y[:-1, None]
+    tau = -np.sum(np.where(upper, w * (rx * gy - ry * gx), 0.0), axis=1)
+    slope = np.sum(np.where(upper, w * (rx * gx + ry * gy), 0.0), axis=1)
     return tau, slope
 
 

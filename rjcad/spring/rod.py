@@ -7,10 +7,10 @@ and its reaction pushes the coil pack sideways, so the coils touch far earlier.
 Method: corotational planar Euler–Bernoulli beam elements (u, v, θ per node; a
 linear beam riding on the rigid rotation of its chord), Newton–Raphson under
 displacement (or load) control with the consistent tangent, vectorised element
-kernels, banded LU solve. Chosen over OpenSeesPy (a new, heavy dependency for
+kernels, banded LU solve (LAPACK dgbsv, ``banded.py``). Chosen over OpenSeesPy (a new, heavy dependency for
 one element) and over a shooting elastica (shooting across 5–10 turns is
 ill-conditioned, the ends depend exponentially on the start values, and it
-needs continuation anyway): numpy/scipy only, the default spring to 180° in
+needs continuation anyway): numpy and LAPACK only, the default spring to 180° in
 ~0.2 s, and a Newton step that fails is simply bisected.
 
 Conventions (mm, N, N·mm, rad, MPa):
@@ -48,8 +48,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import solve_banded
-
+from rjcad.spring import banded
 from rjcad.spring.gaps import nearest_gap
 
 TWO_PI = 2.0 * math.pi
@@ -110,11 +109,13 @@ def _scatter(fe, n_nodes):
 
 
 def _band(ke, n_nodes, fixed):
-    """Global tangent in solve_banded storage; rows/columns of ``fixed`` dofs → identity."""
+    """Global tangent in LAPACK band storage (rjcad.spring.banded: the matrix in rows _BW:, fill-in above);
+    rows/columns of ``fixed`` dofs → identity."""
     n = 3 * n_nodes
     T = np.zeros((2 * _BW + 1, 6, len(ke)))
     T[_BAND_ROW, _BAND_COL] = ke.transpose(1, 2, 0)  # T[BW + a − b, b, e] = k_e[a, b]
-    ab = np.zeros((2 * _BW + 1, n))
+    storage = banded.band_storage(n, _BW, _BW)
+    ab = storage[_BW:]
     ab[:, : n - 3] += T[:, :3].transpose(0, 2, 1).reshape(2 * _BW + 1, -1)
     ab[:, 3:] += T[:, 3:].transpose(0, 2, 1).reshape(2 * _BW + 1, -1)
     ab[:, fixed] = 0.0
@@ -123,7 +124,7 @@ def _band(ke, n_nodes, fixed):
         ok = (j >= 0) & (j < n)
         ab[_BW - k, j[ok]] = 0.0
     ab[_BW, fixed] = 1.0
-    return ab
+    return storage
 
 
 # --- General rod solver ---
@@ -200,7 +201,7 @@ def _newton(X0, U, lam, f_ext, fixed, target, EA, EI, tol, max_iter):
             r -= _scatter(np.einsum("eij,ej->ei", ke, np.concatenate([dp[:-1], dp[1:]], axis=1)), n)
         r[fixed] = du_p[fixed] if it == 1 else 0.0
         try:
-            du = solve_banded((_BW, _BW), _band(ke, n, fixed), r, check_finite=False)
+            du = banded.solve(_band(ke, n, fixed), r, _BW, _BW)
         except (np.linalg.LinAlgError, ValueError):
             return None
         if not np.all(np.isfinite(du)) or np.abs(du[2::3]).max(initial=0) > 1.0:

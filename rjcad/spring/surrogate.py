@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import functools
 import importlib.resources
+import io
 import math
 from pathlib import Path
 
@@ -51,16 +52,28 @@ COLUMNS = ("h", "h_pair", "q", "m", "tau")  # stored per arm: h, h_pair and q in
 DATA = ("data", "spring_surrogate.npz")
 
 
+class _Tables(dict):
+    """The file's arrays by name, each read (and a uint16 table decoded to float: value = offset + scale·code per
+    column, 65535 = NaN) on its first use. A design reads one end and sense: a quarter of the tables."""
+
+    def __init__(self, npz):
+        super().__init__()
+        self.npz = npz
+
+    def __missing__(self, key):
+        value = self.npz[key]  # KeyError for a name the file does not hold
+        if value.dtype == np.uint16:
+            value = np.where(value == 65535, np.nan, self["q_offset"] + self["q_scale"] * value)
+        self[key] = value
+        return value
+
+
 @functools.lru_cache(maxsize=4)
 def load(path=None) -> dict:
-    """The file's arrays, tables decoded to float (NaN where not computed); cached. ``path``: another file."""
+    """The file's arrays, tables decoded to float (NaN where not computed), each when first read; cached.
+    ``path``: another file."""
     src = importlib.resources.files("rjcad").joinpath(*DATA) if path is None else Path(path)
-    with src.open("rb") as fh, np.load(fh, allow_pickle=False) as npz:
-        raw = {k: npz[k] for k in npz.files}
-    for key, v in raw.items():
-        if v.dtype == np.uint16:  # value = offset + scale·code per column; 65535 = NaN
-            raw[key] = np.where(v == 65535, np.nan, raw["q_offset"] + raw["q_scale"] * v)
-    return raw
+    return _Tables(np.load(io.BytesIO(src.read_bytes()), allow_pickle=False))
 
 
 @functools.lru_cache(maxsize=64)

@@ -137,11 +137,11 @@ def design_from_file(file: Path, label: str, where: str) -> FingerDesign:
 
         model = model_from_manifest(Manifest.read(file))
     elif file.suffix.lower() == ".toml":
-        from rjcad.physics.finger import _check_template_keys
+        from rjcad.physics.finger_sources import check_template_keys
         from rjcad.untrusted import read_toml
 
         data = read_toml(file)
-        _check_template_keys(data, file.name)
+        check_template_keys(data, file.name)
         model = model_from_template(data)
     else:
         raise RjcadError(f"{where}: {quote(label)} must be a finger manifest (.json) or template (.toml)")

@@ -1,0 +1,123 @@
+"""A finger model from what describes a built or planned finger: its manifest (measured arms, wraps, masses and
+centres of mass), a finger template's physics keys, or a file of either (re-exported by
+``rjcad.physics.finger``)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from rjcad.errors import ParameterError
+from rjcad.physics.finger_model import FingerModel
+from rjcad.units import DEG
+
+
+def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
+                        gravity: tuple[float, float] | None = None, gamma_pos=None, gamma_neg=None) -> FingerModel:
+    """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
+    preload, range, measured arms and wraps, and each joint's child body's mass."""
+    from rjcad.manifest import Manifest
+
+    man = Manifest.coerce(manifest)
+    joints = man.joints
+    if not joints:
+        raise ParameterError("joints", [], "must be a non-empty list of joints, proximal first")
+
+    def num(key: str, default=None) -> tuple[float, ...]:
+        out = []
+        for i, j in enumerate(joints):
+            v = getattr(j, key)
+            if v is None and default is None:
+                raise ParameterError(man.key_path(i, key), None, "is required in a finger manifest")
+            out.append(float(default if v is None else v))
+        return tuple(out)
+
+    masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
+    coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
+    link_com = ()
+    if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
+        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1])
+                         for j in joints)
+    return FingerModel(
+        stiffness=num("joint_stiffness_nmm_per_rad"),
+        preload=tuple(x * DEG for x in num("preload_deg")),
+        rotation=tuple(x * DEG for x in num("rotation_deg")),
+        moment_arm=num("tendon_moment_arm_mm"),
+        wrap=num("tendon_wrap_angle_rad", 0.0),
+        mu_t=mu_t,
+        friction=tuple(friction) if friction is not None else (),
+        gamma=tuple(gamma) if gamma is not None else (),
+        gamma_pos=tuple(gamma_pos) if gamma_pos is not None else (),
+        gamma_neg=tuple(gamma_neg) if gamma_neg is not None else (),
+        link_length=num("link_length_mm", 40.0),
+        link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
+        gravity=gravity,
+        link_com=link_com,
+    )
+
+
+def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
+    """A finger model from a finger template's physics keys; the purely geometric keys are ignored.
+
+    Per joint (``[[joint]]`` over ``[defaults]``): stiffness_nmm_per_rad (required), preload_deg (90),
+    rotation_deg (90), tendon_moment_arm_mm (``default_arm`` = 6 mm, the joint builder's default),
+    link_length_mm (40). No wrap angle in a template: 0 (frictionless path).
+    """
+    defaults = data.get("defaults", {})
+    joints = data.get("joint", [])
+    if not isinstance(defaults, dict):
+        raise ParameterError("defaults", defaults, "must be a table")
+    if not isinstance(joints, list) or not joints:
+        raise ParameterError("joint", joints, "a finger template needs at least one [[joint]] table")
+    ks, pre, rot, arm, lengths = [], [], [], [], []
+    for i, j in enumerate(joints, start=1):
+        if not isinstance(j, dict):
+            raise ParameterError(f"joint[{i}]", j, "must be a table")
+        merged = {**defaults, **j}
+
+        def num(key, default=None):
+            v = merged.get(key, default)
+            if v is None:
+                raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
+            return float(v)
+
+        ks.append(num("stiffness_nmm_per_rad"))
+        pre.append(num("preload_deg", 90) * DEG)
+        rot.append(num("rotation_deg", 90) * DEG)
+        arm.append(num("tendon_moment_arm_mm", default_arm))
+        lengths.append(num("link_length_mm", 40))
+    return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
+
+
+def check_template_keys(data: dict, name: str) -> None:
+    """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
+    from rjcad.config import check_key
+    from rjcad.templates import FINGER_JOINT_KEYS, FINGER_KEYS
+
+    for key, value in data.items():
+        check_key(f"{name}: ", key, value, FINGER_KEYS)
+    tables = [("defaults.", data.get("defaults", {}))]
+    tables += [(f"joint[{i}].", j) for i, j in enumerate(data.get("joint", []), start=1) if isinstance(j, dict)]
+    for where, table in tables:
+        for key, value in table.items():
+            check_key(f"{name}: {where}", key, value, FINGER_JOINT_KEYS)
+
+
+def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
+    """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
+    from pathlib import Path
+
+    from rjcad.manifest import Manifest
+    from rjcad.untrusted import read_toml
+
+    if source is None:
+        from rjcad.templates import PAPER_FINGER
+
+        return model_from_template(PAPER_FINGER)
+    if Path(source).suffix.lower() == ".json":
+        return model_from_manifest(Manifest.read(source), mu_t=mu_t)
+    data = read_toml(source)
+    check_template_keys(data, Path(source).name)
+    m = model_from_template(data)
+    return m if mu_t == 0 else replace(m, mu_t=mu_t)
