@@ -16,6 +16,18 @@ def cylinder(r=2.0, h=10.0):
     return cq.Solid.makeCylinder(r, h, cq.Vector(0, 0, 0), cq.Vector(0, 0, 1))
 
 
+def test_triangulate_gives_cadquerys_tessellation_exactly():
+    """The direct read of the triangulation equals CadQuery's Shape.tessellate: same nodes, order and winding
+    (a cut solid has reversed faces, whose triangles are flipped), on a solid moved by a location."""
+    block = cq.Solid.makeBox(10, 8, 6).cut(cylinder(2.0, 6.0).translate(cq.Vector(5, 4, 0)))
+    block = block.moved(cq.Location(cq.Vector(1, 2, 3), cq.Vector(0, 0, 1), 30))
+    v, f = ex.triangulate(block)
+    verts, tris = block.tessellate(ex.MESH_TOLERANCE, ex.MESH_ANGULAR_TOLERANCE)
+    assert np.array_equal(v, np.array([p.toTuple() for p in verts], dtype=float))
+    assert np.array_equal(f, np.asarray(tris, dtype=np.int64))
+    assert any(face.wrapped.Orientation().name == "TopAbs_REVERSED" for face in block.Faces())
+
+
 def test_to_mesh_is_watertight_and_within_the_chord_tolerance():
     r = 2.0
     mesh = ex.to_mesh(cylinder(r))
