@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_SOFTENING, GRAVITY_TOL,
-                                  G, FingerModel, path_times)
+                                  FingerModel, path_times)
 
 
 @njit(cache=True)
@@ -213,9 +213,9 @@ def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np
     t = path_times(m, td, t_s)
     cum = np.cumsum(wrap)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    grav = m.has_gravity
+    length, _, _, weight, _ = m.link_arrays()
     gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
     return _path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), K, th0, thmax, r,
-                 np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, np.asarray(m.link_length, float),
-                 np.ascontiguousarray(m.link_com, dtype=float), np.asarray(m.link_mass, float) * G, float(gx),
-                 float(gy), grav, k3, c, km, tr)
+                 np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, length,
+                 np.ascontiguousarray(m.link_com, dtype=float), weight, float(gx), float(gy), m.has_gravity,
+                 k3, c, km, tr)
