@@ -30,6 +30,15 @@ def main() -> None:
     m = FingerModel(FINGER.designed_stiffness, (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0),
                     mu_t=0.2, friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8), gravity=(0.0, -1.0))
     t_finger, c = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
+    # the same stroke with each joint's own slope of the weight only (the coupled step's fallback, and the
+    # solver before it): the readings that are not equilibria, and the time, in the same run
+    from rjcad.physics import finger as finger_module
+    coupled = finger_module.coupled_step
+    finger_module.coupled_step = lambda *a, **k: None
+    try:
+        t_own, c_own = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
+    finally:
+        finger_module.coupled_step = coupled
     n = args.n
     t = np.linspace(0, 100, n)
     th = 0.8 + 0.7 * np.sin(t)
@@ -56,6 +65,10 @@ def main() -> None:
     t_design = median_time(lambda: design_finger(target_deg, FINGER.stroke, "proximal-first"), args.repeats)[0]
     out = {**mujoco_stroke(args), "finger_steps": len(c.tendon_mm),
         "finger_1000_step_stroke_s": t_finger * 1000 / len(c.tendon_mm),
+        "finger_own_slope_only_1000_step_stroke_s": t_own * 1000 / len(c.tendon_mm),
+        "finger_coupled_speedup": t_own / t_finger,
+        "finger_readings_not_equilibria": unbalanced(m, c),
+        "finger_own_slope_only_readings_not_equilibria": unbalanced(m, c_own),
         "joint_samples_per_s": n / t_joint,
         "joint_given_direction_samples_per_s": n / t_joint_dir,
         "joint_numpy_ceiling_samples_per_s": n / t_plain,
@@ -71,6 +84,20 @@ def main() -> None:
         "mujoco_default_finger_stroke_s": target(out["mujoco_default_finger_stroke_s"], at_most=1.0),
     }
     emit(out)
+
+
+def unbalanced(m, c) -> int:
+    """Readings where a joint between its stops is outside its friction band, the weight taken at the reading's
+    own angles (1e-6 N·mm)."""
+    from rjcad.physics.finger import gravity_torques
+    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    bad = 0
+    for th, ti in zip(c.theta, c.joint_tension):
+        net = r * ti - K * (th + th0) - gravity_torques(m, th)
+        inside = (th > 1e-9) & (th < thmax - 1e-9)
+        ok = (net <= f0 + gp * (th + th0) + 1e-6) & (net >= -f0 - gn * (th + th0) - 1e-6)
+        bad += int(not np.all(ok | ~inside))
+    return bad
 
 
 def mujoco_stroke(args) -> dict:

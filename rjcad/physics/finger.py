@@ -20,10 +20,11 @@ and a Maxwell relaxation arm (dτ_M/dt = K_M·θ̇ − τ_M/T_r). Within a step 
 the previous angle, so each joint's elastic torque is E_i + B_i·(θ_i − θ_prev,i) and the solve stays exact and
 piecewise linear: B_i = K_i + 3k3_i·s² + c_i/Δt + K_M,i·b, E_i = K_i·s + k3_i·s³ + a·τ_M,i + τg_i (s = θ_prev + θ0,
 a = exp(−Δt/T_r), b = T_r(1 − a)/Δt: the arm's exact update for a constant rate over the step).
-Gravity torques are taken from the previous step (small steps; links whose weight beats a joint's preload
-torque make that joint chatter: an implicit fixed point does not converge there either). Where every joint sticks the tension is not
-unique (any T on a flat stretch of Σ r·θ(T) meets the tendon constraint): it stays as close to the previous
-step's as that stretch allows.
+With the links' weight, each reading is an equilibrium of the weight's torque at its own angles: the step is
+solved with the joints coupled through the weight's full slope and re-linearised (Newton; rjcad.physics.coupled),
+with proximal steps where the finger snaps, and each joint's own slope as the fallback (see GRAVITY_ITERATIONS).
+Where every joint sticks the tension is not unique (any T on a flat stretch of Σ r·θ(T) meets the tendon
+constraint): it stays as close to the previous step's as that stretch allows.
 """
 
 from __future__ import annotations
@@ -34,8 +35,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from rjcad.errors import ParameterError
+from rjcad.physics import coupled as cp
 from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
-from rjcad.physics.gravity import G, gravity_terms, gravity_torques  # noqa: F401  (re-exported)
+from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_terms  # noqa: F401  (re-exported)
 from rjcad.units import DEG
 
 
@@ -65,13 +67,16 @@ class Closure:
 #: The weight's slope enters a step's linearisation down to −this × the joint's own step stiffness B (a weight
 #: that softens a joint more than that tips it over: the step stays a step, the snap takes a few).
 GRAVITY_SOFTENING = 0.9
-#: With gravity, a step re-linearises the weight about its own result (Newton on each joint's own angle), up to
-#: GRAVITY_ITERATIONS times, until no angle moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium.
-#: The joints' weights couple them, which a joint's own slope leaves out: once a move is not at most
-#: GRAVITY_CONTRACTION of the one before (the full steps cycle), the step takes half moves.
+#: With gravity, a step is first solved with the joints coupled through the weight's full slope
+#: (rjcad.physics.coupled), re-linearised about its result (Newton) up to GRAVITY_ITERATIONS times until no angle
+#: moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium. Once a move is not at most
+#: GRAVITY_CONTRACTION of the one before, each joint's torque gets λ(θ − at) with H + λI's smallest eigenvalue
+#: GRAVITY_MARGIN × min(B) (proximal steps towards a stable equilibrium). Where that finds none either, the step
+#: falls back to each joint's own slope (a diagonal H, ``step_terms``), re-linearised the same way.
 GRAVITY_ITERATIONS = 40
 GRAVITY_TOL = 1e-7
 GRAVITY_CONTRACTION = 0.5
+GRAVITY_MARGIN = 0.5
 
 
 def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=None):
@@ -99,9 +104,13 @@ def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=Non
 
 
 def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
-    """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``, the weight
-    re-linearised about the step's result until it is an equilibrium (``GRAVITY_ITERATIONS``), starting from
-    ``guess`` (default ``prev``; the path passes the last two readings' extrapolation: 2 to 5 solves a step)."""
+    """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``. With gravity the
+    weight is re-linearised about the step's result until it is an equilibrium (see GRAVITY_ITERATIONS), starting
+    from ``guess`` (default ``prev``; the path passes the last two readings' extrapolation)."""
+    if m.has_gravity:
+        got = coupled_step(m, t_d, prev, pulling, prev_T, dt, tau_m, guess)
+        if got is not None:
+            return got
     at, last, w = (prev if guess is None else guess), math.inf, 1.0
     for _ in range(GRAVITY_ITERATIONS if m.has_gravity else 1):
         tg, tg_slope = gravity_terms(m, at)
@@ -115,6 +124,53 @@ def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt
         last = moved
         at = at + w * (th - at)
     return th, T, ti, slack, a, b
+
+
+def coupled_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
+    """``path_step`` with the joints coupled through the weight's full slope (rjcad.physics.coupled), or None
+    where no equilibrium was found within GRAVITY_ITERATIONS linearisations."""
+    n = m.n
+    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    cum = np.cumsum(wrap)
+    c = np.exp(-m.mu_t * cum) if pulling else np.exp(m.mu_t * cum)
+    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
+    tol = FLAT_MM * max(1.0, abs(t_d))
+    E0, B, a, b = step_terms(m, prev, np.zeros(n), dt, tau_m)  # the spring's part: the weight's is added below
+    E0, B, pl = E0.tolist(), B.tolist(), prev.tolist()
+    consts = (th0.tolist(), thmax.tolist(), r.tolist(), (r * c).tolist(), f0.tolist(), gp.tolist(), gn.tolist())
+    at = pl if guess is None else guess.tolist()
+    state = [cp.UP if x > p + 1e-12 else (cp.DOWN if x < p - 1e-12 else cp.STICK) for x, p in zip(at, pl)] + [False]
+    damped, last = False, math.inf
+    for _ in range(GRAVITY_ITERATIONS):
+        tg, slope = weight_terms(m, at)
+        # the weight's torque over the step: tg + G·(θ − at), G_ij = slope_max(i,j)
+        H = [[slope[max(i, j)] for j in range(n)] for i in range(n)]
+        E = [E0[i] + tg[i] + sum(H[i][j] * (pl[j] - at[j]) for j in range(n)) for i in range(n)]
+        for i in range(n):
+            H[i][i] += B[i]
+        if damped:  # proximal: + λ(θ − at), H + λI positive definite
+            lam = GRAVITY_MARGIN * min(B) - float(np.linalg.eigvalsh(np.array(H))[0])
+            if lam > 0:
+                for i in range(n):
+                    H[i][i] += lam
+                    E[i] += lam * (pl[i] - at[i])
+        got = cp.coupled_solve(cp.Step(t_d, pl, prev_T, E, H, *consts, comp, tol), state)
+        if got is None:
+            if damped:
+                return None
+            damped = True
+            continue
+        d, T, slack = got
+        th = [p + x for p, x in zip(pl, d)]
+        moved = max(abs(x - y) for x, y in zip(th, at))
+        if moved <= GRAVITY_TOL and not damped:
+            return np.clip(th, 0.0, thmax), T, T * c, slack, a, b
+        # Newton while its moves contract; proximal steps while they do not (a snap: the joints run to another
+        # equilibrium), back to Newton once they do
+        damped = moved > GRAVITY_CONTRACTION * last
+        last = moved
+        at = th
+    return None
 
 
 def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gam):

@@ -15,8 +15,10 @@ import math
 import numpy as np
 from numba import njit
 
-from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_SOFTENING, GRAVITY_TOL,
-                                  FingerModel, path_times)
+from rjcad.physics import coupled as cp
+from rjcad.physics.coupled import MAX_PIVOTS, TORQUE_TOL
+from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_MARGIN, GRAVITY_SOFTENING,
+                                  GRAVITY_TOL, FingerModel, path_times)
 
 
 @njit(cache=True)
@@ -139,6 +141,260 @@ def _step(t_d, prev, prev_T, E, B, th0, thmax, r, rc, f0, gp, gn, comp, th, bps)
     return T
 
 
+STICK, UP, DOWN, LOW, HIGH = cp.STICK, cp.UP, cp.DOWN, cp.LOW, cp.HIGH
+
+
+@njit(cache=True)
+def _gauss(A, b, x):
+    """x with A·x = b (partial pivoting; A and b are overwritten), False if singular (as coupled.solve_linear)."""
+    k = len(b)
+    scale = 0.0
+    for i in range(k):
+        for j in range(k):
+            scale = max(scale, abs(A[i, j]))
+    for c in range(k):
+        p = c
+        for i in range(c + 1, k):
+            if abs(A[i, c]) > abs(A[p, c]):
+                p = i
+        if scale == 0.0 or abs(A[p, c]) <= 1e-13 * scale:
+            return False
+        for j in range(k):
+            A[c, j], A[p, j] = A[p, j], A[c, j]
+        b[c], b[p] = b[p], b[c]
+        for i in range(c + 1, k):
+            f = A[i, c] / A[c, c]
+            if f != 0.0:
+                for j in range(c, k):
+                    A[i, j] -= f * A[c, j]
+                b[i] -= f * b[c]
+    for c in range(k - 1, -1, -1):
+        v = b[c]
+        for j in range(c + 1, k):
+            v -= A[c, j] * x[j]
+        x[c] = v / A[c, c]
+    return True
+
+
+@njit(cache=True)
+def _torque(E, H, d, i):
+    v = E[i]
+    for j in range(len(d)):
+        if d[j] != 0.0:
+            v += H[i, j] * d[j]
+    return v
+
+
+@njit(cache=True)
+def _solve_states(state, slack, t_d, prev, E, H, s, thmax, r, rc, f0, gp, gn, comp, d):
+    """As coupled.solve_states: fills d (θ − prev); returns (0 singular | 1 T set | 2 T not set by the tendon, T)."""
+    n = len(prev)
+    free = np.empty(n, np.int64)
+    k = 0
+    for i in range(n):
+        d[i] = -prev[i] if state[i] == LOW else (thmax[i] - prev[i] if state[i] == HIGH else 0.0)
+        if state[i] == UP or state[i] == DOWN:
+            free[k] = i
+            k += 1
+    if k == 0 and (slack or comp == 0.0):
+        return (1, 0.0) if slack else (2, 0.0)
+    size = k if slack else k + 1
+    A = np.zeros((size, size))
+    b = np.zeros(size)
+    x = np.zeros(size)
+    for a in range(k):
+        i = free[a]
+        for c in range(k):
+            A[a, c] = -H[i, free[c]]
+        fixed = _torque(E, H, d, i)
+        if state[i] == UP:
+            A[a, a] -= gp[i]
+            b[a] = fixed + f0[i] + gp[i] * s[i]
+        else:
+            A[a, a] += gn[i]
+            b[a] = fixed - f0[i] - gn[i] * s[i]
+        if not slack:
+            A[a, k] = rc[i]
+    if not slack:
+        for c in range(k):
+            A[k, c] = r[free[c]]
+        A[k, k] = comp
+        v = t_d
+        for j in range(n):
+            v -= r[j] * (prev[j] + d[j])
+        b[k] = v
+    if not _gauss(A, b, x):
+        return 0, 0.0
+    for a in range(size):
+        if not math.isfinite(x[a]):
+            return 0, 0.0
+    for a in range(k):
+        d[free[a]] = x[a]
+    return 1, (0.0 if slack else x[k])
+
+
+@njit(cache=True)
+def _first_violation(state, slack, T_set, T, t_d, tol, prev, E, H, s, th0, thmax, r, rc, f0, gp, gn, d):
+    """As coupled.first_violation: (joint or n for the tendon, its new state), joint −1 when consistent,
+    −2 when nothing can move."""
+    n = len(prev)
+    for i in range(n):
+        if state[i] == UP:
+            if d[i] < 0:
+                return i, STICK
+            if prev[i] + d[i] > thmax[i]:
+                return i, HIGH
+        elif state[i] == DOWN:
+            if d[i] > 0:
+                return i, STICK
+            if prev[i] + d[i] < 0:
+                return i, LOW
+    if not T_set:
+        short = -t_d
+        for j in range(n):
+            short += r[j] * (prev[j] + d[j])
+        if abs(short) <= tol:
+            return -1, 0
+        best, bi = 0.0, -1
+        if short < 0:
+            for i in range(n):
+                if state[i] == STICK and prev[i] < thmax[i]:
+                    e = (_torque(E, H, d, i) + f0[i] + gp[i] * s[i]) / rc[i]
+                    if bi < 0 or e < best:
+                        best, bi = e, i
+            return (bi, UP) if bi >= 0 else (-2, 0)
+        for i in range(n):
+            if state[i] == STICK and prev[i] > 0:
+                e = (_torque(E, H, d, i) - f0[i] - gn[i] * s[i]) / rc[i]
+                if e > 0 and (bi < 0 or e >= best):
+                    best, bi = e, i
+        return (bi, DOWN) if bi >= 0 else (n, 1)
+    for i in range(n):
+        rho = rc[i] * T - _torque(E, H, d, i)
+        if state[i] == STICK:
+            if rho > f0[i] + gp[i] * s[i] + TORQUE_TOL and prev[i] < thmax[i]:
+                return i, UP
+            if rho < -f0[i] - gn[i] * s[i] - TORQUE_TOL and prev[i] > 0:
+                return i, DOWN
+        elif state[i] == HIGH:
+            if rho < f0[i] + gp[i] * (thmax[i] + th0[i]) - TORQUE_TOL:
+                return i, UP
+        elif state[i] == LOW:
+            if rho > -f0[i] - gn[i] * th0[i] + TORQUE_TOL:
+                return i, DOWN
+    if not slack and T < 0:
+        return n, 1
+    if slack:
+        held = 0.0
+        for j in range(n):
+            held += r[j] * (prev[j] + d[j])
+        if held < t_d - tol:
+            return n, 0
+    return -1, 0
+
+
+@njit(cache=True)
+def _flat_tension(state, prev, prev_T, E, H, s, th0, thmax, rc, f0, gp, gn, d):
+    """As coupled.flat_tension: (T, −1, 0), or (0, joint, its new state) where no tension holds every joint."""
+    n = len(prev)
+    lo, hi, first = 0.0, math.inf, -1
+    for i in range(n):
+        torque = _torque(E, H, d, i)
+        up = math.inf
+        if state[i] == STICK:
+            if prev[i] > 0:
+                lo = max(lo, (torque - f0[i] - gn[i] * s[i]) / rc[i])
+            if prev[i] < thmax[i]:
+                up = (torque + f0[i] + gp[i] * s[i]) / rc[i]
+        elif state[i] == HIGH:
+            lo = max(lo, (torque + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i])
+        elif state[i] == LOW:
+            up = (torque - f0[i] - gn[i] * th0[i]) / rc[i]
+        if up < hi:
+            hi, first = up, i
+    if lo > hi:
+        return 0.0, first, (UP if state[first] == STICK else DOWN)
+    return min(max(prev_T, lo), hi), -1, 0
+
+
+@njit(cache=True)
+def _coupled_solve(state, t_d, tol, prev, prev_T, E, H, s, th0, thmax, r, rc, f0, gp, gn, comp, d):
+    """As coupled.coupled_solve: (ok, T); d holds θ − prev and state[n] the slack flag."""
+    n = len(prev)
+    for _ in range(MAX_PIVOTS):
+        slack = state[n] == 1
+        code, T = _solve_states(state, slack, t_d, prev, E, H, s, thmax, r, rc, f0, gp, gn, comp, d)
+        if code == 0:
+            return False, 0.0
+        j, new = _first_violation(state, slack, code == 1, T, t_d, tol, prev, E, H, s, th0, thmax, r, rc, f0, gp,
+                                  gn, d)
+        if j == -2:
+            return False, 0.0
+        if j >= 0:
+            state[j] = new
+            continue
+        if code == 2:
+            T, j, new = _flat_tension(state, prev, prev_T, E, H, s, th0, thmax, rc, f0, gp, gn, d)
+            if j >= 0:
+                state[j] = new
+                continue
+        return True, T
+    return False, 0.0
+
+
+@njit(cache=True)
+def _coupled_step(t_d, prev, prev_T, guess, E0, B, th0, thmax, r, rc, f0, gp, gn, comp, length, com, weight, gx, gy,
+                  th):
+    """As rjcad.physics.finger.coupled_step: fills th, returns (ok, T, slack)."""
+    n = len(prev)
+    tol = FLAT_MM * max(1.0, abs(t_d))
+    state = np.zeros(n + 1, np.int64)
+    for i in range(n):
+        state[i] = UP if guess[i] > prev[i] + 1e-12 else (DOWN if guess[i] < prev[i] - 1e-12 else STICK)
+    at = guess.copy()
+    s = prev + th0
+    tg = np.zeros(n)
+    slope = np.zeros(n)
+    E = np.zeros(n)
+    H = np.zeros((n, n))
+    d = np.zeros(n)
+    damped, last = False, math.inf
+    bmin = np.min(B)
+    for _ in range(GRAVITY_ITERATIONS):
+        _gravity(at, length, com, weight, gx, gy, tg, slope)
+        for i in range(n):
+            v = 0.0
+            for j in range(n):
+                H[i, j] = slope[max(i, j)]
+                v += H[i, j] * (prev[j] - at[j])
+            E[i] = E0[i] + tg[i] + v
+            H[i, i] += B[i]
+        if damped:
+            lam = GRAVITY_MARGIN * bmin - np.linalg.eigvalsh(H)[0]
+            if lam > 0:
+                for i in range(n):
+                    H[i, i] += lam
+                    E[i] += lam * (prev[i] - at[i])
+        ok, T = _coupled_solve(state, t_d, tol, prev, prev_T, E, H, s, th0, thmax, r, rc, f0, gp, gn, comp, d)
+        if not ok:
+            if damped:
+                return False, 0.0, False
+            damped = True
+            continue
+        moved = 0.0
+        for i in range(n):
+            moved = max(moved, abs(prev[i] + d[i] - at[i]))
+        if moved <= GRAVITY_TOL and not damped:
+            for i in range(n):
+                th[i] = min(max(prev[i] + d[i], 0.0), thmax[i])
+            return True, T, state[n] == 1
+        damped = moved > GRAVITY_CONTRACTION * last
+        last = moved
+        for i in range(n):
+            at[i] = prev[i] + d[i]
+    return False, 0.0, False
+
+
 @njit(cache=True, nogil=True)
 def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com, weight, gx, gy, gravity, k3, c, km,
           tr):
@@ -172,8 +428,16 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
         for i in range(n):  # the last two readings' extrapolation (as rjcad.physics.finger.simulate_path)
             at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
         T = 0.0
+        done = False
+        if gravity:  # as rjcad.physics.finger.path_step: the joints coupled through the weight first
+            for i in range(n):
+                s = prev[i] + th0[i]
+                E[i] = K[i] * s + k3[i] * s**3 + a * tau[i]
+                B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
+            done, T, _ = _coupled_step(td[k], prev, prev_T, at, E, B, th0, thmax, r, rc, f0, gp, gn, comp, length, com,
+                                       weight, gx, gy, th)
         last, w = math.inf, 1.0
-        for _ in range(GRAVITY_ITERATIONS if gravity else 1):  # as rjcad.physics.finger.path_step
+        for _ in range(0 if done else (GRAVITY_ITERATIONS if gravity else 1)):  # the fallback: each joint's own slope
             if gravity:
                 _gravity(at, length, com, weight, gx, gy, tg, tk)
             for i in range(n):
@@ -213,7 +477,7 @@ def simulate_angles(m: FingerModel, tendon_mm, t_s=None) -> tuple[np.ndarray, np
     t = path_times(m, td, t_s)
     cum = np.cumsum(wrap)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    length, _, _, weight, _ = m.link_arrays()
+    length, _, _, weight = m.link_arrays()
     gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
     return _path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), K, th0, thmax, r,
                  np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum), f0, gp, gn, comp, length,

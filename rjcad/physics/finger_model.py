@@ -119,16 +119,23 @@ class FingerModel:
         return self._arrays
 
     def link_arrays(self):
-        """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N], upper-triangle mask) as
-        read-only arrays, for ``gravity_terms`` (made once per model)."""
+        """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as read-only arrays (made once
+        per model)."""
         return self._link_arrays
+
+    def link_lists(self):
+        """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as lists of floats, for
+        ``weight_terms`` (made once per model)."""
+        return self._link_lists
+
+    @functools.cached_property
+    def _link_lists(self):
+        return tuple(a.tolist() for a in self._link_arrays)
 
     @functools.cached_property
     def _link_arrays(self):
         lx, ly = np.asarray(self.link_com, dtype=float).reshape(-1, 2).T
-        upper = np.triu(np.ones((self.n, self.n), dtype=bool))
-        upper.flags.writeable = False
-        return _frozen(self.link_length), _frozen(lx), _frozen(ly), _frozen(np.asarray(self.link_mass) * G), upper
+        return _frozen(self.link_length), _frozen(lx), _frozen(ly), _frozen(np.asarray(self.link_mass) * G)
 
     @functools.cached_property
     def _rate_arrays(self):

@@ -1,0 +1,143 @@
+"""The finger's step with the joints coupled through the links' weight (rjcad.physics.coupled, used by
+rjcad.physics.finger.path_step): checked against numpy's solve, the constrained minimum of a frictionless step,
+every stick–slip condition on random steps, and on the fingers where each joint's own slope never settles."""
+
+import math
+
+import numpy as np
+import pytest
+
+from rjcad.paper import FINGER
+from rjcad.physics import coupled as cp
+from rjcad.physics import finger as fm
+
+DEG = math.pi / 180
+
+
+def test_solve_linear_is_numpys_solve_and_says_singular():
+    rng = np.random.default_rng(1)
+    for k in range(1, 7):
+        for _ in range(20):
+            A = rng.normal(size=(k, k))
+            b = rng.normal(size=k)
+            x = cp.solve_linear(A.tolist(), b.tolist())
+            assert np.allclose(x, np.linalg.solve(A, b), rtol=1e-9, atol=1e-9)
+    A = [[1.0, 2.0], [2.0, 4.0]]
+    assert cp.solve_linear(A, [1.0, 2.0]) is None
+    assert A == [[1.0, 2.0], [2.0, 4.0]]  # its arguments are left as they were
+
+
+def random_step(rng, n=3, friction=True, comp=0.0):
+    """A linearised step with a positive definite H (springs plus a random weight's slope), bands, stops."""
+    M = rng.normal(size=(n, n))
+    H = M @ M.T * 0.5 + np.diag(rng.uniform(2.0, 8.0, n))
+    prev = rng.uniform(0.0, 80 * DEG, n) * (rng.uniform(size=n) > 0.2)
+    th0 = rng.uniform(20 * DEG, 90 * DEG, n)
+    thmax = np.full(n, 90 * DEG)
+    r = rng.uniform(5.0, 9.0, n)
+    rc = r * np.exp(-0.2 * np.cumsum(rng.uniform(0, 0.5, n)))
+    f0 = rng.uniform(0.0, 2.0, n) if friction else np.zeros(n)
+    gp = rng.uniform(0.0, 1.0, n) if friction else np.zeros(n)
+    gn = rng.uniform(0.0, 1.0, n) if friction else np.zeros(n)
+    E = H.diagonal() * (prev + th0) * rng.uniform(0.8, 1.2, n)
+    t_d = float(r @ prev + rng.normal(0.0, 1.0))
+    prev_T = float(rng.uniform(0.0, 5.0))
+    return cp.Step(max(t_d, 0.0), prev.tolist(), prev_T, E.tolist(), H.tolist(), th0.tolist(), thmax.tolist(),
+                   r.tolist(), rc.tolist(), f0.tolist(), gp.tolist(), gn.tolist(), comp, 1e-7)
+
+
+def assert_conditions(st, d, T, slack):
+    """Each condition of the step, from its definition (not from the pivoting code)."""
+    H, E = np.array(st.H), np.array(st.E)
+    prev, th0, thmax = np.array(st.prev), np.array(st.th0), np.array(st.thmax)
+    f0, gp, gn, rc, r = (np.array(v) for v in (st.f0, st.gp, st.gn, st.rc, st.r))
+    d = np.array(d)
+    th = prev + d
+    rho = rc * T - (E + H @ d)  # the tension's torque beyond the elastic one [N·mm]
+    up, down = f0 + gp * (th + th0), -f0 - gn * (th + th0)
+    assert np.all(th >= -1e-12) and np.all(th <= thmax + 1e-12)
+    for i in range(st.n):
+        if th[i] >= thmax[i] - 1e-12 and d[i] > 0:  # reached the stop closing: pushed onto it
+            assert rho[i] >= up[i] - 1e-7
+        elif th[i] <= 1e-12 and d[i] < 0:
+            assert rho[i] <= down[i] + 1e-7
+        elif d[i] > 1e-12:
+            assert rho[i] == pytest.approx(up[i], abs=1e-7)
+        elif d[i] < -1e-12:
+            assert rho[i] == pytest.approx(down[i], abs=1e-7)
+        else:  # stuck: inside its band, or against a stop it rests on
+            assert rho[i] <= up[i] + 1e-7 or prev[i] >= thmax[i]
+            assert rho[i] >= down[i] - 1e-7 or prev[i] <= 0
+    assert T >= 0
+    if slack:
+        assert T == 0 and r @ th >= st.t_d - 1e-7
+    else:
+        assert r @ th + st.comp * T == pytest.approx(st.t_d, abs=1e-6)
+
+
+@pytest.mark.parametrize("comp", [0.0, 0.25])
+def test_random_steps_meet_every_condition(comp):
+    rng = np.random.default_rng(7 + int(comp * 100))
+    solved = 0
+    for _ in range(300):
+        st = random_step(rng, n=int(rng.integers(1, 6)), comp=comp)
+        state = [cp.STICK] * st.n + [False]
+        got = cp.coupled_solve(st, state)
+        if got is None:
+            continue
+        solved += 1
+        assert_conditions(st, *got)
+    assert solved >= 290, solved  # a positive definite step nearly always settles within MAX_PIVOTS
+
+
+def test_frictionless_step_is_the_constrained_minimum():
+    """No friction, no stop reached: every joint balances, E + H·Δ = r_c·T, and the tendon holds,
+    r·(prev + Δ) = t_d: one linear (KKT) system, solved here by numpy."""
+    rng = np.random.default_rng(3)
+    checked = 0
+    for _ in range(100):
+        st = random_step(rng, friction=False)
+        got = cp.coupled_solve(st, [cp.STICK] * st.n + [False])
+        H, E, rc, r = (np.array(v) for v in (st.H, st.E, st.rc, st.r))
+        K = np.block([[H, -rc[:, None]], [r[None, :], np.zeros((1, 1))]])
+        x = np.linalg.solve(K, np.concatenate([-E, [st.t_d - r @ np.array(st.prev)]]))
+        th = np.array(st.prev) + x[:-1]
+        if x[-1] <= 0 or np.any(th < 0) or np.any(th > np.array(st.thmax)):
+            continue  # a stop or a slack tendon: not this closed form
+        checked += 1
+        d, T, slack = got
+        assert not slack and T == pytest.approx(x[-1], rel=1e-9)
+        assert np.allclose(d, x[:-1], atol=1e-10)
+    assert checked > 10
+
+
+def bench_finger(gravity):
+    """benchmarks/physics.py's finger: capstan, pin friction with its tendon-induced part, heavy links."""
+    return fm.FingerModel(FINGER.designed_stiffness, (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0),
+                          mu_t=0.2, friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8),
+                          gravity=gravity)
+
+
+def unbalanced(m, c) -> int:
+    """Readings where a joint between its stops is outside its band with the weight at the reading's angles."""
+    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    bad = 0
+    for th, Ti in zip(c.theta, c.joint_tension):
+        net = r * Ti - K * (th + th0) - fm.gravity_torques(m, th)
+        inside = (th > 1e-9) & (th < thmax - 1e-9)
+        ok = (net <= f0 + gp * (th + th0) + 1e-6) & (net >= -f0 - gn * (th + th0) - 1e-6)
+        bad += int(not np.all(ok | ~inside))
+    return bad
+
+
+@pytest.mark.parametrize("gravity", [(0.0, -1.0), (1.0, 0.0), (0.6, -0.8)])
+def test_joints_sliding_against_their_weight_settle(gravity, monkeypatch):
+    """Palm up and sideways, joints 1 and 2 slide together against weights that soften them. Each joint's own slope
+    (the fallback alone) hands the whole step to one joint, then the other: hundreds of readings are not
+    equilibria. Coupled, every reading is one but at most one, a step where the finger snaps."""
+    m = bench_finger(gravity)
+    c = fm.simulate_stroke(m, FINGER.stroke, 500)
+    assert unbalanced(m, c) <= 1
+    monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
+    own = fm.simulate_stroke(m, FINGER.stroke, 500)
+    assert unbalanced(m, own) > 100
