@@ -149,7 +149,7 @@ def test_gravity_on_the_built_finger_tilted(built):
 def test_gravity_on_the_built_finger_full_weight(built, gravity):
     """The built finger's full weight (its links outweigh their springs' preload) where the closure has one branch:
     each rjcad reading is an equilibrium (the weight re-linearised within the step), so both engines agree. Palm
-    up or tip up the weight tips the finger over; both engines then pick branches by their own paths (docs)."""
+    up or tip up the weight tips the finger over (the next test)."""
     g = gravity_of(gravity)
     for order in ("as built", "stiffest first"):
         man = Manifest.read(built["default"] / "finger.json")
@@ -161,6 +161,30 @@ def test_gravity_on_the_built_finger_full_weight(built, gravity):
         mj, rj = _closures(model_from_manifest(man, gravity=(g[0] / 9.81, g[1] / 9.81)), xml, assets)
         assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0, order
         assert np.ptp(np.degrees(rj.theta)) > 40
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("gravity", ["horizontal-palm-up", "vertical-tip-up"])
+def test_where_the_weight_tips_the_finger_over_both_engines_snap_alike(built, gravity):
+    """Palm up or tip up the built finger's full weight tips it over: a joint snaps to its stop within a step or
+    two. Both engines follow the same branch; where they differ by more than 1° (at most 6 % of the readings) it
+    is within 15 readings (1.5 mm of tendon) of a snap, a step in which either engine moves a joint by more than
+    3°: rjcad jumps to the next equilibrium in one step, MuJoCo's dynamics take a few."""
+    g = gravity_of(gravity)
+    for order in ("as built", "stiffest first"):
+        man = Manifest.read(built["default"] / "finger.json")
+        if order == "stiffest first":
+            ks = [j.joint_stiffness_nmm_per_rad for j in man.joints][::-1]
+            for j, k in zip(man.joints, ks):
+                j.joint_stiffness_nmm_per_rad = k
+        xml, assets = _manifest_xml(built, man, g)
+        mj, rj = _closures(model_from_manifest(man, gravity=(g[0] / 9.81, g[1] / 9.81)), xml, assets)
+        apart = np.flatnonzero(np.degrees(np.abs(mj.theta - rj.theta)).max(axis=1) > 1.0)
+        jumps = np.maximum(np.abs(np.diff(rj.theta, axis=0)).max(axis=1), np.abs(np.diff(mj.theta, axis=0)).max(axis=1))
+        snaps = np.flatnonzero(np.degrees(jumps) > 3.0) + 1
+        assert len(apart) <= 0.06 * len(rj.tendon_mm), (order, len(apart))
+        for k in apart:
+            assert np.min(np.abs(snaps - k)) <= 15, (order, k, snaps)
 
 
 @pytest.mark.slow
