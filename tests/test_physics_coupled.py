@@ -134,10 +134,10 @@ def unbalanced(m, c) -> int:
 def test_joints_sliding_against_their_weight_settle(gravity, monkeypatch):
     """Palm up and sideways, joints 1 and 2 slide together against weights that soften them. Each joint's own slope
     (the fallback alone) hands the whole step to one joint, then the other: hundreds of readings are not
-    equilibria. Coupled, every reading is one but at most one, a step where the finger snaps."""
+    equilibria. Coupled, every reading is one, the steps where the finger snaps included."""
     m = bench_finger(gravity)
     c = fm.simulate_stroke(m, FINGER.stroke, 500)
-    assert unbalanced(m, c) <= 1
+    assert unbalanced(m, c) == 0
     monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
     own = fm.simulate_stroke(m, FINGER.stroke, 500)
     assert unbalanced(m, own) > 100
@@ -167,16 +167,17 @@ def random_heavy_finger(rng):
 def test_random_heavy_fingers_balance_at_every_reading(monkeypatch):
     """40 random fingers pulled to 50–110 % of their full closure and back (401 readings each): a reading that is
     not an equilibrium with the weight at its own angles is one where the finger snaps and the coupled step's
-    proximal moves did not reach the next equilibrium within GRAVITY_ITERATIONS, so each joint's own slope
-    answered (at most 8 in a finger, at most 16 in all; with seed 11, 4). Each joint's own slope alone left 1426 in these 40, up to 328 in one
-    finger, and 130 in the first five (checked here) where the coupled step leaves 1."""
+    proximal moves did not reach the next equilibrium within COUPLED_ITERATIONS, so each joint's own slope
+    answered (at most 2 in a finger, 6 in all; with seed 11, 2 in two fingers; seeds 1, 3, 4, 5: 3, 1, 1, 0).
+    Each joint's own slope alone left 1426 in these 40, up to 328 in one finger, and 130 in the first five
+    (checked here), where the coupled step leaves none."""
     rng = np.random.default_rng(11)
     fingers = []
     for _ in range(40):
         m = random_heavy_finger(rng)
         fingers.append((m, float(np.dot(m.moment_arm, m.rotation) * rng.uniform(0.5, 1.1))))
     bad = [unbalanced(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers]
-    assert max(bad) <= 8 and sum(bad) <= 16, bad
+    assert max(bad) <= 2 and sum(bad) <= 6, bad
     monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
     own = [unbalanced(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5]]
     assert sum(own) > 10 * sum(bad[:5]) + 50, (own, bad[:5])

@@ -22,7 +22,7 @@ piecewise linear: B_i = K_i + 3k3_i·s² + c_i/Δt + K_M,i·b, E_i = K_i·s + k3
 a = exp(−Δt/T_r), b = T_r(1 − a)/Δt: the arm's exact update for a constant rate over the step).
 With the links' weight, each reading is an equilibrium of the weight's torque at its own angles: the step is
 solved with the joints coupled through the weight's full slope and re-linearised (Newton; rjcad.physics.coupled),
-with proximal steps where the finger snaps, and each joint's own slope as the fallback (see GRAVITY_ITERATIONS).
+with proximal steps where the finger snaps, and each joint's own slope as the fallback (see COUPLED_ITERATIONS).
 Where every joint sticks the tension is not unique (any T on a flat stretch of Σ r·θ(T) meets the tendon
 constraint): it stays as close to the previous step's as that stretch allows.
 """
@@ -68,11 +68,13 @@ class Closure:
 #: that softens a joint more than that tips it over: the step stays a step, the snap takes a few).
 GRAVITY_SOFTENING = 0.9
 #: With gravity, a step is first solved with the joints coupled through the weight's full slope
-#: (rjcad.physics.coupled), re-linearised about its result (Newton) up to GRAVITY_ITERATIONS times until no angle
+#: (rjcad.physics.coupled), re-linearised about its result (Newton) up to COUPLED_ITERATIONS times until no angle
 #: moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium. Once a move is not at most
 #: GRAVITY_CONTRACTION of the one before, each joint's torque gets λ(θ − at) with H + λI's smallest eigenvalue
-#: GRAVITY_MARGIN × min(B) (proximal steps towards a stable equilibrium). Where that finds none either, the step
-#: falls back to each joint's own slope (a diagonal H, ``step_terms``), re-linearised the same way.
+#: GRAVITY_MARGIN × min(B) (proximal steps towards a stable equilibrium: where the finger snaps they take most of
+#: the budget). Where that finds none either, the step falls back to each joint's own slope (a diagonal H,
+#: ``step_terms``), re-linearised the same way up to GRAVITY_ITERATIONS times.
+COUPLED_ITERATIONS = 200
 GRAVITY_ITERATIONS = 40
 GRAVITY_TOL = 1e-7
 GRAVITY_CONTRACTION = 0.5
@@ -105,7 +107,7 @@ def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=Non
 
 def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
     """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``. With gravity the
-    weight is re-linearised about the step's result until it is an equilibrium (see GRAVITY_ITERATIONS), starting
+    weight is re-linearised about the step's result until it is an equilibrium (see COUPLED_ITERATIONS), starting
     from ``guess`` (default ``prev``; the path passes the last two readings' extrapolation)."""
     if m.has_gravity:
         got = coupled_step(m, t_d, prev, pulling, prev_T, dt, tau_m, guess)
@@ -128,7 +130,7 @@ def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt
 
 def coupled_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
     """``path_step`` with the joints coupled through the weight's full slope (rjcad.physics.coupled), or None
-    where no equilibrium was found within GRAVITY_ITERATIONS linearisations."""
+    where no equilibrium was found within COUPLED_ITERATIONS linearisations."""
     n = m.n
     K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
     cum = np.cumsum(wrap)
@@ -141,7 +143,7 @@ def coupled_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float,
     at = pl if guess is None else guess.tolist()
     state = [cp.UP if x > p + 1e-12 else (cp.DOWN if x < p - 1e-12 else cp.STICK) for x, p in zip(at, pl)] + [False]
     damped, last = False, math.inf
-    for _ in range(GRAVITY_ITERATIONS):
+    for _ in range(COUPLED_ITERATIONS):
         tg, slope = weight_terms(m, at)
         # the weight's torque over the step: tg + G·(θ − at), G_ij = slope_max(i,j)
         H = [[slope[max(i, j)] for j in range(n)] for i in range(n)]

@@ -17,8 +17,8 @@ from numba import njit
 
 from rjcad.physics import coupled as cp
 from rjcad.physics.coupled import MAX_PIVOTS, TORQUE_TOL
-from rjcad.physics.finger import (FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_MARGIN, GRAVITY_SOFTENING,
-                                  GRAVITY_TOL, FingerModel, path_times)
+from rjcad.physics.finger import (COUPLED_ITERATIONS, FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_MARGIN,
+                                  GRAVITY_SOFTENING, GRAVITY_TOL, FingerModel, path_times)
 
 
 @njit(cache=True)
@@ -360,7 +360,7 @@ def _coupled_step(t_d, prev, prev_T, guess, E0, B, th0, thmax, r, rc, f0, gp, gn
     d = np.zeros(n)
     damped, last = False, math.inf
     bmin = np.min(B)
-    for _ in range(GRAVITY_ITERATIONS):
+    for _ in range(COUPLED_ITERATIONS):
         _gravity(at, length, com, weight, gx, gy, tg, slope)
         for i in range(n):
             v = 0.0
