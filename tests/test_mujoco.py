@@ -104,14 +104,21 @@ def _manifest_xml(built, man: Manifest, gravity=(0.0, 0.0, 0.0)):
     return files.pop("finger.xml"), files
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("order", ["as built", "stiffest first"])
-def test_frictionless_agreement_on_the_built_finger(built, order):
+def _in_order(built, order: str) -> Manifest:
+    """The built default finger's manifest; "stiffest first" reverses its joints' stiffnesses (the distal joint
+    then starts first: the closing order changes)."""
     man = Manifest.read(built["default"] / "finger.json")
-    if order == "stiffest first":  # the distal joint now starts first: the closing order changes
+    if order == "stiffest first":
         ks = [j.joint_stiffness_nmm_per_rad for j in man.joints][::-1]
         for j, k in zip(man.joints, ks):
             j.joint_stiffness_nmm_per_rad = k
+    return man
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("order", ["as built", "stiffest first"])
+def test_frictionless_agreement_on_the_built_finger(built, order):
+    man = _in_order(built, order)
     xml, assets = _manifest_xml(built, man)
     mj, rj = _closures(model_from_manifest(man), xml, assets)
     assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0
@@ -144,6 +151,13 @@ def test_gravity_on_the_built_finger_tilted(built):
         assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0, direction
 
 
+def _weighted_closures(built, order: str, g):
+    """Both engines' closures of the built default finger (``_in_order``) under gravity g [m/s², finger frame]."""
+    man = _in_order(built, order)
+    xml, assets = _manifest_xml(built, man, g)
+    return _closures(model_from_manifest(man, gravity=(g[0] / 9.81, g[1] / 9.81)), xml, assets)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("gravity", ["horizontal-palm-down", "vertical-tip-down"])
 def test_gravity_on_the_built_finger_full_weight(built, gravity):
@@ -152,13 +166,7 @@ def test_gravity_on_the_built_finger_full_weight(built, gravity):
     up or tip up the weight tips the finger over (the next test)."""
     g = gravity_of(gravity)
     for order in ("as built", "stiffest first"):
-        man = Manifest.read(built["default"] / "finger.json")
-        if order == "stiffest first":
-            ks = [j.joint_stiffness_nmm_per_rad for j in man.joints][::-1]
-            for j, k in zip(man.joints, ks):
-                j.joint_stiffness_nmm_per_rad = k
-        xml, assets = _manifest_xml(built, man, g)
-        mj, rj = _closures(model_from_manifest(man, gravity=(g[0] / 9.81, g[1] / 9.81)), xml, assets)
+        mj, rj = _weighted_closures(built, order, g)
         assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0, order
         assert np.ptp(np.degrees(rj.theta)) > 40
 
@@ -172,13 +180,7 @@ def test_where_the_weight_tips_the_finger_over_both_engines_snap_alike(built, gr
     3°: rjcad jumps to the next equilibrium in one step, MuJoCo's dynamics take a few."""
     g = gravity_of(gravity)
     for order in ("as built", "stiffest first"):
-        man = Manifest.read(built["default"] / "finger.json")
-        if order == "stiffest first":
-            ks = [j.joint_stiffness_nmm_per_rad for j in man.joints][::-1]
-            for j, k in zip(man.joints, ks):
-                j.joint_stiffness_nmm_per_rad = k
-        xml, assets = _manifest_xml(built, man, g)
-        mj, rj = _closures(model_from_manifest(man, gravity=(g[0] / 9.81, g[1] / 9.81)), xml, assets)
+        mj, rj = _weighted_closures(built, order, g)
         apart = np.flatnonzero(np.degrees(np.abs(mj.theta - rj.theta)).max(axis=1) > 1.0)
         jumps = np.maximum(np.abs(np.diff(rj.theta, axis=0)).max(axis=1), np.abs(np.diff(mj.theta, axis=0)).max(axis=1))
         snaps = np.flatnonzero(np.degrees(jumps) > 3.0) + 1
