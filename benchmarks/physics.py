@@ -14,7 +14,7 @@ import numpy as np
 from _timing import emit, median_time, parse_args, target
 
 from rjcad.paper import FINGER
-from rjcad.physics.finger import FingerModel, simulate_stroke
+from rjcad.physics.finger import FingerModel, simulate_stroke, unbalanced_readings
 from rjcad.physics.inverse import design_finger
 from rjcad.physics.joint import PAPER_JOINT, Setup, motion_direction, simulate
 from rjcad.units import DEG
@@ -67,8 +67,8 @@ def main() -> None:
         "finger_1000_step_stroke_s": t_finger * 1000 / len(c.tendon_mm),
         "finger_own_slope_only_1000_step_stroke_s": t_own * 1000 / len(c.tendon_mm),
         "finger_coupled_speedup": t_own / t_finger,
-        "finger_readings_not_equilibria": unbalanced(m, c),
-        "finger_own_slope_only_readings_not_equilibria": unbalanced(m, c_own),
+        "finger_readings_not_equilibria": unbalanced_readings(m, c),
+        "finger_own_slope_only_readings_not_equilibria": unbalanced_readings(m, c_own),
         "joint_samples_per_s": n / t_joint,
         "joint_given_direction_samples_per_s": n / t_joint_dir,
         "joint_numpy_ceiling_samples_per_s": n / t_plain,
@@ -84,20 +84,6 @@ def main() -> None:
         "mujoco_default_finger_stroke_s": target(out["mujoco_default_finger_stroke_s"], at_most=1.0),
     }
     emit(out)
-
-
-def unbalanced(m, c) -> int:
-    """Readings where a joint between its stops is outside its friction band, the weight taken at the reading's
-    own angles (1e-6 N·mm)."""
-    from rjcad.physics.finger import gravity_torques
-    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
-    bad = 0
-    for th, ti in zip(c.theta, c.joint_tension):
-        net = r * ti - K * (th + th0) - gravity_torques(m, th)
-        inside = (th > 1e-9) & (th < thmax - 1e-9)
-        ok = (net <= f0 + gp * (th + th0) + 1e-6) & (net >= -f0 - gn * (th + th0) - 1e-6)
-        bad += int(not np.all(ok | ~inside))
-    return bad
 
 
 def mujoco_stroke(args) -> dict:

@@ -118,18 +118,6 @@ def bench_finger(gravity):
                           gravity=gravity)
 
 
-def unbalanced(m, c) -> int:
-    """Readings where a joint between its stops is outside its band with the weight at the reading's angles."""
-    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
-    bad = 0
-    for th, Ti in zip(c.theta, c.joint_tension):
-        net = r * Ti - K * (th + th0) - fm.gravity_torques(m, th)
-        inside = (th > 1e-9) & (th < thmax - 1e-9)
-        ok = (net <= f0 + gp * (th + th0) + 1e-6) & (net >= -f0 - gn * (th + th0) - 1e-6)
-        bad += int(not np.all(ok | ~inside))
-    return bad
-
-
 @pytest.mark.parametrize("gravity", [(0.0, -1.0), (1.0, 0.0), (0.6, -0.8)])
 def test_joints_sliding_against_their_weight_settle(gravity, monkeypatch):
     """Palm up and sideways, joints 1 and 2 slide together against weights that soften them. Each joint's own slope
@@ -137,10 +125,10 @@ def test_joints_sliding_against_their_weight_settle(gravity, monkeypatch):
     equilibria. Coupled, every reading is one, the steps where the finger snaps included."""
     m = bench_finger(gravity)
     c = fm.simulate_stroke(m, FINGER.stroke, 500)
-    assert unbalanced(m, c) == 0
+    assert fm.unbalanced_readings(m, c) == 0
     monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
     own = fm.simulate_stroke(m, FINGER.stroke, 500)
-    assert unbalanced(m, own) > 100
+    assert fm.unbalanced_readings(m, own) > 100
 
 
 def random_heavy_finger(rng):
@@ -176,8 +164,8 @@ def test_random_heavy_fingers_balance_at_every_reading(monkeypatch):
     for _ in range(40):
         m = random_heavy_finger(rng)
         fingers.append((m, float(np.dot(m.moment_arm, m.rotation) * rng.uniform(0.5, 1.1))))
-    bad = [unbalanced(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers]
+    bad = [fm.unbalanced_readings(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers]
     assert max(bad) <= 2 and sum(bad) <= 6, bad
     monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
-    own = [unbalanced(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5]]
+    own = [fm.unbalanced_readings(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5]]
     assert sum(own) > 10 * sum(bad[:5]) + 50, (own, bad[:5])

@@ -13,8 +13,8 @@ result is Newton's method on the step.
 
 Where the weight beats the springs (H not positive definite: the finger would snap), a step may have no
 solution near the previous angles, and Newton's steps grow instead of shrinking. The step then adds λ(θ − at)
-to every joint's torque, λ making H + λI positive definite (its smallest eigenvalue MARGIN × the joints'
-smallest B): each iteration is then a proximal step towards a stable equilibrium, and the added torque vanishes
+to every joint's torque, λ making H + λI positive definite (its smallest eigenvalue
+``rjcad.physics.finger.GRAVITY_MARGIN`` × the joints' smallest B): each iteration is then a proximal step towards a stable equilibrium, and the added torque vanishes
 once θ = at. A joint's own slope alone (a diagonal H, ``rjcad.physics.finger``'s fallback) misses that joints
 sliding against softening weights trade angle at nearly no cost in weight: that iteration hands the whole step
 to one joint, then to the other, and never settles. Units: mm, N, N·mm, rad.
@@ -112,9 +112,14 @@ def solve_states(st: Step, state: list, slack: bool):
     return d, (0.0 if slack else x[k])
 
 
-def first_violation(st: Step, state: list, slack: bool, d: list, T):
-    """(joint, its new state) for the first joint whose state's conditions fail, (n, slack) when the tendon's do,
-    None when the step is consistent, False when no joint can close to take up the tendon (every one on its
+def torques(st: Step, d: list) -> list:
+    """Each joint's elastic torque with the weight, E + H·(θ − prev) [N·mm]."""
+    return [e + sum(h * x for h, x in zip(row, d) if x) for e, row in zip(st.E, st.H)]
+
+
+def first_violation(st: Step, state: list, slack: bool, d: list, T, torque: list):
+    """(joint, its new state) for the first joint whose state's conditions fail (``torque``: ``torques(st, d)``),
+    (n, slack) when the tendon's do, None when the step is consistent, False when no joint can close to take up the tendon (every one on its
     upper stop: the caller's fallback sets the tension there)."""
     n, prev, thmax, th0 = st.n, st.prev, st.thmax, st.th0
     for i in range(n):  # first a sliding joint that moved the wrong way or through its stop
@@ -128,8 +133,7 @@ def first_violation(st: Step, state: list, slack: bool, d: list, T):
                 return i, STICK
             if prev[i] + d[i] < 0:
                 return i, LOW
-    H, E, s, f0, gp, gn = st.H, st.E, st.s, st.f0, st.gp, st.gn
-    torque = [E[i] + sum(H[i][j] * d[j] for j in range(n) if d[j]) for i in range(n)]
+    s, f0, gp, gn = st.s, st.f0, st.gp, st.gn
     if T is None:  # every joint fixed on an inextensible tendon: its length is set by the joints
         short = sum(st.r[j] * (prev[j] + d[j]) for j in range(n)) - st.t_d  # > 0: more tendon held than t_d
         if abs(short) <= st.tol:
@@ -162,24 +166,23 @@ def first_violation(st: Step, state: list, slack: bool, d: list, T):
     return None
 
 
-def flat_tension(st: Step, state: list, d: list):
+def flat_tension(st: Step, state: list, torque: list):
     """Every joint fixed on an inextensible tendon of the right length: (the tension nearest the previous step's
     at which each joint's state holds, None), or (None, (joint, UP)) where no tension holds them all: the joint
-    that closes at the lowest tension then slides."""
+    that closes at the lowest tension then slides. ``torque``: ``torques(st, d)``."""
     n, prev, thmax, th0, s, f0, gp, gn, rc = st.n, st.prev, st.thmax, st.th0, st.s, st.f0, st.gp, st.gn, st.rc
     lo, hi, first = 0.0, math.inf, -1
     for i in range(n):
-        torque = st.E[i] + sum(st.H[i][j] * d[j] for j in range(n) if d[j])
         up = math.inf
         if state[i] == STICK:
             if prev[i] > 0:
-                lo = max(lo, (torque - f0[i] - gn[i] * s[i]) / rc[i])
+                lo = max(lo, (torque[i] - f0[i] - gn[i] * s[i]) / rc[i])
             if prev[i] < thmax[i]:
-                up = (torque + f0[i] + gp[i] * s[i]) / rc[i]
+                up = (torque[i] + f0[i] + gp[i] * s[i]) / rc[i]
         elif state[i] == HIGH:
-            lo = max(lo, (torque + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i])
+            lo = max(lo, (torque[i] + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i])
         elif state[i] == LOW:
-            up = (torque - f0[i] - gn[i] * th0[i]) / rc[i]
+            up = (torque[i] - f0[i] - gn[i] * th0[i]) / rc[i]
         if up < hi:
             hi, first = up, i
     if lo > hi:
@@ -197,14 +200,15 @@ def coupled_solve(st: Step, state: list):
         if got is None:
             return None
         d, T = got
-        bad = first_violation(st, state, slack, d, T)
+        torque = torques(st, d)
+        bad = first_violation(st, state, slack, d, T, torque)
         if bad is False:
             return None
         if bad is not None:
             state[bad[0]] = bad[1]
             continue
         if T is None:
-            T, bad = flat_tension(st, state, d)
+            T, bad = flat_tension(st, state, torque)
             if bad is not None:
                 state[bad[0]] = bad[1]
                 continue

@@ -303,6 +303,19 @@ def path_times(m: FingerModel, td: np.ndarray, t_s) -> np.ndarray | None:
     return t
 
 
+def unbalanced_readings(m: FingerModel, c: Closure, tol: float = 1e-6) -> int:
+    """Check value: how many readings have a joint between its stops outside its friction band, the weight taken at
+    the reading's own angles: r·T_i − K(θ + θ0) − τ_g(θ) ∉ [−f0 − γ⁻(θ + θ0), f0 + γ⁺(θ + θ0)] ± tol [N·mm]."""
+    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    bad = 0
+    for th, ti in zip(c.theta, c.joint_tension):
+        net = r * ti - K * (th + th0) - gravity_torques(m, th)
+        inside = (th > 1e-9) & (th < thmax - 1e-9)
+        ok = (net <= f0 + gp * (th + th0) + tol) & (net >= -f0 - gn * (th + th0) - tol)
+        bad += int(not np.all(ok | ~inside))
+    return bad
+
+
 def frictionless_optimum(m: FingerModel, t_d: float) -> np.ndarray:
     """Closed-form check value: θ minimising Σ½K_i(θ_i+θ0_i)² s.t. Σ r_i θ_i = t_d, 0 ≤ θ ≤ θmax.
 

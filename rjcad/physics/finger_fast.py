@@ -409,6 +409,8 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
     rc = np.zeros(n)
     E = np.zeros(n)
     B = np.zeros(n)
+    Es = np.zeros(n)
+    Bs = np.zeros(n)
     tau = np.zeros(n)
     bps = np.zeros(4 * n + 1)
     pulling = True
@@ -429,21 +431,20 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
             at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
         T = 0.0
         done = False
+        for i in range(n):  # the spring's part of the step's terms (the weight's is added below)
+            s = prev[i] + th0[i]
+            Es[i] = K[i] * s + k3[i] * s**3 + a * tau[i]
+            Bs[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
         if gravity:  # as rjcad.physics.finger.path_step: the joints coupled through the weight first
-            for i in range(n):
-                s = prev[i] + th0[i]
-                E[i] = K[i] * s + k3[i] * s**3 + a * tau[i]
-                B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
-            done, T, _ = _coupled_step(td[k], prev, prev_T, at, E, B, th0, thmax, r, rc, f0, gp, gn, comp, length, com,
-                                       weight, gx, gy, th)
+            done, T, _ = _coupled_step(td[k], prev, prev_T, at, Es, Bs, th0, thmax, r, rc, f0, gp, gn, comp, length,
+                                       com, weight, gx, gy, th)
         last, w = math.inf, 1.0
         for _ in range(0 if done else (GRAVITY_ITERATIONS if gravity else 1)):  # the fallback: each joint's own slope
             if gravity:
                 _gravity(at, length, com, weight, gx, gy, tg, tk)
             for i in range(n):
-                s = prev[i] + th0[i]
-                E[i] = K[i] * s + k3[i] * s**3 + a * tau[i] + tg[i]
-                B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
+                E[i] = Es[i] + tg[i]
+                B[i] = Bs[i]
                 if gravity:
                     kg = max(tk[i], -GRAVITY_SOFTENING * B[i])
                     E[i] -= kg * (at[i] - prev[i])
