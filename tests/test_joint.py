@@ -252,3 +252,25 @@ def test_default_joint_passes_every_check_with_supports_off(default_joint):
     assert ran >= {"watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed", "overhang"}
     if slicer:
         assert "slicer" in ran
+
+
+def test_parallel_meshing_gives_the_one_thread_meshes_of_the_built_bodies():
+    """export.triangulate meshes the faces on all cores; on both built bodies of the default joint (a fresh build,
+    so nothing is meshed yet) its arrays equal CadQuery's one-thread tessellation of the same solids, node for
+    node and triangle for triangle (so the STL, 3MF, GLB and the measurements do not change)."""
+    import numpy as np
+    from OCP.BRepTools import BRepTools
+
+    from rjcad.cad import export as ex
+    from rjcad.cad.joint import build_joint
+    from rjcad.params import JointParams
+
+    solids = build_joint(JointParams())
+    for body in (solids.ground, solids.moving):
+        v, f = ex.triangulate(body)
+        BRepTools.Clean_s(body.wrapped)  # drop the triangulation, so CadQuery meshes again, in one thread
+        assert not BRepTools.Triangulation_s(body.wrapped, ex.MESH_TOLERANCE)
+        verts, tris = body.tessellate(ex.MESH_TOLERANCE, ex.MESH_ANGULAR_TOLERANCE)
+        assert len(f) > 1000
+        assert np.array_equal(v, np.array([p.toTuple() for p in verts], dtype=float))
+        assert np.array_equal(f, np.asarray(tris, dtype=np.int64))

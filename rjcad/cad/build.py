@@ -115,12 +115,20 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
-    """Name, volume [mm³], mass [g] (at ``p``'s material density) and centre of mass [mm] of each solid."""
-    import cadquery as cq
+    """Name, volume [mm³], mass [g] (at ``p``'s material density) and centre of mass [mm] of each solid: one
+    volume integration per solid (the one CadQuery's Volume and centerOfMass each run)."""
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
 
     dens = p.material_spec.density_g_cm3
-    return [BodyEntry(n, float(s.Volume()), float(s.Volume()) * dens / 1000.0,
-                      [float(c) for c in cq.Shape.centerOfMass(s).toTuple()]) for n, s in solids.items()]
+    entries = []
+    for n, s in solids.items():
+        props = GProp_GProps()
+        BRepGProp.VolumeProperties_s(s.wrapped, props)
+        c = props.CentreOfMass()
+        v = float(props.Mass())
+        entries.append(BodyEntry(n, v, v * dens / 1000.0, [float(c.X()), float(c.Y()), float(c.Z())]))
+    return entries
 
 
 def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:

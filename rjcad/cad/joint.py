@@ -26,6 +26,7 @@ import math
 from dataclasses import dataclass
 
 import cadquery as cq
+from OCP.BRepCheck import BRepCheck_Analyzer
 
 from rjcad.params import JointParams
 from rjcad.cad import desktop
@@ -39,8 +40,9 @@ ORIGIN = cq.Vector(0, 0, 0)
 def _one_solid(shape: cq.Shape, what: str) -> cq.Shape:
     """Check a boolean result is exactly one valid solid (OCC can return wrong unions silently)."""
     solids = shape.Solids()
-    if len(solids) != 1 or not shape.isValid():
-        raise RuntimeError(f"{what}: boolean gave {len(solids)} solids, valid={shape.isValid()}")
+    valid = BRepCheck_Analyzer(shape.wrapped, True, True).IsValid()  # Shape.isValid's check, on all cores
+    if len(solids) != 1 or not valid:
+        raise RuntimeError(f"{what}: boolean gave {len(solids)} solids, valid={valid}")
     return solids[0]
 
 
