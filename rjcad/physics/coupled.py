@@ -30,6 +30,10 @@ STICK, UP, DOWN, LOW, HIGH = 0, 1, -1, 2, 3
 MAX_PIVOTS = 24
 #: A fixed joint's torque may pass its band's edge by this much [N·mm] (the linear solve's rounding).
 TORQUE_TOL = 1e-9
+#: A sliding joint may move the wrong way by this much [rad] (the linear solve's rounding: a joint that the
+#: tendon holds where it was moves by ±1e-17, and calling that a wrong way sends it back and forth between
+#: sliding and sticking instead of letting the tendon go slack).
+MOVE_TOL = 1e-12
 
 
 class Step:
@@ -124,12 +128,12 @@ def first_violation(st: Step, state: list, slack: bool, d: list, T, torque: list
     n, prev, thmax, th0 = st.n, st.prev, st.thmax, st.th0
     for i in range(n):  # first a sliding joint that moved the wrong way or through its stop
         if state[i] == UP:
-            if d[i] < 0:
+            if d[i] < -MOVE_TOL:
                 return i, STICK
             if prev[i] + d[i] > thmax[i]:
                 return i, HIGH
         elif state[i] == DOWN:
-            if d[i] > 0:
+            if d[i] > MOVE_TOL:
                 return i, STICK
             if prev[i] + d[i] < 0:
                 return i, LOW

@@ -73,7 +73,8 @@ GRAVITY_SOFTENING = 0.9
 #: GRAVITY_CONTRACTION of the one before, each joint's torque gets λ(θ − at) with H + λI's smallest eigenvalue
 #: GRAVITY_MARGIN × min(B) (proximal steps towards a stable equilibrium: where the finger snaps they take most of
 #: the budget). Where that finds none either, the step falls back to each joint's own slope (a diagonal H,
-#: ``step_terms``), re-linearised the same way up to GRAVITY_ITERATIONS times.
+#: ``step_terms``), re-linearised the same way up to GRAVITY_ITERATIONS times, and the coupled step starts once
+#: more from that answer (which is returned only where that finds no equilibrium either).
 COUPLED_ITERATIONS = 200
 GRAVITY_ITERATIONS = 40
 GRAVITY_TOL = 1e-7
@@ -125,6 +126,10 @@ def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt
             w = 0.5
         last = moved
         at = at + w * (th - at)
+    if m.has_gravity:  # the joints' own slopes found an answer near an equilibrium: Newton from there again
+        got = coupled_step(m, t_d, prev, pulling, prev_T, dt, tau_m, th)
+        if got is not None:
+            return got
     return th, T, ti, slack, a, b
 
 

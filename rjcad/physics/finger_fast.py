@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rjcad.physics import coupled as cp
-from rjcad.physics.coupled import MAX_PIVOTS, TORQUE_TOL
+from rjcad.physics.coupled import MAX_PIVOTS, MOVE_TOL, TORQUE_TOL
 from rjcad.physics.finger import (COUPLED_ITERATIONS, FLAT_MM, GRAVITY_CONTRACTION, GRAVITY_ITERATIONS, GRAVITY_MARGIN,
                                   GRAVITY_SOFTENING, GRAVITY_TOL, FingerModel, path_times)
 
@@ -240,12 +240,12 @@ def _first_violation(state, slack, T_set, T, t_d, tol, prev, E, H, s, th0, thmax
     n = len(prev)
     for i in range(n):
         if state[i] == UP:
-            if d[i] < 0:
+            if d[i] < -MOVE_TOL:
                 return i, STICK
             if prev[i] + d[i] > thmax[i]:
                 return i, HIGH
         elif state[i] == DOWN:
-            if d[i] > 0:
+            if d[i] > MOVE_TOL:
                 return i, STICK
             if prev[i] + d[i] < 0:
                 return i, LOW
@@ -460,6 +460,11 @@ def _path(td, t, K, th0, thmax, r, c_pull, c_rel, f0, gp, gn, comp, length, com,
             last = moved
             for i in range(n):
                 at[i] = at[i] + w * (th[i] - at[i])
+        if gravity and not done:  # as path_step: Newton again from the joints' own slopes' answer
+            ok, T2, _ = _coupled_step(td[k], prev, prev_T, th.copy(), Es, Bs, th0, thmax, r, rc, f0, gp, gn, comp,
+                                      length, com, weight, gx, gy, th)
+            if ok:
+                T = T2
         for i in range(n):
             tau[i] = a * tau[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]
