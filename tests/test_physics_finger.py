@@ -276,6 +276,8 @@ def test_paper_finger_capstan_and_friction_verdicts():
     base = pf._fit(pf.CAPSTAN_BASE, *pf.FAMILIES[pf.CAPSTAN_BASE])
     fric = pf._fit(pf.FRICTION, *pf.FAMILIES[pf.FRICTION])
     assert base.rms_deg == pytest.approx(common.rms_deg, abs=0.01) and np.isnan(base.std["mu_alpha"])
+    # a tension factor alike at every joint does not move them: the fit leaves μα anywhere, so no number is given
+    assert pf._fmt_param(base, "mu_alpha") == "mu_alpha: any value (not identified: no effect on the end angles)"
     assert fric.rms_deg < 0.5 and not fric.sequence_ok and np.argmin(fric.onset_mm) == 2
     assert np.isfinite(fric.std["r_mm"]) and np.isnan(fric.std["f1_nmm"])
 
