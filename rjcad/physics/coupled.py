@@ -11,13 +11,13 @@ joint at a time (first a sliding joint that moved the wrong way or through its s
 band's edge, the lowest-numbered first) until every condition holds. Re-linearising the weight about the
 result is Newton's method on the step.
 
-Where the weight beats the springs (H not positive definite: the finger would snap), a step may have no
-solution near the previous angles, and Newton's steps grow instead of shrinking. The step then adds λ(θ − at)
-to every joint's torque, λ making H + λI positive definite (its smallest eigenvalue
-``rjcad.physics.finger.GRAVITY_MARGIN`` × the joints' smallest B): each iteration is then a proximal step towards a stable equilibrium, and the added torque vanishes
-once θ = at. A joint's own slope alone (a diagonal H, ``rjcad.physics.finger``'s fallback) misses that joints
-sliding against softening weights trade angle at nearly no cost in weight: that iteration hands the whole step
-to one joint, then to the other, and never settles. Units: mm, N, N·mm, rad.
+Where the weight beats the springs (H not positive definite: the finger would snap), a step may have no solution
+near the previous angles, and Newton's steps grow instead of shrinking. The step then adds λ(θ − at) to every
+joint's torque, λ making H + λI positive definite (its smallest eigenvalue ``rjcad.physics.finger.GRAVITY_MARGIN``
+× the joints' smallest B): each iteration is then a proximal step towards a stable equilibrium, and the added
+torque vanishes once θ = at. A joint's own slope alone (a diagonal H, ``rjcad.physics.finger``'s fallback) misses
+that joints sliding against softening weights trade angle at nearly no cost in weight: that iteration hands the
+whole step to one joint, then to the other, and never settles. Units: mm, N, N·mm, rad.
 """
 
 from __future__ import annotations
@@ -123,8 +123,8 @@ def torques(st: Step, d: list) -> list:
 
 def first_violation(st: Step, state: list, slack: bool, d: list, T, torque: list):
     """(joint, its new state) for the first joint whose state's conditions fail (``torque``: ``torques(st, d)``),
-    (n, slack) when the tendon's do, None when the step is consistent, False when no joint can close to take up the tendon (every one on its
-    upper stop: the caller's fallback sets the tension there)."""
+    (n, slack) when the tendon's do, None when the step is consistent, False when no joint can close to take up
+    the tendon (every one on its upper stop: the caller's fallback sets the tension there)."""
     n, prev, thmax, th0 = st.n, st.prev, st.thmax, st.th0
     for i in range(n):  # first a sliding joint that moved the wrong way or through its stop
         if state[i] == UP:
