@@ -1,3 +1,3 @@
-from rjcad.cli import main
+from rjcad.cli import entry
 
-main()
+entry()

@@ -17,7 +17,9 @@ inside the command functions, so each command imports only what it needs.
 
 from __future__ import annotations
 
+import atexit
 import importlib
+import os
 import re
 import signal
 import sys
@@ -97,6 +99,37 @@ def main(argv: list[str] | None = None) -> None:
             signal.signal(signal.SIGTERM, previous)
 
 
+def entry() -> None:
+    """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()``, then leave without tearing
+    the interpreter down. Freeing CadQuery's, VTK's and SciPy's modules one by one takes about 0.5 s after a
+    build (measured: ``import cadquery`` then a normal exit 2.6 s, with ``os._exit`` 2.05 s), for nothing: every
+    output is written (and renamed into place) before a command returns. Threads are joined, the ``atexit``
+    handlers run (``weakref.finalize`` clean-ups among them) and stdout and stderr are flushed before
+    ``os._exit``. An uncaught exception (a bug) still leaves the usual way, with its traceback."""
+    try:
+        main()
+        code = 0
+    except SystemExit as e:
+        code = e.code
+    if code is not None and not isinstance(code, int):  # sys.exit("text"): printed, status 1, as Python does
+        print(code, file=sys.stderr)
+        code = 1
+    _leave(code or 0)
+
+
+def _leave(code: int) -> None:
+    """End the process with ``code`` as the interpreter's exit would, without its teardown: join the threads
+    that are not daemons, run the ``atexit`` handlers (in that order, as ``Py_FinalizeEx``), flush stdio."""
+    getattr(threading, "_shutdown", lambda: None)()
+    getattr(atexit, "_run_exitfuncs", lambda: None)()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe or stream: nothing more can be said
+            pass
+    os._exit(code)
+
+
 def _run(args: list[str], debug: bool) -> None:
     """Run the command line ``args``; exit with its code."""
     try:
@@ -135,4 +168,4 @@ def _run(args: list[str], debug: bool) -> None:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    main()
+    entry()
