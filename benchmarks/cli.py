@@ -1,7 +1,8 @@
 """CLI benchmark: each command end to end as a new process (what a user waits for), and OpenSCAD on a comparable
 module in the same run when it is installed.
 
-Times the median of --repeats runs (after one untimed warm-up) of: `rjcad joint --out DIR` (every output),
+Times the median of --repeats runs (after one untimed warm-up) of: `rjcad joint --out DIR` (every output;
+its CAD in a forked process, rjcad.cad.process) and the same with RJCAD_CAD_PROCESS=0 (all in one process),
 `rjcad finger --out DIR`, `rjcad spring --config templates/spring.toml` (the paper's joint, fully verified),
 `rjcad check` on the default joint, `python -c "import rjcad.cli"`; and `openscad -o knuckle.stl
 benchmarks/knuckle.scad` (a two-body knuckle with two spiral springs of the default spring's size, tessellated
@@ -36,20 +37,21 @@ def rjcad(*args: str) -> list[str]:
     return [sys.executable, "-m", "rjcad", *args]
 
 
-def run(argv: list[str]) -> float:
-    """Run ``argv`` from the repository's root; its CPU seconds (user + system). A failure stops the benchmark."""
+def run(argv: list[str], env: dict | None = None) -> float:
+    """Run ``argv`` from the repository's root (with ``env`` added to the environment); its CPU seconds (user +
+    system, the CAD process's included). A failure stops the benchmark."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    r = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True)
+    r = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, env={**os.environ, **(env or {})})
     if r.returncode != 0:
         raise SystemExit(f"{' '.join(argv)} failed ({r.returncode}): {r.stderr[-2000:]}")
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
 
 
-def process_times(argv: list[str], repeats: int) -> dict:
+def process_times(argv: list[str], repeats: int, env: dict | None = None) -> dict:
     """Median and every wall time [s] of ``repeats`` runs of ``argv`` as a new process, after one warm-up; and
     the median CPU seconds (a check on the wall times when other work shares the machine)."""
-    runs = timed_runs(lambda: run(argv), repeats, warmup=1 if repeats > 1 else 0)  # --quick: no warm-up
+    runs = timed_runs(lambda: run(argv, env), repeats, warmup=1 if repeats > 1 else 0)  # --quick: no warm-up
     times = [t for t, _ in runs]
     return {"median_s": statistics.median(times), "runs_s": times,
             "median_cpu_s": statistics.median(cpu for _, cpu in runs)}
@@ -81,6 +83,8 @@ def main() -> None:
         out = {
             "import_cli": process_times([sys.executable, "-c", "import rjcad.cli"], n),
             "joint": process_times(rjcad("joint", "--out", f"{tmp}/joint"), n),
+            "joint_one_process": process_times(rjcad("joint", "--out", f"{tmp}/joint1"), n,
+                                               env={"RJCAD_CAD_PROCESS": "0"}),
             "finger": None if args.no_finger else process_times(rjcad("finger", "--out", f"{tmp}/finger"), n),
             "spring": process_times(rjcad("spring", "--config", "templates/spring.toml"), n),
             "check": process_times(rjcad("check", f"{tmp}/j0/joint.3mf", "--manifest", f"{tmp}/j0/joint.json"), n),
@@ -95,6 +99,7 @@ def main() -> None:
     out.update({
         "in_process_build_stl_step_s": build_s,
         "ratio_openscad_over_rjcad_joint": ratio,
+        "ratio_joint_over_joint_one_process": out["joint"]["median_s"] / out["joint_one_process"]["median_s"],
         "ratio_openscad_over_rjcad_joint_cpu": (out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"]
                                                 if osc else None),
         "load_average_1min": os.getloadavg()[0],

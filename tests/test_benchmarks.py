@@ -20,7 +20,8 @@ BENCHMARKS = {
                "big_check_peak_rss_gb"},
               {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s",
                "big_check_s", "big_check_peak_rss_gb"}),
-    "cli": ({"import_cli", "joint", "finger", "spring", "check", "openscad", "openscad_version",
+    "cli": ({"import_cli", "joint", "joint_one_process", "ratio_joint_over_joint_one_process", "finger", "spring",
+             "check", "openscad", "openscad_version",
              "in_process_build_stl_step_s", "ratio_openscad_over_rjcad_joint",
              "ratio_openscad_over_in_process_build_stl_step", "repeats"},
             {"ratio_openscad_over_rjcad_joint", "spring_s", "in_process_build_stl_step_s"}),
@@ -119,7 +120,7 @@ def check_check(d):
 
 
 def check_cli(d):
-    for command in ("import_cli", "joint", "spring", "check"):
+    for command in ("import_cli", "joint", "joint_one_process", "spring", "check"):
         assert d[command]["median_s"] > 0 and len(d[command]["runs_s"]) == d["repeats"]
     assert d["openscad"] is None and d["targets"]["ratio_openscad_over_rjcad_joint"]["value"] is None  # quick
 

@@ -236,7 +236,7 @@ def _fake_joint(monkeypatch, size: int = 1000):
 
     import rjcad.cad.build as cb
 
-    def build(p):
+    def build(p, cad=None):
         m = {"joint_stiffness_nmm_per_rad": p.stiffness}
         return types.SimpleNamespace(manifest=m)
 

@@ -1,4 +1,9 @@
-"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,glb,png,json}."""
+"""From parameters to files: build the joint, measure it, and write joint.{stl,3mf,step,glb,png,json}; the same
+for the finger.
+
+The joint's solids come from a source with three stages of plain numbers (``rjcad.cad.measure.LocalJoint``,
+in this process, or ``rjcad.cad.process.CadProcess``'s, in a forked one): this module itself imports neither
+CadQuery nor, until it meshes, trimesh."""
 
 from __future__ import annotations
 
@@ -7,22 +12,19 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
-import trimesh
 
-from rjcad.cad import export as ex
-from rjcad.cad.joint import (
-    JointSolids,
-    build_joint,
-    ground_channel_points,
-    moving_channel_points,
-    strip_volume,
-)
+from rjcad.cad import mesh_export as mx
 from rjcad.manifest import BodyEntry, JointEntry, Manifest
-from rjcad.mesh import to_manifold
 from rjcad.outputs import check_writable
 from rjcad.params import KEY_ENGAGEMENT, JointParams
+
+if TYPE_CHECKING:
+    import trimesh
+
+    from rjcad.cad.joint import JointSolids
 
 #: The joint's body colours (preview and GLB).
 JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
@@ -115,60 +117,55 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
 
 
 def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
-    """Name, volume [mm³], mass [g] (at ``p``'s material density) and centre of mass [mm] of each solid: one
-    volume integration per solid (the one CadQuery's Volume and centerOfMass each run)."""
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
+    """Each solid's entry at ``p``'s material density (``rjcad.cad.measure.body_entries``)."""
+    from rjcad.cad.measure import body_entries
 
-    dens = p.material_spec.density_g_cm3
-    entries = []
-    for n, s in solids.items():
-        props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(s.wrapped, props)
-        c = props.CentreOfMass()
-        v = float(props.Mass())
-        entries.append(BodyEntry(n, v, v * dens / 1000.0, [float(c.X()), float(c.Y()), float(c.Z())]))
-    return entries
+    return body_entries(solids, p.material_spec.density_g_cm3)
 
 
 def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:
     return {
-        "tolerance_mm": ex.MESH_TOLERANCE,
-        "angular_tolerance_rad": ex.MESH_ANGULAR_TOLERANCE,
+        "tolerance_mm": mx.MESH_TOLERANCE,
+        "angular_tolerance_rad": mx.MESH_ANGULAR_TOLERANCE,
         "triangles": int(sum(len(m.faces) for m in meshes.values())),
     }
 
 
 @dataclass
 class JointBuild:
-    """A built joint: solids, meshes, manifest and timings."""
+    """A built joint: its parameters, solids (None when another process built them), meshes, manifest, the
+    tendon at rest [mm], its STEP file (``step(name)``, bytes) and timings [s]."""
 
-    solids: JointSolids
+    params: JointParams
+    solids: JointSolids | None
     meshes: dict[str, trimesh.Trimesh]
     manifest: Manifest
+    tendon: np.ndarray
+    step: Callable[[str], bytes]
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def tendon_polyline(p: JointParams) -> np.ndarray:
-    """Tendon centreline at rest for the preview: ground channel, over the eye, moving channel [mm]."""
-    pts = ground_channel_points(p, p.link_length)[:-1] + moving_channel_points(p, p.link_length)
-    return np.array(pts)
+def build(p: JointParams, cad=None) -> JointBuild:
+    """Build, tessellate and measure the joint; nothing is written. ``cad``: a ``rjcad.cad.process.CadProcess``
+    to build the solids in (default: this process)."""
+    if cad is None:
+        from rjcad.cad.measure import LocalJoint
 
-
-def build(p: JointParams) -> JointBuild:
-    """Build, tessellate and measure the joint; nothing is written."""
+        source = LocalJoint(p)
+    else:
+        source = cad.joint(p)
+    shape = source.shape()
     t0 = time.perf_counter()
-    solids = build_joint(p)
+    meshes = {name: mx.mesh_of(v, f) for name, (v, f) in shape.triangles.items()}
     t1 = time.perf_counter()
-    meshes = {"ground": ex.to_mesh(solids.ground), "moving": ex.to_mesh(solids.moving)}
-    t2 = time.perf_counter()
-    arm = ex.measure_moment_arm(solids.moving, p.z_mid, p.tendon_line_diameter)
-    wrap = ex.measure_wrap_angle(solids.ground, p.tendon_diameter / 2)
+    from rjcad.mesh import to_manifold
+
     man = [to_manifold(m) for m in meshes.values()]
     gap = float(man[0].min_gap(man[1], 2.0))
-    t3 = time.perf_counter()
-    entry = joint_entry(p, "ground", "moving", list(solids.axis_point), list(solids.axis_dir))
-    entry.tendon_moment_arm_mm, entry.tendon_wrap_angle_rad = arm, wrap
+    t2 = time.perf_counter()
+    measured = source.measures()
+    entry = joint_entry(p, "ground", "moving", shape.axis_point, shape.axis_dir)
+    entry.tendon_moment_arm_mm, entry.tendon_wrap_angle_rad = measured.moment_arm, measured.wrap_angle
     extra = {
         "tendon_diameter_mm": p.tendon_diameter,
         "tendon_moment_arm_mm_requested": p.tendon_moment_arm,
@@ -183,7 +180,7 @@ def build(p: JointParams) -> JointBuild:
             "note": GAPS_NOTE,
         },
         "measured_min_gap_mm": gap,
-        "spring_strip_volume_mm3": strip_volume(p),
+        "spring_strip_volume_mm3": measured.strip_volume,
         "frame": {
             "ground_interface_x_mm": -p.link_length,
             "moving_interface_x_mm": p.link_length,
@@ -202,44 +199,50 @@ def build(p: JointParams) -> JointBuild:
             "post_print": seating_text(p),
         },
     }
-    manifest = Manifest("joint", [entry], _bodies({"ground": solids.ground, "moving": solids.moving}, p),
-                        material=p.material, printer=p.printer, clearance_mm=p.clearance, extra=extra)
-    return JointBuild(solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
-                                                 "measure_s": t3 - t2})
+    manifest = Manifest("joint", [entry], measured.bodies, material=p.material, printer=p.printer,
+                        clearance_mm=p.clearance, extra=extra)
+    timings = {"build_s": shape.timings["build_s"], "tessellate_s": shape.timings["triangulate_s"] + t1 - t0,
+               "measure_s": measured.timings["arm_wrap_s"] + t2 - t1}
+    return JointBuild(p, getattr(source, "solids", None), meshes, manifest, shape.tendon, source.step, timings)
 
 
 def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[str, bytes | str]:
-    """Every output file's bytes, in memory (so that an error leaves no partial output)."""
-    p = b.solids.params
+    """Every output file's bytes, in memory (so that an error leaves no partial output). The STEP file is
+    asked for last: a CAD process writes it while this one writes the meshes."""
+    p = b.params
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
-        f"{name}.stl": ex.stl_bytes(list(b.meshes.values())),
-        f"{name}.3mf": ex.threemf_bytes(b.meshes, name),
+        f"{name}.stl": mx.stl_bytes(list(b.meshes.values())),
+        f"{name}.3mf": mx.threemf_bytes(b.meshes, name),
     }
     t1 = time.perf_counter()
-    files[f"{name}.step"] = ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, name)
+    files[f"{name}.glb"] = mx.glb_bytes(b.meshes, JOINT_COLOURS)
     t2 = time.perf_counter()
-    files[f"{name}.glb"] = ex.glb_bytes(b.meshes, JOINT_COLOURS)
-    t3 = time.perf_counter()
     if png:
-        files[f"{name}.png"] = ex.preview_png(
+        files[f"{name}.png"] = mx.preview_png(
             b.meshes,
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
-            lines=[tendon_polyline(p)], colours=JOINT_COLOURS,
+            lines=[b.tendon], colours=JOINT_COLOURS,
             sections=preview_sections(p))
+    t3 = time.perf_counter()
+    files[f"{name}.step"] = b.step(name)
     t4 = time.perf_counter()
-    b.timings.update({"stl_3mf_s": t1 - t0, "step_s": t2 - t1, "glb_s": t3 - t2, "png_s": t4 - t3})
+    b.timings.update({"stl_3mf_s": t1 - t0, "glb_s": t2 - t1, "png_s": t3 - t2, "step_s": t4 - t3})
     files[f"{name}.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
-    return files
+    order = [f"{name}.{ext}" for ext in ("stl", "3mf", "step", "glb", "png", "json")]
+    return {k: files[k] for k in order if k in files}
 
 
-def write_joint(p: JointParams, out_dir: str | Path, png: bool = True) -> JointBuild:
-    """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set)."""
+def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None) -> JointBuild:
+    """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set).
+    ``cad``: a ``rjcad.cad.process.CadProcess`` to build the solids in (default: this process)."""
     check_writable(out_dir)
-    b = build(p)
+    if cad is not None:
+        mx.prepare(png)  # while the CAD process imports CadQuery and builds
+    b = build(p, cad)
     files = render_files(b, "joint", png=png)
-    ex.write_outputs(out_dir, files, remove=("joint.png",))
+    mx.write_outputs(out_dir, files, remove=("joint.png",))
     return b
 
 
@@ -261,6 +264,7 @@ class FingerBuild:
 
 def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
+    from rjcad.cad import export as ex
     from rjcad.cad.finger import build_finger, tendon_path
 
     t0 = time.perf_counter()
@@ -303,6 +307,8 @@ def build_finger_model(fp) -> FingerBuild:
 def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False,
                         gravity=None) -> dict[str, bytes | str]:
     """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
+    from rjcad.cad import export as ex
+
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": ex.stl_bytes(list(b.meshes.values())),
@@ -358,5 +364,5 @@ def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: boo
     files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
     if more is not None:
         files.update(more(b, files))
-    ex.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
+    mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
     return b

@@ -99,6 +99,11 @@ def main(argv: list[str] | None = None) -> None:
             signal.signal(signal.SIGTERM, previous)
 
 
+#: True in the ``rjcad`` program itself (``entry``), False where ``main`` is called in another program's
+#: process (tests, a notebook): only the program forks helper processes (``rjcad.cad.process``).
+PROGRAM = False
+
+
 def entry() -> None:
     """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()``, then leave without tearing
     the interpreter down. Freeing CadQuery's, VTK's and SciPy's modules one by one takes about 0.5 s after a
@@ -106,6 +111,8 @@ def entry() -> None:
     output is written (and renamed into place) before a command returns. Threads are joined, the ``atexit``
     handlers run (``weakref.finalize`` clean-ups among them) and stdout and stderr are flushed before
     ``os._exit``. An uncaught exception (a bug) still leaves the usual way, with its traceback."""
+    global PROGRAM
+    PROGRAM = True
     try:
         main()
         code = 0

@@ -54,14 +54,22 @@ def _bodies(m: dict) -> tuple[str, str, str]:
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, GLB, PNG preview and JSON manifest."""
-    from rjcad.outputs import check_writable
-    from rjcad.params import JointParams
+    import contextlib
 
-    params = JointParams(**merge_config(options, config, FIELDS))
-    check_writable(out_dir)  # before CadQuery is even imported
-    from rjcad.cad.build import write_joint
+    import rjcad.cli
+    from rjcad.cad import process
 
-    b = write_joint(params, out_dir, png=not no_png)
+    # the rjcad program builds in a forked process that imports CadQuery while this one designs the spring
+    cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
+    with cad or contextlib.nullcontext():
+        from rjcad.outputs import check_writable
+        from rjcad.params import JointParams
+
+        params = JointParams(**merge_config(options, config, FIELDS))
+        check_writable(out_dir)  # before this process imports CadQuery or meshes
+        from rjcad.cad.build import write_joint
+
+        b = write_joint(params, out_dir, png=not no_png, cad=cad)
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     print_joint(b.manifest)
 
