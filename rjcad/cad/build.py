@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from rjcad.cad import mesh_export as mx
-from rjcad.manifest import BodyEntry, JointEntry, Manifest
+from rjcad.manifest import JointEntry, Manifest
 from rjcad.outputs import check_writable
 from rjcad.params import KEY_ENGAGEMENT, JointParams
 
@@ -116,13 +116,6 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
     ]
 
 
-def _bodies(solids: dict, p: JointParams) -> list[BodyEntry]:
-    """Each solid's entry at ``p``'s material density (``rjcad.cad.measure.body_entries``)."""
-    from rjcad.cad.measure import body_entries
-
-    return body_entries(solids, p.material_spec.density_g_cm3)
-
-
 def _mesh_summary(meshes: dict[str, trimesh.Trimesh]) -> dict:
     return {
         "tolerance_mm": mx.MESH_TOLERANCE,
@@ -203,7 +196,7 @@ def build(p: JointParams, cad=None) -> JointBuild:
                         clearance_mm=p.clearance, extra=extra)
     timings = {"build_s": shape.timings["build_s"], "tessellate_s": shape.timings["triangulate_s"] + t1 - t0,
                "measure_s": measured.timings["arm_wrap_s"] + t2 - t1}
-    return JointBuild(p, getattr(source, "solids", None), meshes, manifest, shape.tendon, source.step, timings)
+    return JointBuild(p, source.solids, meshes, manifest, shape.tendon, source.step, timings)
 
 
 def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[str, bytes | str]:
@@ -266,6 +259,7 @@ def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
     from rjcad.cad import export as ex
     from rjcad.cad.finger import build_finger, tendon_path
+    from rjcad.cad.measure import body_entries
 
     t0 = time.perf_counter()
     solids = build_finger(fp)
@@ -297,8 +291,8 @@ def build_finger_model(fp) -> FingerBuild:
         "frame": "joint 1's axis is +Z through the origin; the finger extends along +X; flexion is positive "
                  "about +Z (towards +Y, the tendon side); every body stands on z = 0",
     }
-    manifest = Manifest("finger", joints, _bodies(solids, p0), material=p0.material, printer=p0.printer,
-                        clearance_mm=p0.clearance, extra=extra)
+    manifest = Manifest("finger", joints, body_entries(solids, p0.material_spec.density_g_cm3),
+                        material=p0.material, printer=p0.printer, clearance_mm=p0.clearance, extra=extra)
     t3 = time.perf_counter()
     return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                       "measure_s": t3 - t2})

@@ -39,14 +39,14 @@ def tendon_polyline(p: JointParams) -> np.ndarray:
 
 
 class LocalJoint:
-    """The joint of ``p`` built in this process: ``shape()``, ``measures()`` and ``step(name)``, each computed
-    once (``rjcad.cad.process`` serves the same three from another process). ``solids`` holds the bodies once
-    ``shape()`` has built them."""
+    """The joint of ``p`` built in this process: ``shape()`` and ``measures()`` (each computed once), then
+    ``step(name)`` (``rjcad.cad.process`` serves the same three from another process). ``solids`` holds the
+    bodies once ``shape()`` has built them."""
 
     def __init__(self, p: JointParams):
         self.params = p
         self.solids = None
-        self._shape = self._measures = self._step = None
+        self._shape = self._measures = None
 
     def shape(self) -> JointShape:
         if self._shape is None:
@@ -62,10 +62,8 @@ class LocalJoint:
 
     def measures(self) -> JointMeasures:
         if self._measures is None:
+            self.shape()
             p, s = self.params, self.solids
-            if s is None:
-                self.shape()
-                s = self.solids
             t0 = time.perf_counter()
             arm = ex.measure_moment_arm(s.moving, p.z_mid, p.tendon_line_diameter)
             wrap = ex.measure_wrap_angle(s.ground, p.tendon_diameter / 2)
@@ -76,8 +74,5 @@ class LocalJoint:
 
     def step(self, name: str = "joint") -> bytes:
         """The STEP file of both bodies, its assembly named ``name``."""
-        if self._step is None or self._step[0] != name:
-            if self.solids is None:
-                self.shape()
-            self._step = (name, ex.step_bytes({"ground": self.solids.ground, "moving": self.solids.moving}, name))
-        return self._step[1]
+        self.shape()
+        return ex.step_bytes({"ground": self.solids.ground, "moving": self.solids.moving}, name)

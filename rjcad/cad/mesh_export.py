@@ -9,9 +9,9 @@ from __future__ import annotations
 import io
 import os
 import zipfile
-from xml.sax.saxutils import escape
-
+from pathlib import Path
 from typing import TYPE_CHECKING
+from xml.sax.saxutils import escape
 
 import numpy as np
 
