@@ -7,7 +7,9 @@ its CAD in a forked process, rjcad.cad.process) and the same with RJCAD_CAD_PROC
 `rjcad check` on the default joint, `python -c "import rjcad.cli"`; and `openscad -o knuckle.stl
 benchmarks/knuckle.scad` (a two-body knuckle with two spiral springs of the default spring's size, tessellated
 as finely as rjcad's meshes) if `openscad` is on PATH, with the ratio openscad / rjcad joint, in wall time and
-in CPU time (user + system; steadier when other work shares the machine: the load average is reported). In
+in CPU time (user + system; steadier when other work shares the machine: the load average is reported). The
+two joints and OpenSCAD run in turn (joint, one-process joint, OpenSCAD, joint, ...), so a slow spell of a
+shared machine hits all three; the ratio is also given as the median of each round's ratio ("_paired"). In
 process: the default joint's build + STL + STEP (no preview), and its ratio to OpenSCAD.
 Targets: rjcad joint >= 2x faster than OpenSCAD end to end; rjcad spring <= 1 s; build + STL + STEP <= 0.5 s
 (>= 10x OpenSCAD).
@@ -57,6 +59,23 @@ def process_times(argv: list[str], repeats: int, env: dict | None = None) -> dic
             "median_cpu_s": statistics.median(cpu for _, cpu in runs)}
 
 
+def process_times_in_turn(commands: dict[str, tuple[list[str], dict | None]], repeats: int) -> dict[str, dict]:
+    """``process_times`` of several commands run in turn (A B C A B C ...; one untimed round first), so that a
+    slow spell of a shared machine hits each alike: each command's times, and per round the ratio of each
+    command's time to the first's (``ratios_to_first``)."""
+    warmup = 1 if repeats > 1 else 0
+    rounds = [{name: timed_runs(lambda a=argv, e=env: run(a, e), 1, warmup=0)[0] for name, (argv, env) in
+               commands.items()} for _ in range(warmup + repeats)][warmup:]
+    first = next(iter(commands))
+    out = {}
+    for name in commands:
+        times = [r[name][0] for r in rounds]
+        out[name] = {"median_s": statistics.median(times), "runs_s": times,
+                     "median_cpu_s": statistics.median(r[name][1] for r in rounds),
+                     "ratios_to_first": [r[name][0] / r[first][0] for r in rounds]}
+    return out
+
+
 def in_process_build_stl_step(repeats: int) -> float:
     """Median seconds of the default joint's build + STL + STEP in this process (a fresh JointParams each run)."""
     from rjcad.cad import build as jb
@@ -80,17 +99,19 @@ def main() -> None:
     n = args.repeats
     with tempfile.TemporaryDirectory() as tmp:
         run(rjcad("joint", "--out", f"{tmp}/j0"))  # the joint `check` reads
+        scad = shutil.which("openscad") if not args.no_openscad else None
+        turn = {"joint": (rjcad("joint", "--out", f"{tmp}/joint"), None),
+                "joint_one_process": (rjcad("joint", "--out", f"{tmp}/joint1"), {"RJCAD_CAD_PROCESS": "0"})}
+        if scad:
+            turn["openscad"] = ([scad, "-o", f"{tmp}/knuckle.stl", str(SCAD)], None)
         out = {
             "import_cli": process_times([sys.executable, "-c", "import rjcad.cli"], n),
-            "joint": process_times(rjcad("joint", "--out", f"{tmp}/joint"), n),
-            "joint_one_process": process_times(rjcad("joint", "--out", f"{tmp}/joint1"), n,
-                                               env={"RJCAD_CAD_PROCESS": "0"}),
+            **process_times_in_turn(turn, n),
             "finger": None if args.no_finger else process_times(rjcad("finger", "--out", f"{tmp}/finger"), n),
             "spring": process_times(rjcad("spring", "--config", "templates/spring.toml"), n),
             "check": process_times(rjcad("check", f"{tmp}/j0/joint.3mf", "--manifest", f"{tmp}/j0/joint.json"), n),
         }
-        scad = shutil.which("openscad") if not args.no_openscad else None
-        out["openscad"] = process_times([scad, "-o", f"{tmp}/knuckle.stl", str(SCAD)], n) if scad else None
+        out.setdefault("openscad", None)
         out["openscad_version"] = (subprocess.run([scad, "--version"], capture_output=True, text=True).stderr.strip()
                                    if scad else None)
     build_s = in_process_build_stl_step(n)
@@ -99,6 +120,8 @@ def main() -> None:
     out.update({
         "in_process_build_stl_step_s": build_s,
         "ratio_openscad_over_rjcad_joint": ratio,
+        "ratio_openscad_over_rjcad_joint_paired": (statistics.median(out["openscad"]["ratios_to_first"])
+                                                   if osc else None),
         "ratio_joint_over_joint_one_process": out["joint"]["median_s"] / out["joint_one_process"]["median_s"],
         "ratio_openscad_over_rjcad_joint_cpu": (out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"]
                                                 if osc else None),

@@ -142,9 +142,9 @@ def build(p: JointParams, cad=None) -> JointBuild:
     """Build, tessellate and measure the joint; nothing is written. ``cad``: a ``rjcad.cad.process.CadProcess``
     to build the solids in (default: this process)."""
     if cad is None:
-        from rjcad.cad.measure import LocalJoint
+        from rjcad.imports import load
 
-        source = LocalJoint(p)
+        source = load("rjcad.cad.measure").LocalJoint(p)  # CadQuery, imported without the collector
     else:
         source = cad.joint(p)
     shape = source.shape()

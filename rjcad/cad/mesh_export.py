@@ -30,15 +30,16 @@ MESH_ANGULAR_TOLERANCE = 0.1
 
 def prepare(png: bool = True) -> None:
     """Import what meshing, the gap measurement and the files need (trimesh, manifold3d, and with ``png`` the
-    renderer's VTK modules): 1.0–1.3 s that the ``rjcad`` program spends while its CAD process builds."""
-    import trimesh  # noqa: F401
+    renderer's VTK modules, and its off-screen context started): 1.0–1.3 s that the ``rjcad`` program spends
+    while its CAD process builds."""
+    from rjcad.imports import load
 
-    import rjcad.mesh  # noqa: F401 (manifold3d)
-
+    load("trimesh")
+    load("rjcad.mesh")  # manifold3d
     if png:
-        from rjcad.cad.render import _vtk
+        from rjcad.cad.render import warm_up
 
-        _vtk()
+        warm_up()
 
 
 def mesh_of(vertices: np.ndarray, faces: np.ndarray) -> trimesh.Trimesh:

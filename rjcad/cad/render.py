@@ -34,10 +34,13 @@ def rgb(colour: str) -> tuple[float, float, float]:
 def _vtk():
     """The VTK modules the preview uses (imported on first use; registers the OpenGL and font back ends)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
-    from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
-    from vtkmodules.util import numpy_support
+    from rjcad.imports import collector_paused
+
+    with collector_paused():  # once per process (cached)
+        import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
+        from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
+        from vtkmodules.util import numpy_support
 
     class V:
         pass
@@ -48,6 +51,19 @@ def _vtk():
                 setattr(V, name, getattr(mod, name))
     V.np = numpy_support
     return V
+
+
+def warm_up() -> None:
+    """Start the off-screen renderer (EGL display, OpenGL context): about 0.1 s that the first preview
+    would otherwise pay; ``mesh_export.prepare`` runs it while the CAD process builds."""
+    V = _vtk()
+    win = V.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(8, 8)
+    win.SetMultiSamples(0)
+    win.AddRenderer(V.vtkRenderer())
+    win.Render()
+    win.Finalize()
 
 
 def _cells(V, conn: np.ndarray, per_cell: int):

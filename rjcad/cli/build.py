@@ -101,9 +101,11 @@ def print_joint(m: dict) -> None:
 def finger(template, out_dir, no_png, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.cad.finger import FingerParams
+    from rjcad.imports import load
     from rjcad.outputs import check_writable
     from rjcad.templates import DEFAULT_FINGER
+
+    FingerParams = load("rjcad.cad.finger").FingerParams  # CadQuery, imported without the collector
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     check_writable(out_dir)
