@@ -23,7 +23,7 @@ def main() -> None:
     ap.add_argument("--analytic-n", type=int, default=100_000)
     ap.add_argument("--build-n", type=int, default=12)
     ap.add_argument("--repeats", type=int, default=1)
-    args = parse_args(ap, quick={"analytic_n": 2000, "build_n": 2})
+    args = parse_args(ap, quick={"analytic_n": 500, "build_n": 1})
     spec = sw.SweepSpec.from_dict({
         "sweep": {"mode": "lhs", "samples": args.analytic_n, "seed": 7},
         "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}, "rotation_deg": {"range": [60, 120]},
@@ -31,17 +31,19 @@ def main() -> None:
     })
     points = spec.points()
     sw.analytic_rows(points[:1000])  # warm-up on a slice: the full run is the figure
-    t_rows, _ = median_time(lambda: sw.analytic_rows(points), 3, warmup=0)
+    t_rows, _ = median_time(lambda: sw.analytic_rows(points), 1 if args.quick else 3, warmup=0)
     with tempfile.TemporaryDirectory() as d:
         t_full, _ = median_time(lambda: sw.run_sweep(spec, d, stream=io.StringIO()), 1, warmup=0)
     build_spec = sw.SweepSpec.from_dict({
         "sweep": {"mode": "lhs", "samples": args.build_n, "seed": 11},
         "params": {"stiffness_nmm_per_rad": {"range": [3, 8]}, "rotation_deg": {"range": [70, 100]}},
     })
-    # warm-up: start the fork server (it imports CadQuery once, ~2 s) so that both timings are warm
-    with tempfile.TemporaryDirectory() as d:
-        sw.run_sweep(sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2]}}}), d,
-                     build=True, workers=2, stream=io.StringIO())
+    # warm-up: start the fork server (it imports CadQuery once, ~2 s) so that both timings are warm (--quick:
+    # a smoke run, the one-worker run starts it)
+    if not args.quick:
+        with tempfile.TemporaryDirectory() as d:
+            sw.run_sweep(sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2]}}}), d,
+                         build=True, workers=2, stream=io.StringIO())
     walls = {}
     for workers in (1, 2):
         def run():

@@ -248,7 +248,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
 class FingerBuild:
     """A built finger: named solids, meshes, manifest and timings."""
 
-    params: object  # rjcad.cad.finger.FingerParams
+    params: object  # rjcad.finger_params.FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
     manifest: Manifest
@@ -257,9 +257,13 @@ class FingerBuild:
 
 def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
+    from rjcad.imports import load
+
+    finger = load("rjcad.cad.finger")  # CadQuery, imported without the collector
     from rjcad.cad import export as ex
-    from rjcad.cad.finger import build_finger, tendon_path
     from rjcad.cad.measure import body_entries
+
+    build_finger, tendon_path = finger.build_finger, finger.tendon_path
 
     t0 = time.perf_counter()
     solids = build_finger(fp)

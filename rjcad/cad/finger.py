@@ -13,10 +13,6 @@ from __future__ import annotations
 
 import math
 
-from dataclasses import dataclass, field, replace
-from functools import cached_property
-from pathlib import Path
-
 import cadquery as cq
 
 from rjcad.cad.joint import (
@@ -34,140 +30,18 @@ from rjcad.cad.joint import (
     tube_path,
 )
 from rjcad.cad.parts import CHANNEL_ROOF
-from rjcad.finger_lengths import (CHANNEL_RUNS, DEFAULT_BASE_LENGTH, base_length_min, channel_shift, link_length_min,
-                                  whole_mm)
-from rjcad.params import JOINT_DEFAULT_END, JointParams
-from rjcad.config import check_key as _typed
-from rjcad.config import load_toml
-from rjcad.errors import ParameterError, RjcadError
-from rjcad import templates
-from rjcad.units import DEG
+from rjcad.finger_lengths import CHANNEL_RUNS, channel_shift
+from rjcad.finger_params import (  # noqa: F401 (re-exported: the design, validated without CadQuery)
+    DEFAULT_FINGER,
+    GLOBAL_KEYS,
+    JOINT_KEYS,
+    MAX_JOINTS,
+    PAPER_FINGER,
+    FingerParams,
+)
+from rjcad.params import JointParams
 
-#: The paper's finger, as plain data in rjcad.templates (the builder's default).
-PAPER_FINGER = templates.PAPER_FINGER
-DEFAULT_FINGER = templates.DEFAULT_FINGER
-
-GLOBAL_KEYS = templates.FINGER_KEYS
-JOINT_KEYS = templates.FINGER_JOINT_KEYS
-MAX_JOINTS = 6
 M3_CLEARANCE_DIAMETER = 3.4
-
-
-@dataclass(frozen=True)
-class FingerParams:
-    """Validated finger design: one JointParams per joint, proximal to distal."""
-
-    joints: tuple[JointParams, ...]
-    base_length: float = 25.0
-    source: str = "built-in paper finger"
-    requested: tuple[dict, ...] = field(default=(), repr=False)
-
-    @classmethod
-    def from_dict(cls, data: dict, source: str = "<dict>") -> "FingerParams":
-        """Check keys and ranges of a finger template (see templates/finger.toml)."""
-        built, requested = cls.joints_from_dict(data)
-        # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
-        base = (float(data["base_length_mm"]) if "base_length_mm" in data
-                else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH))
-        fp = cls(tuple(built), base, source, tuple(requested))
-        fp.validate_lengths()
-        return fp
-
-    @staticmethod
-    def joints_from_dict(data: dict) -> tuple[list[JointParams], list[dict]]:
-        """A template's joints, validated, with one eye (or tendon) plane for the whole finger, and each joint's
-        table as given; the lengths are checked by :meth:`validate_lengths`."""
-        for k, v in data.items():
-            _typed("", k, v, GLOBAL_KEYS)
-        defaults = {k: _typed("defaults.", k, v, JOINT_KEYS) for k, v in data.get("defaults", {}).items()}
-        joints = data.get("joint", [])
-        if not 1 <= len(joints) <= MAX_JOINTS:
-            raise ParameterError("joint", len(joints), f"a finger needs 1 to {MAX_JOINTS} [[joint]] tables")
-        common = dict(
-            material=data.get("material", "absplus-p430"), printer=data.get("printer", "generic-0.4"),
-            clearance=float(data["clearance_mm"]) if "clearance_mm" in data else None, layout=data.get("layout"),
-            tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
-            safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", JOINT_DEFAULT_END),
-        )
-        built, requested = [], []
-        for i, j in enumerate(joints, start=1):
-            where = f"joint[{i}]."
-            if not isinstance(j, dict):
-                raise ParameterError(f"joint[{i}]", j, "must be a table")
-            merged = {**defaults, **{k: _typed(where, k, v, JOINT_KEYS) for k, v in j.items()}}
-            if "stiffness_nmm_per_rad" not in merged:
-                raise ParameterError(f"{where}stiffness_nmm_per_rad", None, "is required (here or in [defaults])")
-            kw = dict(
-                stiffness=float(merged["stiffness_nmm_per_rad"]),
-                rotation=float(merged.get("rotation_deg", 90)) * DEG,
-                preload=float(merged.get("preload_deg", 90)) * DEG,
-                link_length=float(merged.get("link_length_mm", 40)),
-                tendon_moment_arm=(float(merged["tendon_moment_arm_mm"])
-                                   if "tendon_moment_arm_mm" in merged else None),
-            )
-            try:
-                built.append(JointParams(**kw, **common, standalone=False))
-            except ParameterError as e:
-                name = {"stiffness": "stiffness_nmm_per_rad", "rotation": "rotation_deg",
-                        "preload": "preload_deg", "link_length": "link_length_mm",
-                        "tendon_moment_arm": "tendon_moment_arm_mm", "clearance": "clearance_mm",
-                        "tendon_diameter": "tendon_diameter_mm"}.get(e.parameter, e.parameter)
-                prefix = where if name in JOINT_KEYS else ""
-                raise ParameterError(f"{prefix}{name}", e.value, e.limit, unit=e.unit) from None
-            except RjcadError as e:
-                raise RjcadError(f"{where}stiffness_nmm_per_rad = {kw['stiffness']:g}: no printable spring: {e}") \
-                    from None
-            requested.append(merged)
-        # one eye plane for the whole finger, so that the tendon runs straight: a joint with a narrower
-        # spring gets thicker cheeks, b_max − b each, and all joints share z_mid and the height
-        b_max = max(p.spring.width for p in built)
-        built = [replace(p, cheek_thickness=p.cheek_thickness + (b_max - p.spring.width)) for p in built]
-        # desktop: each joint's tendon plane is raised to the highest one's (its band and arm grow)
-        z_top = max(p.z_mid for p in built)
-        built = [replace(p, tendon_lift=z_top - p.z_mid) if p.layout == "desktop" else p for p in built]
-        return built, requested
-
-    @classmethod
-    def from_toml(cls, path: str | Path) -> "FingerParams":
-        data = load_toml(path, GLOBAL_KEYS)
-        return cls.from_dict(data, source=str(path))
-
-    def validate_lengths(self) -> None:
-        """Each link must hold its joints' blocks, the tendon slot and the anchor (rjcad.finger_lengths)."""
-        js = self.joints
-        lo = base_length_min(js[0])
-        if not lo <= self.base_length <= 150:
-            raise ParameterError("base_length_mm", self.base_length, f"must be in [{lo:.1f}, 150] mm", unit="mm")
-        for i, p in enumerate(js, start=1):
-            need = link_length_min(p, js[i] if i < len(js) else None)
-            if p.link_length < need - 1e-9:
-                raise ParameterError(f"joint[{i}].link_length_mm", p.link_length, f"must be >= {need:.1f} mm for "
-                                     "these joints (their blocks, the slot, the tendon's channel)", unit="mm")
-        length, bed = self.base_length + sum(p.link_length for p in js), js[0].printer_spec.bed_length
-        if length > bed + 1e-9:
-            raise ParameterError("base_length_mm + link_length_mm", length,
-                                 f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer}",
-                                 unit="mm")
-
-    @property
-    def n(self) -> int:
-        return len(self.joints)
-
-    @property
-    def body_names(self) -> list[str]:
-        return ["base"] + [f"link{i}" for i in range(1, self.n)] + ["distal"]
-
-    @cached_property
-    def axis_x(self) -> list[float]:
-        """x of each joint axis at rest [mm]."""
-        xs = [0.0]
-        for p in self.joints[:-1]:
-            xs.append(xs[-1] + p.link_length)
-        return xs
-
-    @property
-    def material(self) -> str:
-        return self.joints[0].material
 
 
 def _moved(shapes: list[cq.Shape], dx: float) -> list[cq.Shape]:

@@ -101,11 +101,9 @@ def print_joint(m: dict) -> None:
 def finger(template, out_dir, no_png, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.imports import load
+    from rjcad.finger_params import FingerParams
     from rjcad.outputs import check_writable
     from rjcad.templates import DEFAULT_FINGER
-
-    FingerParams = load("rjcad.cad.finger").FingerParams  # CadQuery, imported without the collector
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     check_writable(out_dir)
@@ -132,8 +130,8 @@ def _template(path: str):
     """The finger template ``path`` (read through rjcad.untrusted); a bad value names the file and its key."""
     from pathlib import Path
 
-    from rjcad.cad.finger import FingerParams
     from rjcad.errors import ParameterError
+    from rjcad.finger_params import FingerParams
 
     try:
         return FingerParams.from_toml(path)
