@@ -15,7 +15,8 @@ The child's import is the command's longest wait, so it is made shorter: CadQuer
 and CasADi are left out (``rjcad.cad.absent``; unless ``RJCAD_CAD_ABSENT=0``) and the garbage collector
 is paused for it (``rjcad.imports``). If the child cannot build without the packages left out (a CadQuery
 release that calls one at import or on the build's path), it says so and the program builds the rest
-itself, with a warning (``--debug`` shows it). Measured with both: 2.91 → 2.33 s (median of 15, paired).
+itself, with a warning (``--debug`` shows it). Measured with both: 2.91 → 2.33 s (median of 15, paired);
+OpenSCAD / ``rjcad joint`` 1.91 → 2.45 (``benchmarks/cli.py``).
 
 Used only by the ``rjcad`` program itself (``rjcad.cli.entry``), where fork is the platform's way to start a
 process, before any thread or CadQuery exists in it, and unless ``RJCAD_CAD_PROCESS=0``. An error in the
