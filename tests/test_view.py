@@ -72,6 +72,9 @@ def test_light_commands_import_no_cad_no_plotting(root, tmp_path):
     assert not spring & (HEAVY | {"scipy"}), spring & (HEAVY | {"scipy"})
     sim = imported(root, tmp_path, "simulate", "finger", "--json")
     assert not sim & (HEAVY | {"scipy", "numba"}), sim & (HEAVY | {"scipy", "numba"})
+    # the joint's relaxation filter loads scipy.signal only when a relaxation time is given (1.1 s)
+    joint = imported(root, tmp_path, "simulate", "joint", "--rotation", "90", "--json")
+    assert not joint & (HEAVY | {"scipy", "numba"}), joint & (HEAVY | {"scipy", "numba"})
 
 
 def test_the_joint_build_imports_no_matplotlib_and_check_no_cad(root, tmp_path):

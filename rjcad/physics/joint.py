@@ -18,7 +18,6 @@ import math
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
-from scipy.signal import lfilter
 
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
@@ -127,6 +126,8 @@ def relaxation_torque(theta, t, k_m: float, t_r: float) -> np.ndarray:
     a = np.exp(-dt / t_r)
     drive = k_m * t_r * (1 - a) * dth / np.where(dt > 0, dt, np.inf)
     if np.ptp(dt) <= 1e-9 * max(dt.mean(), 1e-300):  # uniform steps: a linear filter
+        from scipy.signal import lfilter  # here: 1.1 s of import that a joint without relaxation never needs
+
         tau = lfilter([1.0], [1.0, -a[0]], drive)
     else:
         tau = _decaying_sum(drive, np.cumsum(dt) / t_r)
