@@ -66,12 +66,19 @@ def _preload() -> None:
     """Import what the commands import lazily, so that every child starts warm."""
     os.environ.setdefault("MPLBACKEND", "Agg")
     import rjcad.cli  # noqa: F401
-    for name in ("rjcad.cad.build", "rjcad.check", "rjcad.identify", "rjcad.sweep", "rjcad.physics.finger",
-                 "matplotlib.pyplot", "scipy.optimize"):
+    # rjcad.cad.build imports no CadQuery (the joint's CAD process does): the builders are named as well
+    for name in ("rjcad.cad.build", "rjcad.cad.measure", "rjcad.cad.finger", "rjcad.mesh", "rjcad.check",
+                 "rjcad.identify", "rjcad.sweep", "rjcad.physics.finger", "matplotlib.pyplot", "scipy.optimize"):
         try:
             __import__(name)
         except Exception:  # a missing optional module is the command's business, not the runner's
             pass
+    try:  # the preview's VTK modules (imports only: an OpenGL context is made in each child, after the fork)
+        from rjcad.cad.render import _vtk
+
+        _vtk()
+    except Exception:
+        pass
 
 
 def _child(case: dict) -> None:
