@@ -186,18 +186,12 @@ def _serve(conn, parent_end) -> None:
         conn.send(("ok", source.step("joint")))
     except (BrokenPipeError, ConnectionResetError):  # the parent stopped listening: nobody to tell
         pass
-    except Exception as e:  # noqa: BLE001 (every failure is the parent's to report)
-        left_out = _caused_by(e, absent.AbsentError)
-        try:
-            if left_out is not None:
-                conn.send(("fallback", str(left_out)))
-            else:
-                conn.send(("error", (_picklable(e), traceback.format_exc())))
-        except OSError:
-            pass
     except BaseException as e:  # noqa: BLE001 (every failure is the parent's to report)
+        left_out = _caused_by(e, absent.AbsentError)  # a package left out was called: the parent builds it
+        answer = ("fallback", str(left_out)) if left_out is not None else \
+            ("error", (_picklable(e), traceback.format_exc()))
         try:
-            conn.send(("error", (_picklable(e), traceback.format_exc())))
+            conn.send(answer)
         except OSError:
             pass
     finally:
