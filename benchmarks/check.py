@@ -40,7 +40,7 @@ from _timing import emit, median_time, parse_args, target
 from rjcad import check as chk
 from rjcad.check.copies import simplified
 from rjcad.cad.build import build_finger_model, write_joint
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 from rjcad.materials import get_printer
 
 

@@ -80,7 +80,7 @@ def in_process_build_stl_step(repeats: int) -> float:
     """Median seconds of the default joint's build + STL + STEP in this process (a fresh JointParams each run)."""
     from rjcad.cad import build as jb
     from rjcad.cad import export as ex
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     def once(p):
         b = jb.build(p)

@@ -43,7 +43,7 @@ def finger(repeats: int, samples: int = 3000,
     from rjcad.identify.finger.problem import FingerSelector, identify_finger
     from rjcad.physics.finger import FingerModel, simulate_path
     from rjcad.physics.finger_fast import simulate_angles
-    from rjcad.units import DEG
+    from rjcad import DEG
 
     out = {"finger_campaign_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
     with tempfile.TemporaryDirectory() as tmp:

@@ -13,7 +13,7 @@ import argparse
 from _timing import emit, median_of, parse_args, target, timed_runs
 
 from rjcad.cad import build as jb
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 
 
 def one_run(p: JointParams) -> dict:

@@ -17,7 +17,7 @@ from rjcad.paper import FINGER
 from rjcad.physics.finger import FingerModel, simulate_stroke, unbalanced_readings
 from rjcad.physics.inverse import design_finger
 from rjcad.physics.joint import PAPER_JOINT, Setup, motion_direction, simulate
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 def main() -> None:
@@ -93,7 +93,7 @@ def mujoco_stroke(args) -> dict:
     from rjcad.mjcf.simulate import load, run_stroke
     from rjcad.mjcf.spec import to_xml
     from rjcad.physics.finger import model_from_template
-    from rjcad.templates import DEFAULT_FINGER
+    from rjcad.io.templates import DEFAULT_FINGER
 
     m = model_from_template(DEFAULT_FINGER)
     model = load(to_xml(spec_from_model(m)))

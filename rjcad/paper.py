@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,6 @@ def png_bytes(fig, dpi: float | str = 100) -> bytes:
 
 def save_png(fig, path: str | os.PathLike, dpi: float | str = 100) -> Path:
     """Write ``fig`` as a PNG (see ``png_bytes``) atomically; closes ``fig``."""
-    from rjcad.config import write_atomic
+    from rjcad.io.config import write_atomic
 
     return write_atomic(path, png_bytes(fig, dpi))

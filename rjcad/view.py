@@ -62,7 +62,7 @@ def tendon_owner(path_mm: list[list[float]], joints: list[dict]) -> list[str]:
 
 def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
     """A built finger's (or joint's) manifest (JSON object) and the GLB beside it (same stem)."""
-    from rjcad.manifest import Manifest
+    from rjcad.io.manifest import Manifest
 
     path = Path(manifest_path)
     man = Manifest.read(str(path)).to_json()
@@ -117,7 +117,7 @@ def _html_text(text: str) -> str:
 
 def write_viewer(manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0) -> Path:
     """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path."""
-    from rjcad.config import write_atomic
+    from rjcad.io.config import write_atomic
 
     vendored_three()  # before the simulation: a missing three.js is the first thing to say
     man, glb = read_built(manifest_path)

@@ -1,4 +1,4 @@
-"""Independent checks of built bodies for the property tests: nothing here comes from rjcad.check or rjcad.mesh.
+"""Independent checks of built bodies for the property tests: nothing here comes from rjcad.check.
 
 The STL the builder writes is read back by trimesh and split into connected bodies; each must be watertight, wound
 consistently with outward normals (positive volume) and match a body of the manifest. Gaps are measured twice, by

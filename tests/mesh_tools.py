@@ -6,7 +6,7 @@ import manifold3d as m3
 import numpy as np
 import trimesh
 
-from rjcad.mesh import to_manifold as manifold  # the tests' name for it: float64, like the builder and check
+from rjcad.check.mesh_checks import to_manifold as manifold  # the tests' name for it: float64, like the builder and check
 
 
 def box(lo, hi) -> trimesh.Trimesh:

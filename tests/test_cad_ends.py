@@ -14,7 +14,7 @@ from OCP.BRepAdaptor import BRepAdaptor_Surface
 from rjcad.cad.build import build
 from rjcad.cad.joint import build_joint
 from rjcad.cad.spiral import line_box
-from rjcad.params import KEY_ENGAGEMENT, JointParams
+from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 
 Z = cq.Vector(0, 0, 1)
 O = cq.Vector(0, 0, 0)

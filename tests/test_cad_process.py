@@ -157,7 +157,7 @@ def test_an_interrupted_joint_leaves_no_files_and_no_process(tmp_path, sig, code
 _FALLBACK = """
 import json, sys, warnings
 from rjcad.cad import absent, process
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 absent.PACKAGES += ({extra!r},)  # the child inherits it
 with process.CadProcess() as cad:
     joint = cad.joint(JointParams())

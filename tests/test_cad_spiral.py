@@ -8,7 +8,7 @@ import cadquery as cq
 import pytest
 
 from rjcad.cad.spiral import COUNTER_CLOCKWISE, line_box, radial_box, ring, spiral_side, strip_solid
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 
 
 @pytest.fixture(scope="module")

@@ -55,7 +55,7 @@ def over_other_pair(gap=0.4):
 def stacked_joint():
     """Today's layout (spring | cheek | eye | cheek | spring) on generic-0.4, and its top spring's z band."""
     from rjcad.cad.build import build
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     names = {f.name for f in dataclasses.fields(JointParams)}
     p = JointParams(printer="generic-0.4", **({"layout": "stacked"} if "layout" in names else {}))
@@ -214,7 +214,7 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
     # the slicer's worst stretch is a whole first layer over one of the stack's flat 0.4 mm gaps, held at one end:
     # the top spring's, or (since #14's narrower clamped springs) a cheek's or the eye's, whose loops are as long
     # (which of these near-equal loops PrusaSlicer's paths make the longest varies from run to run)
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     p = JointParams(printer="generic-0.4", layout="stacked")
     z = rep.get("slicer").where[2]
@@ -300,7 +300,7 @@ def test_prusaslicer_loads_the_3mf_as_one_object_with_its_parts_in_place(tmp_pat
 @pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
 def test_prusaslicer_slices_the_default_joint_3mf_as_one_object_at_its_modelled_place(tmp_path):
     from rjcad.cad.build import render_files, build
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     b = build(JointParams())
     path = tmp_path / "joint.3mf"

@@ -162,7 +162,7 @@ def test_console_script_end_to_end(cli_process):
 
 def test_one_spring_with_a_coil_gap_is_the_default_desktop_joints_spring(cli):
     """`--springs 1 --min-gap 0.4` designs exactly the spring the default (desktop) joint prints."""
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     code, out, err = cli(PAPER + ["--springs", "1", "--min-gap", "0.4", "--json"])
     assert code == 0, err

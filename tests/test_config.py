@@ -1,4 +1,4 @@
-"""rjcad.config: TOML files checked key by key, and atomic writes that never leave a half file behind."""
+"""rjcad.io.config: TOML files checked key by key, and atomic writes that never leave a half file behind."""
 
 import json
 import os
@@ -6,7 +6,7 @@ import stat
 
 import pytest
 
-from rjcad.config import check_key, load_toml, write_atomic, write_json
+from rjcad.io.config import check_key, load_toml, write_atomic, write_json
 from rjcad.errors import ParameterError, RjcadError
 
 ALLOWED = {"stiffness_nmm_per_rad": (int, float), "material": str}

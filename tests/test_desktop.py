@@ -11,9 +11,9 @@ import trimesh
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
-from rjcad.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
+from rjcad.design.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
 from rjcad.materials import get_printer
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ def test_one_real_joint_builds(tmp_path):
     still catches a broken CAD kernel, builder or exporter. The default joint, read back from its STL and its
     manifest: two watertight bodies of the manifest's volumes."""
     from rjcad.cad.build import write_joint
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     write_joint(JointParams(), tmp_path, png=False)
     manifest = json.loads((tmp_path / "joint.json").read_text())

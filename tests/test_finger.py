@@ -14,7 +14,7 @@ import pytest
 from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
 from rjcad.cad.finger import DEFAULT_FINGER, FingerParams, PAPER_FINGER
-from rjcad.finger_lengths import shortest_lengths
+from rjcad.design.finger_lengths import shortest_lengths
 from rjcad.cad.joint import LEAD_IN
 from rjcad.cli import main
 from rjcad.view import THREE_FILE

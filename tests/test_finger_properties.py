@@ -3,7 +3,7 @@ them and each joint free over its range (issue #17, the valid side).
 
 The random test builds RANDOM_FINGERS accepted fingers per run: 1 to 5 joints, each joint's own stiffness, rotation,
 preload and (sometimes) moment arm; every material, printer, layout and end; each link (and the base) at least the
-shortest that holds its joints (rjcad.finger_lengths), plus a random extra. Derandomized, no shrinking (a finger
+shortest that holds its joints (rjcad.design.finger_lengths), plus a random extra. Derandomized, no shrinking (a finger
 builds in seconds); refused designs are drawn again and do not count. The checks are tests/body_checks.py's, and
 the tendon's centreline running forward (never back) from the base to the tip.
 """
@@ -23,9 +23,9 @@ from rjcad.cad.build import build_finger_model
 from rjcad.cad.export import stl_bytes
 from rjcad.cad.finger import FingerParams
 from rjcad.errors import ParameterError, RjcadError
-from rjcad.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
+from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
 from rjcad.materials import MATERIALS, PRINTERS
-from rjcad.params import LAYOUTS, RANGES
+from rjcad.design.params import LAYOUTS, RANGES
 
 DEG = math.pi / 180
 #: Accepted fingers the random test builds per run (issue #17: 10).

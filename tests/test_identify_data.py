@@ -367,7 +367,7 @@ def test_unknown_top_level_key(tmp_path):
     ('stiffness_nmm_per_rad = "5.2"', "[design] stiffness_nmm_per_rad = '5.2' is invalid: must be a int or float"),
     ("stiffness_nmm_per_rad = 0", "[design] stiffness_nmm_per_rad = 0 is invalid: must be > 0"),
     ("pulley_radius_mm = -6", "[design] pulley_radius_mm = -6 is invalid: must be > 0"),
-    ("preload_deg = nan", "design.preload_deg = nan is invalid: must be a finite number"),  # rjcad.untrusted
+    ("preload_deg = nan", "design.preload_deg = nan is invalid: must be a finite number"),  # rjcad.io.untrusted
     ("preload_deg = true", "[design] preload_deg = True is invalid: must be a int or float"),
 ])
 def test_bad_design_values(tmp_path, line, expect):

@@ -16,7 +16,7 @@ from rjcad.identify.finger.catalogue import catalogue, model_of
 from rjcad.identify.finger.data import design_from_file
 from rjcad.identify.finger.endpoint import identify_endpoints, render_markdown
 from rjcad.physics.finger import simulate_path
-from rjcad.templates import PAPER_FINGER
+from rjcad.io.templates import PAPER_FINGER
 
 
 def _campaign(d, finger, endpoints):

@@ -152,7 +152,7 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     # wrap angle: the channel runs square into the link end's centre for LEAD_IN, then climbs r = 6 mm over
     # 40 − LEAD_IN − (X_g + 3) mm (X_g: where the ground block starts): two bends of that angle
     from rjcad.cad.joint import LEAD_IN
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
     xb = JointParams().ground_block_start
     hand = 2 * math.atan2(6.0, 40.0 - LEAD_IN - (xb + 3.0))
     assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
@@ -161,7 +161,7 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
 
 def test_moment_arm_follows_the_parameter(tmp_path):
     from rjcad.cad.build import build
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     b = build(JointParams(tendon_moment_arm=7.5))
     assert b.manifest["tendon_moment_arm_mm"] == pytest.approx(7.5, abs=1e-6)
@@ -263,7 +263,7 @@ def test_parallel_meshing_gives_the_one_thread_meshes_of_the_built_bodies():
 
     from rjcad.cad import export as ex
     from rjcad.cad.joint import build_joint
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     solids = build_joint(JointParams())
     for body in (solids.ground, solids.moving):
@@ -290,7 +290,7 @@ def test_the_meshes_stand_within_a_tenth_of_the_clearance_of_the_b_rep():
 
     from rjcad.cad import export as ex
     from rjcad.cad.joint import build_joint
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     p = JointParams()
     solids = build_joint(p)

@@ -22,7 +22,7 @@ from rjcad.cad.build import build
 from rjcad.cad.export import stl_bytes
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.materials import MATERIALS, PRINTERS
-from rjcad.params import LAYOUTS, RANGES, JointParams
+from rjcad.design.params import LAYOUTS, RANGES, JointParams
 
 DEG = math.pi / 180
 #: Accepted designs the random test builds per run (issue #17: at least 50).
@@ -191,7 +191,7 @@ def test_out_of_range_is_rejected(kw, param):
 def test_the_desktop_cup_holds_its_stop_lugs_and_clears_the_flare(kw):
     """The cup grows to hold a moment arm's wide band: each stop lug at least LUG_WIDTH long (the first pinned design
     had a negative one) and the hub's flare clear of the cup's wall by the clearance (it reached into it)."""
-    from rjcad.layout_desktop import FACET_MARGIN, LUG_WIDTH
+    from rjcad.design.layout_desktop import FACET_MARGIN, LUG_WIDTH
 
     L = JointParams(**kw).desktop
     x0, x1, y0 = L.lug_span

@@ -1,4 +1,4 @@
-"""rjcad.manifest: the one manifest type. Version-0 files (written by rjcad before it, kept in tests/data)
+"""rjcad.io.manifest: the one manifest type. Version-0 files (written by rjcad before it, kept in tests/data)
 load; what the builders write round-trips; a bad manifest is one error line naming the key."""
 
 import copy
@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from rjcad.errors import ParameterError
-from rjcad.manifest import SCHEMA_VERSION, BodyEntry, JointEntry, Manifest, ManifestError
+from rjcad.io.manifest import SCHEMA_VERSION, BodyEntry, JointEntry, Manifest, ManifestError
 
 DATA = Path(__file__).parent / "data"
 
@@ -144,7 +144,7 @@ def test_keys_unknown_to_the_schema_round_trip():
 def test_the_builders_write_version_1_and_it_round_trips():
     from rjcad.cad.build import build, build_finger_model, render_files
     from rjcad.cad.finger import FingerParams
-    from rjcad.params import JointParams
+    from rjcad.design.params import JointParams
 
     b = build(JointParams(end="pinned", layout="stacked"))  # the end version 0's default joint had
     text = render_files(b, png=False)["joint.json"]

@@ -13,7 +13,7 @@ import pytest
 
 mujoco = pytest.importorskip("mujoco")
 
-from rjcad.manifest import Manifest  # noqa: E402
+from rjcad.io.manifest import Manifest  # noqa: E402
 from rjcad.mjcf.export import gravity_of, mesh_sources, mjcf_files, read_meshes  # noqa: E402
 from rjcad.mjcf.fit import compare, mujoco_stroke, paper_friction_model, representable  # noqa: E402
 from rjcad.mjcf.model import spec_from_model  # noqa: E402
@@ -21,7 +21,7 @@ from rjcad.mjcf.simulate import load, run_stroke  # noqa: E402
 from rjcad.mjcf.spec import to_xml  # noqa: E402
 from rjcad.physics.finger import (FingerModel, gravity_torques, model_from_manifest, model_from_template,  # noqa: E402
                                   simulate_stroke)
-from rjcad.templates import PAPER_FINGER  # noqa: E402
+from rjcad.io.templates import PAPER_FINGER  # noqa: E402
 
 STEPS = 250  # each way: 0.1 mm of tendon per step over the 25 mm stroke
 ONE_JOINT = 'material = "absplus-p430"\nprinter = "generic-0.4"\n[[joint]]\nstiffness_nmm_per_rad = 5.2\n'

@@ -9,7 +9,7 @@ from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import get_material, get_printer
 from rjcad.spring import optimise as opt
 from rjcad.spring import rod
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 

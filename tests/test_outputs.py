@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from rjcad import outputs
-from rjcad.config import write_atomic
+from rjcad.io import outputs
+from rjcad.io.config import write_atomic
 from rjcad.errors import RjcadError
-from rjcad.outputs import OutputError, check_writable, output_set, write_set
+from rjcad.io.outputs import OutputError, check_writable, output_set, write_set
 
 OLD = {"joint.stl": b"old stl", "joint.json": b'{"joint_stiffness_nmm_per_rad": 5.2}\n', "joint.png": b"old png"}
 NEW = {"joint.stl": b"new stl" * 100, "joint.3mf": b"new 3mf", "joint.json": b'{"k": 8}\n'}

@@ -11,7 +11,7 @@ from scipy.optimize import minimize
 
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.physics import finger as fm
-from rjcad.templates import PAPER_FINGER
+from rjcad.io.templates import PAPER_FINGER
 
 DEG = math.pi / 180
 TOL = 1e-6  # N·mm

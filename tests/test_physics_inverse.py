@@ -7,7 +7,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics import finger as fm
 from rjcad.physics.inverse import _printable_scale, arm_range, design_finger

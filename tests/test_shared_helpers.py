@@ -1,5 +1,5 @@
-"""The small shared modules: rjcad.units (DEG), rjcad.paper (the paper's values), rjcad.validate (the one
-range check), rjcad.mesh (float64 to_manifold) and rjcad.plotting (metadata-free, reproducible PNGs)."""
+"""The small shared modules: rjcad.DEG, rjcad.paper (the paper's values), rjcad.validate (the one
+range check), rjcad.check.mesh_checks.to_manifold (float64) and rjcad.plotting (metadata-free, reproducible PNGs)."""
 
 import math
 import struct
@@ -9,10 +9,10 @@ import pytest
 import trimesh
 
 from rjcad.errors import ParameterError
-from rjcad.mesh import to_manifold
+from rjcad.check.mesh_checks import to_manifold
 from rjcad.paper import FINGER, JOINT
 from rjcad.plotting import png_bytes, pyplot, save_png
-from rjcad.units import DEG
+from rjcad import DEG
 from rjcad.validate import default_limit, in_range
 
 
@@ -33,7 +33,7 @@ def test_the_paper_table_holds_the_papers_numbers():
 
 def test_the_physics_and_the_finger_template_use_the_paper_table():
     from rjcad.physics.joint import PAPER_JOINT
-    from rjcad.templates import PAPER_FINGER
+    from rjcad.io.templates import PAPER_FINGER
 
     for name in ("stiffness", "preload", "mu_j", "gamma_pos", "gamma_neg", "beta_pos", "beta_neg", "pulley_radius"):
         assert getattr(PAPER_JOINT, name) == pytest.approx(getattr(JOINT, name), rel=1e-12), name

@@ -12,7 +12,7 @@ from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import MATERIALS, PRINTERS
 from rjcad.spring import optimise as opt
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 requirements = st.builds(

@@ -1,4 +1,4 @@
-"""Untrusted input (rjcad/untrusted.py and its readers): every bad file or value is one short error line, exit 2.
+"""Untrusted input (rjcad/io/untrusted.py and its readers): every bad file or value is one short error line, exit 2.
 
 Classes of issue #17: integers too large for a float, deep nesting, binary and UTF-16 files, NaN, strings and
 booleans where numbers belong, huge values echoed into the error, malformed manifests, bad sweep files, a
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from rjcad import untrusted
+from rjcad.io import untrusted
 from rjcad.errors import ParameterError, RjcadError, quote
 
 DEG = math.pi / 180

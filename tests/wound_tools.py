@@ -64,7 +64,7 @@ def desktop_wound_clearance(p, meshes, step_deg: float = 10.0) -> float:
     The rod model winds the stacked layout's spring (clockwise outwards, inner end fixed, outer end turned
     counter-clockwise); the desktop spring is that one mirrored across XZ and turned to the socket's ray, in
     the hub's (moving) frame, which turns by θ_j in the world."""
-    from rjcad.layout_desktop import SOCKET_RAY
+    from rjcad.design.layout_desktop import SOCKET_RAY
 
     ground = manifold(meshes["ground"])
     d, L = p.spring, p.desktop

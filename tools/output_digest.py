@@ -9,7 +9,7 @@ campaign, `rjcad life --json`) into a temporary folder and prints one JSON objec
     diff before.json after.json                   # no output: byte-identical
 
 ``--v0-manifests`` digests manifests as schema version 0 wrote them (see ``_as_v0``), to compare
-across the change that introduced ``rjcad.manifest`` (version 1).
+across the change that introduced ``rjcad.io.manifest`` (version 1).
 
 The temporary folder's path is replaced by `{tmp}` in what the commands print. Where
 OpenCASCADE's parallel booleans and meshing are not deterministic from run to run (the same

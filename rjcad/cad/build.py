@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from rjcad.cad import mesh_export as mx
-from rjcad.manifest import JointEntry, Manifest
-from rjcad.outputs import check_writable
-from rjcad.params import KEY_ENGAGEMENT, JointParams
+from rjcad.io.manifest import JointEntry, Manifest
+from rjcad.io.outputs import check_writable
+from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 
 if TYPE_CHECKING:
     import trimesh
@@ -151,7 +151,7 @@ def build(p: JointParams, cad=None) -> JointBuild:
     t0 = time.perf_counter()
     meshes = {name: mx.mesh_of(v, f) for name, (v, f) in shape.triangles.items()}
     t1 = time.perf_counter()
-    from rjcad.mesh import to_manifold
+    from rjcad.check.mesh_checks import to_manifold
 
     man = [to_manifold(m) for m in meshes.values()]
     gap = float(man[0].min_gap(man[1], 2.0))
@@ -248,7 +248,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
 class FingerBuild:
     """A built finger: named solids, meshes, manifest and timings."""
 
-    params: object  # rjcad.finger_params.FingerParams
+    params: object  # rjcad.design.finger_params.FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
     manifest: Manifest

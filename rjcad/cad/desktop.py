@@ -1,4 +1,4 @@
-"""Solids of the support-free desktop layout (see :mod:`rjcad.layout_desktop` for the design and its numbers).
+"""Solids of the support-free desktop layout (see :mod:`rjcad.design.layout_desktop` for the design and its numbers).
 
 Ground: the cup (wall and conical roof), the key's socket on the cup's inside, two stop lugs on the roof,
 the web to the ground link's block. Moving: the hub (flare under the roof, collar in the bore, band with
@@ -14,8 +14,8 @@ import math
 import cadquery as cq
 
 from rjcad.cad.parts import socket_solids, spring_solids, tube_path
-from rjcad.layout_desktop import LUG_WIDTH, ROOF_LAND, SOCKET_RAY, T
-from rjcad.params import JointParams
+from rjcad.design.layout_desktop import LUG_WIDTH, ROOF_LAND, SOCKET_RAY, T
+from rjcad.design.params import JointParams
 
 Z = cq.Vector(0, 0, 1)
 ORIGIN = cq.Vector(0, 0, 0)

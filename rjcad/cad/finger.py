@@ -30,8 +30,8 @@ from rjcad.cad.joint import (
     tube_path,
 )
 from rjcad.cad.parts import CHANNEL_ROOF
-from rjcad.finger_lengths import CHANNEL_RUNS, channel_shift
-from rjcad.finger_params import (  # noqa: F401 (re-exported: the design, validated without CadQuery)
+from rjcad.design.finger_lengths import CHANNEL_RUNS, channel_shift
+from rjcad.design.finger_params import (  # noqa: F401 (re-exported: the design, validated without CadQuery)
     DEFAULT_FINGER,
     GLOBAL_KEYS,
     JOINT_KEYS,
@@ -39,7 +39,7 @@ from rjcad.finger_params import (  # noqa: F401 (re-exported: the design, valida
     PAPER_FINGER,
     FingerParams,
 )
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 
 M3_CLEARANCE_DIAMETER = 3.4
 

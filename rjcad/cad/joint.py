@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import cadquery as cq
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 from rjcad.cad import desktop
 from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)

@@ -12,8 +12,8 @@ import numpy as np
 from rjcad.cad import export as ex
 from rjcad.cad.joint import build_joint, ground_channel_points, moving_channel_points, strip_volume
 from rjcad.cad.results import JointMeasures, JointShape
-from rjcad.manifest import BodyEntry
-from rjcad.params import JointParams
+from rjcad.io.manifest import BodyEntry
+from rjcad.design.params import JointParams
 
 
 def body_entries(solids: dict, density_g_cm3: float) -> list[BodyEntry]:

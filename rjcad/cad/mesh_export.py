@@ -15,7 +15,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
-from rjcad.outputs import write_set
+from rjcad.io.outputs import write_set
 
 if TYPE_CHECKING:
     import trimesh
@@ -35,7 +35,7 @@ def prepare(png: bool = True) -> None:
     from rjcad.imports import load
 
     load("trimesh")
-    load("rjcad.mesh")  # manifold3d
+    load("rjcad.check.mesh_checks")  # manifold3d
     if png:
         from rjcad.cad.render import warm_up
 
@@ -150,6 +150,6 @@ def glb_bytes(meshes: dict[str, trimesh.Trimesh], colours: dict[str, str] | None
 
 def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str],
                   remove: tuple[str, ...] = ()) -> list[Path]:
-    """Write the files as one set (``rjcad.outputs.write_set``: all or none, an earlier run untouched);
+    """Write the files as one set (``rjcad.io.outputs.write_set``: all or none, an earlier run untouched);
     everything is built before the first write. ``remove``: names of the set this run does not write."""
     return write_set(out_dir, files, remove)

@@ -8,7 +8,7 @@ import math
 import cadquery as cq
 
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, ring, strip_solid
-from rjcad.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
+from rjcad.design.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
 
 Z = cq.Vector(0, 0, 1)
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rjcad.manifest import BodyEntry
+from rjcad.io.manifest import BodyEntry
 
 
 @dataclass

@@ -27,7 +27,7 @@ from rjcad.check.motion import check_motion, motion_joints, subtree
 from rjcad.check.overhang import check_overhang
 from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
 from rjcad.check.slicer import check_slicer, prusa_config
-from rjcad.manifest import Manifest
+from rjcad.io.manifest import Manifest
 from rjcad.materials import get_printer
 
 __all__ = [

@@ -10,7 +10,7 @@ import numpy as np
 import trimesh
 
 from rjcad.check.report import BadInput
-from rjcad.manifest import Manifest, ManifestError
+from rjcad.io.manifest import Manifest, ManifestError
 
 
 #: Where a 3MF names the parts of an object (PrusaSlicer's per-object config; rjcad writes it).

@@ -10,7 +10,12 @@ import trimesh
 
 from rjcad.check.copies import APART_MM, Copies, candidates, min_gap, refined, simplified
 from rjcad.check.report import CheckResult, point
-from rjcad.mesh import to_manifold
+
+
+def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
+    """manifold3d solid from a merged-vertex mesh, in double precision (Mesh64)."""
+    return m3.Manifold(m3.Mesh64(vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float64),
+                                 tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64)))
 
 
 def _edge_defects(mesh: trimesh.Trimesh) -> tuple[np.ndarray, bool]:

@@ -10,7 +10,7 @@ import trimesh
 
 from rjcad.check.copies import Copies, candidates, min_gap, near, refined, simplified
 from rjcad.check.report import BadInput, CheckResult, point, skipped
-from rjcad.manifest import JointEntry, Manifest, ManifestError
+from rjcad.io.manifest import JointEntry, Manifest, ManifestError
 from rjcad.materials import Printer
 
 #: What the motion check reads of each joint.

@@ -2,7 +2,7 @@
 
 Every user-facing error is one line on stderr and exit code 2; ``--debug``
 adds the traceback. Python warnings are not printed (``--debug`` prints them): stderr holds the error
-line and nothing else. User files are read through ``rjcad.untrusted``.
+line and nothing else. User files are read through ``rjcad.io.untrusted``.
 
 One module per command group, each thin (parse, call the library, print) with
 its printers beside it: ``spring``, ``build`` (joint, finger), ``check``,

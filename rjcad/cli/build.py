@@ -62,8 +62,8 @@ def joint(config, out_dir, no_png, **options):
     # the rjcad program builds in a forked process that imports CadQuery while this one designs the spring
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
     with cad or contextlib.nullcontext():
-        from rjcad.outputs import check_writable
-        from rjcad.params import JointParams
+        from rjcad.io.outputs import check_writable
+        from rjcad.design.params import JointParams
 
         params = JointParams(**merge_config(options, config, FIELDS))
         check_writable(out_dir)  # before this process imports CadQuery or meshes
@@ -101,9 +101,9 @@ def print_joint(m: dict) -> None:
 def finger(template, out_dir, no_png, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.finger_params import FingerParams
-    from rjcad.outputs import check_writable
-    from rjcad.templates import DEFAULT_FINGER
+    from rjcad.design.finger_params import FingerParams
+    from rjcad.io.outputs import check_writable
+    from rjcad.io.templates import DEFAULT_FINGER
 
     fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
     check_writable(out_dir)
@@ -127,11 +127,11 @@ def finger(template, out_dir, no_png, html, mjcf, gravity):
 
 
 def _template(path: str):
-    """The finger template ``path`` (read through rjcad.untrusted); a bad value names the file and its key."""
+    """The finger template ``path`` (read through rjcad.io.untrusted); a bad value names the file and its key."""
     from pathlib import Path
 
     from rjcad.errors import ParameterError
-    from rjcad.finger_params import FingerParams
+    from rjcad.design.finger_params import FingerParams
 
     try:
         return FingerParams.from_toml(path)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from rjcad.manifest import CLEARANCE_MM
+from rjcad.io.manifest import CLEARANCE_MM
 from rjcad.materials import PRINTERS
 
 #: ``--allowance`` range [mm]: the tessellation allowance on measured gaps and walls (the builder's
@@ -31,7 +31,7 @@ ALLOWANCE_MM = (0.0, 0.05)
 def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_json):
     """Check a mesh for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
     from rjcad.check import format_table, run_checks
-    from rjcad.manifest import ManifestError
+    from rjcad.io.manifest import ManifestError
     from rjcad.materials import get_printer
     from rjcad.validate import in_range
 
@@ -54,9 +54,9 @@ def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_js
 
 
 def _manifest(path: str | None, mesh: str):
-    """The manifest file, read (rjcad.untrusted) and checked; an STL's bodies can only be named by its ``bodies``."""
+    """The manifest file, read (rjcad.io.untrusted) and checked; an STL's bodies can only be named by its ``bodies``."""
     from rjcad.check import motion_joints
-    from rjcad.manifest import Manifest, ManifestError
+    from rjcad.io.manifest import Manifest, ManifestError
 
     if not path:
         return None

@@ -92,12 +92,12 @@ def identify(campaign, json_out, report_dir, allow_outside):
     """What the design simulation gets wrong in measured data, which effects cause it, and the gain."""
     from pathlib import Path
 
-    from rjcad.config import write_json
+    from rjcad.io.config import write_json
     from rjcad.identify.campaign import load_campaign
     from rjcad.identify.report import write_report
     from rjcad.identify.result import to_json
     from rjcad.identify.select import identify as run
-    from rjcad.outputs import check_writable
+    from rjcad.io.outputs import check_writable
 
     places = ([Path(json_out).parent] if json_out and json_out != "-" else []) + ([report_dir] if report_dir else [])
     for place in places:
@@ -109,7 +109,7 @@ def identify(campaign, json_out, report_dir, allow_outside):
         js = endpoint.identify_endpoints(camp)
         written = []
         if report_dir:
-            from rjcad.outputs import write_set
+            from rjcad.io.outputs import write_set
 
             write_set(Path(report_dir), {"report.md": endpoint.render_markdown(js)})
             written = [str(Path(report_dir) / "report.md")]

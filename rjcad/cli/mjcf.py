@@ -15,9 +15,9 @@ GRAVITY_HELP = ("Gravity relative to the finger: horizontal-palm-down (default),
 
 def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str | None, pull: str) -> dict:
     """The MJCF (named ``xml_name``) and its body STLs for the manifest at ``manifest_path``, in memory."""
-    from rjcad.manifest import Manifest
+    from rjcad.io.manifest import Manifest
     from rjcad.mjcf.export import check_identified, gravity_of, mesh_sources, mjcf_files, read_meshes
-    from rjcad.untrusted import read_json
+    from rjcad.io.untrusted import read_json
 
     man = Manifest.read(manifest_path)
     from rjcad.mjcf.export import check_manifest
@@ -47,7 +47,7 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
 def mjcf(manifest, out_path, identified, gravity, pull):
     """Write the MuJoCo model (MJCF, SI units) of a finger built by `rjcad finger` (its manifest FINGER.json and,
     beside it, its per-body STLs or its 3MF)."""
-    from rjcad.outputs import write_set
+    from rjcad.io.outputs import write_set
 
     out = Path(out_path)
     if out.suffix.lower() != ".xml":

@@ -11,9 +11,9 @@ from typing import NamedTuple
 
 import click
 
-from rjcad.config import load_toml
+from rjcad.io.config import load_toml
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, MATERIALS, PRINTERS
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 class Field(NamedTuple):

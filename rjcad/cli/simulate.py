@@ -13,7 +13,7 @@ import click
 from rjcad.errors import ParameterError, quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 @click.group()
@@ -198,7 +198,7 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
 @click.option("--json", "as_json", is_flag=True)
 def finger_design(target, stroke, sequence, base_stiffness, material, printer, out_path, as_json):
     """Choose stiffnesses, preloads and moment arms for a desired free closure; write a finger template."""
-    from rjcad.config import write_atomic
+    from rjcad.io.config import write_atomic
     from rjcad.physics.inverse import design_finger
 
     try:

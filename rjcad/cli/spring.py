@@ -10,7 +10,7 @@ from rjcad.cli.options import Field, design_options, merge_config, print_table, 
 from rjcad.errors import RjcadError
 from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
-from rjcad.units import DEG
+from rjcad import DEG
 
 #: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
 FIELDS = requirement() + (
@@ -53,7 +53,7 @@ def spring(config, as_json, plot, **options):
     the rod model."""
     design = design_spring(spring_requirement(options, config))
     if plot:
-        from rjcad.outputs import OutputError
+        from rjcad.io.outputs import OutputError
         from rjcad.spring.plot import write_plot
 
         try:

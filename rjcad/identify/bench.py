@@ -16,10 +16,10 @@ import numpy as np
 
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify import catalogue as cat
-from rjcad.outputs import write_set
+from rjcad.io.outputs import write_set
 from rjcad.paper import JOINT
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
-from rjcad.units import DEG
+from rjcad import DEG
 from rjcad.validate import in_range
 
 #: The paper's designed joint (rjcad.paper.JOINT), in the campaign's JSON names and units.

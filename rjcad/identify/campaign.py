@@ -8,7 +8,7 @@ from pathlib import Path
 from rjcad.identify.data import Campaign, is_finger_campaign
 from rjcad.identify.data import load_campaign as load_joint_campaign
 from rjcad.identify.finger.data import FingerCampaign, load_finger_campaign
-from rjcad.untrusted import read_toml
+from rjcad.io.untrusted import read_toml
 
 
 def load_campaign(path, allow_outside: bool = False) -> Campaign | FingerCampaign:  # or an EndpointCampaign

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 @dataclass(frozen=True)

@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import median_filter
 
-from rjcad.config import check_key
+from rjcad.io.config import check_key
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.signal import noise_sigma
 from rjcad.physics.joint import Setup
-from rjcad.units import DEG
-from rjcad.untrusted import confined, read_text, read_toml
+from rjcad import DEG
+from rjcad.io.untrusted import confined, read_text, read_toml
 from rjcad.validate import in_range
 
 
@@ -92,7 +92,7 @@ RADIAN_SLOPE_RATIO = 15.0
 
 def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) -> Campaign:
     """Read and validate a campaign TOML and its CSV files (paths relative to the TOML, inside its folder
-    unless ``allow_outside``; symlinks followed). Files are read through rjcad.untrusted.
+    unless ``allow_outside``; symlinks followed). Files are read through rjcad.io.untrusted.
 
     Raises RjcadError (ParameterError for TOML values) with one line naming the file and the problem.
     """
@@ -126,7 +126,7 @@ def is_finger_campaign(doc: dict) -> bool:
 
 
 def _read_toml(path: Path, doc: dict | None = None) -> dict:
-    """The parsed TOML document (rjcad.untrusted); RjcadError if it is missing, unreadable or not TOML."""
+    """The parsed TOML document (rjcad.io.untrusted); RjcadError if it is missing, unreadable or not TOML."""
     doc = read_toml(path) if doc is None else doc
     for key in doc:
         if key not in ("design", "experiment"):

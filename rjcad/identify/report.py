@@ -9,12 +9,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rjcad.config import write_atomic
+from rjcad.io.config import write_atomic
 from rjcad.identify.catalogue import EFFECTS, PARAMS
 from rjcad.identify.formatting import QUANTITY, fmt, quantity_unit, unit_of
 from rjcad.identify.plots import plot_diagnostics, plot_fit, plot_residuals, plot_steps
 from rjcad.identify.select import BIC_GATE, Identification
-from rjcad.outputs import output_set
+from rjcad.io.outputs import output_set
 
 __all__ = ["FLOOR_RATIO", "QUANTITY", "fmt", "plot_diagnostics", "plot_fit", "plot_residuals", "plot_steps",
            "quantity_unit", "render_markdown", "unit_of", "write_report"]

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 from scipy.signal import savgol_coeffs, savgol_filter
 
-from rjcad.units import DEG
+from rjcad import DEG
 
 MAD = 1.4826  # σ = MAD·median|x − median| for Gaussian noise
 

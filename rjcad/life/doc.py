@@ -6,18 +6,18 @@ import math
 
 import numpy as np
 
-from rjcad.config import write_atomic
+from rjcad.io.config import write_atomic
 from rjcad.life.constraint import predict_cycles
 from rjcad.life.critique import LOO_CUT, Critique, selection_frequencies
 from rjcad.life.effects import EFFECTS, ROAD_WIDTH
 from rjcad.life.likelihood import LEVEL
 from rjcad.life.table import TABLE_I_END, TABLE_I_INNER_RADIUS, read_table, table_i, table_i_peaks
 from rjcad.materials import get_material
-from rjcad.outputs import check_writable, output_set
+from rjcad.io.outputs import check_writable, output_set
 from rjcad.plotting import pyplot, save_png
 from rjcad.spring import factors
 from rjcad.spring.formulas import turns_for_length, windup_stress
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 def write_plot(c: Critique, path) -> None:

@@ -24,7 +24,7 @@ import numpy as np
 from rjcad.materials import get_material
 from rjcad.spring.factors import JOINT_SENSE, cycle_stresses
 from rjcad.spring.formulas import turns_for_length
-from rjcad.units import DEG
+from rjcad import DEG
 
 #: Table I does not give the springs' inner radius: assumed [mm] (rjcad's smallest, the paper's pin scale).
 TABLE_I_INNER_RADIUS = 3.0

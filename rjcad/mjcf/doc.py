@@ -11,7 +11,7 @@ import sys
 import numpy as np
 
 from rjcad.mjcf.fit import PIN_LOAD_N, analyse
-from rjcad.outputs import check_writable, write_set
+from rjcad.io.outputs import check_writable, write_set
 from rjcad.plotting import png_bytes, pyplot
 
 COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")

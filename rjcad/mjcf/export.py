@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 
 from rjcad.errors import ParameterError, RjcadError, quote
-from rjcad.manifest import Manifest
+from rjcad.io.manifest import Manifest
 from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON, BodySpec, FingerSpec, JointSpec, to_xml, unit
-from rjcad.units import DEG
+from rjcad import DEG
 
 #: Stated defaults where nothing is known: damping = K·DAMPING_S [N·m·s/rad] (a 20 ms spring–damper time
 #: constant, a guess), no armature (no rotor), no friction loss (the design model is frictionless).

@@ -33,7 +33,7 @@ def paper_friction_model() -> FingerModel:
     """The paper's finger (templates: K 5.2·[1, 1.5, 2], 90° preload and range, r 6 mm, 40 mm links) with rjcad's
     friction model at the paper's joint values: f0 = μ_j·F_n (F_n = PIN_LOAD_N), γ⁺ 1.89 / γ⁻ 3.15 N·mm/rad,
     and the capstan β⁺ = 1.24 in the base (μα = ln β⁺ before joint 1). No gravity."""
-    from rjcad.templates import PAPER_FINGER
+    from rjcad.io.templates import PAPER_FINGER
 
     m = model_from_template(PAPER_FINGER)
     n = m.n

@@ -38,7 +38,7 @@ from rjcad.errors import ParameterError
 from rjcad.physics import coupled as cp
 from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
 from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_terms  # noqa: F401  (re-exported)
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 @dataclass

@@ -8,14 +8,14 @@ from dataclasses import replace
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
                         gravity: tuple[float, float] | None = None, gamma_pos=None, gamma_neg=None) -> FingerModel:
     """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
     preload, range, measured arms and wraps, and each joint's child body's mass."""
-    from rjcad.manifest import Manifest
+    from rjcad.io.manifest import Manifest
 
     man = Manifest.coerce(manifest)
     joints = man.joints
@@ -92,8 +92,8 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
 
 def check_template_keys(data: dict, name: str) -> None:
     """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
-    from rjcad.config import check_key
-    from rjcad.templates import FINGER_JOINT_KEYS, FINGER_KEYS
+    from rjcad.io.config import check_key
+    from rjcad.io.templates import FINGER_JOINT_KEYS, FINGER_KEYS
 
     for key, value in data.items():
         check_key(f"{name}: ", key, value, FINGER_KEYS)
@@ -108,11 +108,11 @@ def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     """A finger model from a manifest (.json), a template (.toml), or the paper's finger (None)."""
     from pathlib import Path
 
-    from rjcad.manifest import Manifest
-    from rjcad.untrusted import read_toml
+    from rjcad.io.manifest import Manifest
+    from rjcad.io.untrusted import read_toml
 
     if source is None:
-        from rjcad.templates import PAPER_FINGER
+        from rjcad.io.templates import PAPER_FINGER
 
         return model_from_template(PAPER_FINGER)
     if Path(source).suffix.lower() == ".json":

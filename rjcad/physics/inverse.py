@@ -12,7 +12,7 @@ r_i·T = K_i·θ0_i and sits at θ_i = r_i·T/K_i − θ0_i. For target end angl
 * the free scale r·T_e sets the softest joint to the preferred stiffness, or the
   nearest one at which every joint is a printable spring.
 
-Every joint is checked as the joint builder checks it (rjcad.params.JointParams:
+Every joint is checked as the joint builder checks it (rjcad.design.params.JointParams:
 spring from the optimiser, preload, rotation, moment arm and link length), and the
 simulated closure must end within 1° of the targets in the requested order.
 """
@@ -26,11 +26,11 @@ from functools import lru_cache
 import numpy as np
 
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
-from rjcad.finger_lengths import shortest_lengths
+from rjcad.design.finger_lengths import shortest_lengths
 from rjcad.paper import FINGER
-from rjcad.params import RANGES, JointParams
+from rjcad.design.params import RANGES, JointParams
 from rjcad.physics.finger import Closure, FingerModel, onset_tendon, simulate_stroke
-from rjcad.units import DEG
+from rjcad import DEG
 from rjcad.validate import in_range
 
 PRELOAD_RANGE = RANGES["preload"][:2]  # the joint builder's limits [rad]
@@ -55,7 +55,7 @@ class FingerDesign:
 
     def template(self, material: str = "absplus-p430", printer: str = "generic-0.4") -> str:
         """A finger template (TOML) that `rjcad finger` builds: the printer's default layout and clearance,
-        links of the paper's 40 mm or the shortest whole millimetre that holds the joints (rjcad.finger_lengths)."""
+        links of the paper's 40 mm or the shortest whole millimetre that holds the joints (rjcad.design.finger_lengths)."""
         joints = [JointParams(stiffness=k, preload=p, rotation=r, tendon_moment_arm=a, material=material,
                               printer=printer)
                   for k, p, r, a in zip(self.stiffness, self.preload, self.rotation, self.moment_arm)]

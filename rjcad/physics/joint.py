@@ -21,7 +21,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
-from rjcad.units import DEG
+from rjcad import DEG
 from rjcad.validate import in_range
 
 

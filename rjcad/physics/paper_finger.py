@@ -14,13 +14,13 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from rjcad.errors import ParameterError
-from rjcad.outputs import check_writable, write_set
+from rjcad.io.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
-from rjcad.params import JointParams
+from rjcad.design.params import JointParams
 from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
 from rjcad.physics.uncertainty import parameter_std
 from rjcad.plotting import png_bytes, pyplot
-from rjcad.units import DEG
+from rjcad import DEG
 
 MEASURED_DEG = np.array(FINGER.measured_end_deg)
 STROKE = FINGER.stroke

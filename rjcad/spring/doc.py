@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rjcad.config import write_atomic
+from rjcad.io.config import write_atomic
 from rjcad.spring import factors as fx
 from rjcad.spring import rod
 from rjcad.spring.formulas import coil_gap as handbook_gap

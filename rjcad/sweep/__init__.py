@@ -18,7 +18,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from rjcad.outputs import cannot_write, check_writable, output_set
+from rjcad.io.outputs import cannot_write, check_writable, output_set
 from rjcad.sweep.analytic import analytic_rows
 from rjcad.sweep.build import build_task
 from rjcad.sweep.execute import Progress, run_tasks

@@ -13,7 +13,7 @@ import numpy as np
 from rjcad.errors import RjcadError
 from rjcad.life.constraint import predict_cycles
 from rjcad.materials import get_material, get_printer
-from rjcad.params import RANGES
+from rjcad.design.params import RANGES
 from rjcad.spring.design import SpringRequirement
 from rjcad.spring.optimise import CONSTRAINTS, optimise_arrays, row_message
 from rjcad.sweep.spec import point_id

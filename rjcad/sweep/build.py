@@ -6,9 +6,9 @@ import math
 import time
 from pathlib import Path
 
-from rjcad.config import write_atomic
+from rjcad.io.config import write_atomic
 from rjcad.errors import RjcadError
-from rjcad.outputs import OutputError
+from rjcad.io.outputs import OutputError
 from rjcad.sweep.spec import DESIGN_KEYS, point_id
 
 
@@ -18,7 +18,7 @@ def build_task(point: dict, mesh_dir: str | None = None) -> dict:
     t0 = time.perf_counter()
     try:
         from rjcad.cad.build import build, render_files
-        from rjcad.params import JointParams
+        from rjcad.design.params import JointParams
 
         p = JointParams(stiffness=float(point["stiffness_nmm_per_rad"]),
                         rotation=math.radians(float(point["rotation_deg"])),

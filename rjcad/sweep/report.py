@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rjcad.config import write_atomic
+from rjcad.io.config import write_atomic
 from rjcad.plotting import pyplot, save_png
 from rjcad.sweep.spec import INPUTS
 

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from rjcad.config import load_toml
+from rjcad.io.config import load_toml
 from rjcad.errors import ParameterError
 from rjcad.spring.formulas import DEFAULT_END
 from rjcad.validate import in_range
@@ -126,7 +126,7 @@ class SweepSpec:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> "SweepSpec":
-        """The sweep file ``path`` (rjcad.untrusted); a bad file is one error line naming it and the key."""
+        """The sweep file ``path`` (rjcad.io.untrusted); a bad file is one error line naming it and the key."""
         data = load_toml(path, {"sweep": dict, "fixed": dict, "params": dict})
         try:
             return cls.from_dict(data)

@@ -67,7 +67,7 @@ def _preload() -> None:
     os.environ.setdefault("MPLBACKEND", "Agg")
     import rjcad.cli  # noqa: F401
     # rjcad.cad.build imports no CadQuery (the joint's CAD process does): the builders are named as well
-    for name in ("rjcad.cad.build", "rjcad.cad.measure", "rjcad.cad.finger", "rjcad.mesh", "rjcad.check",
+    for name in ("rjcad.cad.build", "rjcad.cad.measure", "rjcad.cad.finger", "rjcad.check",
                  "rjcad.identify", "rjcad.sweep", "rjcad.physics.finger", "matplotlib.pyplot", "scipy.optimize"):
         try:
             __import__(name)

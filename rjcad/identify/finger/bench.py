@@ -18,10 +18,10 @@ import numpy as np
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_of
 from rjcad.identify.finger.data import ORIENTATIONS, as_designed, design_from_file
-from rjcad.outputs import write_set
+from rjcad.io.outputs import write_set
 from rjcad.paper import FINGER
 from rjcad.physics.finger_fast import simulate_angles
-from rjcad.units import DEG
+from rjcad import DEG
 
 DEFAULT_NOISE = {"theta_deg": 0.3, "tendon_force_n": 0.02, "tendon_mm": 0.005}
 #: (name, orientation, segments as (duration s, start, end) in units of the stroke)
@@ -111,7 +111,7 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
         raise RjcadError(f"{out}: exists and is not a directory")
     if finger is None:
         from rjcad.physics.finger import model_from_template
-        from rjcad.templates import DEFAULT_FINGER
+        from rjcad.io.templates import DEFAULT_FINGER
 
         finger_name, finger_bytes = "finger.toml", _template_text(DEFAULT_FINGER).encode()
         design = as_designed(model_from_template(DEFAULT_FINGER), finger_name).model

@@ -17,7 +17,7 @@ import numpy as np
 
 from rjcad.identify.catalogue import Effect, Param
 from rjcad.physics.finger import FingerModel
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 class FingerEffect(Effect):

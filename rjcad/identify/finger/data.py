@@ -22,8 +22,8 @@ import numpy as np
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.data import MIN_SAMPLES, _check_time, _data_path, _read_csv
 from rjcad.physics.finger import FingerModel, model_from_manifest, model_from_template
-from rjcad.units import DEG
-from rjcad.untrusted import confined
+from rjcad import DEG
+from rjcad.io.untrusted import confined
 
 #: Gravity in the finger's plane, as a unit vector in the finger's frame (x along the straight finger towards
 #: the tip, y towards the palm: the side the finger flexes to). A number is the angle of gravity from x
@@ -133,12 +133,12 @@ def finger_design(path: Path, value, allow_outside: bool) -> FingerDesign:
 def design_from_file(file: Path, label: str, where: str) -> FingerDesign:
     """The design model of a finger manifest (.json) or template (.toml) ``file``."""
     if file.suffix.lower() == ".json":
-        from rjcad.manifest import Manifest
+        from rjcad.io.manifest import Manifest
 
         model = model_from_manifest(Manifest.read(file))
     elif file.suffix.lower() == ".toml":
         from rjcad.physics.finger_sources import check_template_keys
-        from rjcad.untrusted import read_toml
+        from rjcad.io.untrusted import read_toml
 
         data = read_toml(file)
         check_template_keys(data, file.name)
@@ -208,7 +208,7 @@ def _experiment(toml: Path, i: int, table: dict, n: int, allow_outside: bool):
 
 
 def _header(path: Path, file: str) -> list[str]:
-    from rjcad.untrusted import read_text
+    from rjcad.io.untrusted import read_text
 
     for line in read_text(path, "CSV", file).split("\n"):
         s = line.strip()

@@ -33,7 +33,7 @@ from rjcad.identify.finger.data import FingerDesign, finger_design
 from rjcad.identify.result import _r
 from rjcad.physics.finger_fast import simulate_angles
 from rjcad.physics.uncertainty import parameter_std
-from rjcad.units import DEG
+from rjcad import DEG
 
 ENDPOINT_KEYS = ("tendon_mm", "theta_deg", "sigma_deg")
 DEFAULT_SIGMA_DEG = 2.0

@@ -19,7 +19,7 @@ from rjcad.identify.finger.bench import _template_text, write_finger_campaign
 from rjcad.identify.finger.problem import identify_finger
 from rjcad.identify.finger.result import to_json
 from rjcad.physics import paper_finger as pf
-from rjcad.templates import PAPER_FINGER
+from rjcad.io.templates import PAPER_FINGER
 
 #: A record is explained when every quantity's final RMSE is within this of its noise.
 SEPARATED_RMSE = 1.1
@@ -107,7 +107,7 @@ def render(table: list[dict]) -> str:
 
 
 def write_doc(out_dir) -> Path:
-    from rjcad.config import write_atomic
+    from rjcad.io.config import write_atomic
 
     path = Path(out_dir) / "paper-finger-records.md"
     write_atomic(path, render(rows()))

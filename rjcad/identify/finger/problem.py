@@ -21,7 +21,7 @@ from rjcad.identify.fit import Problem
 from rjcad.identify.select import Selector
 from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
 from rjcad.physics.finger_fast import simulate_angles
-from rjcad.units import DEG
+from rjcad import DEG
 
 
 @dataclass(frozen=True, eq=False)

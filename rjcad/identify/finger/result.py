@@ -137,7 +137,7 @@ def render_markdown(js: dict) -> str:
 
 
 def write_report(js: dict, out_dir) -> list[Path]:
-    from rjcad.outputs import write_set
+    from rjcad.io.outputs import write_set
 
     out = Path(out_dir)
     write_set(out, {"report.md": render_markdown(js)})

@@ -9,12 +9,12 @@ from pathlib import Path
 from typing import Any
 
 from rjcad.errors import ParameterError, RjcadError
-from rjcad.outputs import cannot_write, restore_times
-from rjcad.untrusted import read_toml
+from rjcad.io.outputs import cannot_write, restore_times
+from rjcad.io.untrusted import read_toml
 
 
 def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...]]) -> dict[str, Any]:
-    """Read a TOML file (rjcad.untrusted: size, depth, finite numbers) and check every top-level key against
+    """Read a TOML file (rjcad.io.untrusted: size, depth, finite numbers) and check every top-level key against
     ``allowed`` (key → type)."""
     p = Path(path)
     data = read_toml(p)

@@ -78,7 +78,7 @@ class DesktopLayout:
 
     @classmethod
     def of(cls, p) -> "DesktopLayout":
-        """Derive the layout from a :class:`rjcad.params.JointParams` ``p`` (duck-typed: no import cycle)."""
+        """Derive the layout from a :class:`rjcad.design.params.JointParams` ``p`` (duck-typed: no import cycle)."""
         d = p.spring
         c, b = p.clearance, d.width
         cz = (c + FACET_MARGIN) * SEC

@@ -26,11 +26,11 @@ from functools import cached_property
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
-from rjcad.envelope import WoundEnvelope, wound_envelope
-from rjcad.layout_desktop import DesktopLayout
+from rjcad.design.envelope import WoundEnvelope, wound_envelope
+from rjcad.design.layout_desktop import DesktopLayout
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
-from rjcad.units import DEG
+from rjcad import DEG
 from rjcad.validate import in_range
 
 #: Validated ranges: name → (low, high, unit shown in errors). Angles in rad.
@@ -104,7 +104,7 @@ class JointParams:
     pin_radius: float = 2.0
     safety_factor: float = 1.5
     end: str = JOINT_DEFAULT_END
-    #: ``desktop`` (support-free: one spring on the bed under nested cones; rjcad.layout_desktop) or ``stacked``
+    #: ``desktop`` (support-free: one spring on the bed under nested cones; rjcad.design.layout_desktop) or ``stacked``
     #: (the paper's: two springs beside the knuckle, needs soluble support); None: :func:`default_layout`.
     layout: str | None = None
     # fixed proportions (not user inputs, but kept here so that everything derives from one object)

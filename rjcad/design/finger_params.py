@@ -8,15 +8,15 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
-from rjcad import templates
-from rjcad.config import check_key as _typed
-from rjcad.config import load_toml
+from rjcad.io import templates
+from rjcad.io.config import check_key as _typed
+from rjcad.io.config import load_toml
 from rjcad.errors import ParameterError, RjcadError
-from rjcad.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
-from rjcad.params import JOINT_DEFAULT_END, JointParams
-from rjcad.units import DEG
+from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
+from rjcad.design.params import JOINT_DEFAULT_END, JointParams
+from rjcad import DEG
 
-#: The paper's finger, as plain data in rjcad.templates (the builder's default).
+#: The paper's finger, as plain data in rjcad.io.templates (the builder's default).
 PAPER_FINGER = templates.PAPER_FINGER
 DEFAULT_FINGER = templates.DEFAULT_FINGER
 
@@ -105,7 +105,7 @@ class FingerParams:
         return cls.from_dict(data, source=str(path))
 
     def validate_lengths(self) -> None:
-        """Each link must hold its joints' blocks, the tendon slot and the anchor (rjcad.finger_lengths)."""
+        """Each link must hold its joints' blocks, the tendon slot and the anchor (rjcad.design.finger_lengths)."""
         js = self.joints
         lo = base_length_min(js[0])
         if not lo <= self.base_length <= 150:

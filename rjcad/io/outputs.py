@@ -4,7 +4,7 @@ An output set (a joint's STL, 3MF, STEP, PNG and JSON; a report and its plots; a
 written whole or not at all: every file goes into a temporary directory inside the output directory (the
 same filesystem), then each is renamed into place. The files it replaces are set aside until the last
 rename and put back if one fails, so an earlier run's files are left byte for byte, mtime for mtime.
-Single files: ``rjcad.config.write_atomic`` (temporary file + rename), with the same error.
+Single files: ``rjcad.io.config.write_atomic`` (temporary file + rename), with the same error.
 """
 
 from __future__ import annotations

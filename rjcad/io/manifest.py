@@ -15,7 +15,7 @@ Keys the readers do not need (``spring`` at the top, ``frame``, ``gaps_mm``, ``m
 round-trip through ``extra``. ``None`` in a typed field means the key is absent. Lengths in mm,
 angles in the unit their key names. A typed number must be finite and within ``LIMITS`` (a clearance in
 ``CLEARANCE_MM``, a rotation in (0, 360] deg, a volume > 0 …); an axis direction must not be zero. A file is
-read through ``Manifest.read`` (rjcad.untrusted): every error names the file and the key.
+read through ``Manifest.read`` (rjcad.io.untrusted): every error names the file and the key.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import os
 from dataclasses import dataclass, field
 
 from rjcad.errors import ParameterError, quote
-from rjcad.untrusted import read_json
+from rjcad.io.untrusted import read_json
 from rjcad.validate import default_limit
 
 #: Version written by ``Manifest.to_json``; ``from_json`` also reads 0 (no version key).
@@ -266,7 +266,7 @@ class Manifest:
     # --- reading ---------------------------------------------------------------
     @classmethod
     def read(cls, path: str | os.PathLike) -> "Manifest":
-        """The manifest in the JSON file ``path`` (rjcad.untrusted); one error line naming the file (and key)."""
+        """The manifest in the JSON file ``path`` (rjcad.io.untrusted); one error line naming the file (and key)."""
         return cls.from_json(read_json(path), source=path)
 
     @classmethod
