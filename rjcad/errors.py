@@ -31,10 +31,7 @@ def quote(value, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
     characters + "…"; a float as ``%g``; containers shortened (few items, shallow)."""
     if isinstance(value, float):
         return f"{value:g}"
-    if isinstance(value, str) and not repr_:
-        text = value[:4 * limit]
-    else:
-        text = _SHORT.repr(value)
+    text = value[:4 * limit] if isinstance(value, str) and not repr_ else _SHORT.repr(value)
     text = " ".join(text.split())
     return text if len(text) <= limit else text[:limit] + "…"
 

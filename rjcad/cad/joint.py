@@ -22,7 +22,6 @@ rests on the extension-stop lugs at θ = 0.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import cadquery as cq
@@ -30,7 +29,7 @@ from OCP.BRepCheck import BRepCheck_Analyzer
 
 from rjcad.design.params import JointParams
 from rjcad.cad import desktop
-from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
+from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # also re-exported
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
 
 Z = cq.Vector(0, 0, 1)

@@ -37,7 +37,7 @@ def _vtk():
     from rjcad.imports import collector_paused
 
     with collector_paused():  # once per process (cached)
-        import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+        import vtkmodules.vtkRenderingFreeType  # imported for its side effect: text rendering
         import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
         from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
         from vtkmodules.util import numpy_support

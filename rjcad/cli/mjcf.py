@@ -75,7 +75,7 @@ def mujoco_model(source: str | None, gravity: str | None = None):
             raise RjcadError(f"{source}: MuJoCo cannot load it: {str(e).splitlines()[0]}") from None
     if source is not None and Path(source).suffix.lower() == ".json":
         files = build_files(source, "finger.xml", gravity or "off", None, "groove")
-        return load(files.pop("finger.xml"), {k: v for k, v in files.items()})
+        return load(files.pop("finger.xml"), dict(files))
     from rjcad.mjcf.export import gravity_of
     from rjcad.mjcf.model import spec_from_model
     from rjcad.mjcf.spec import to_xml

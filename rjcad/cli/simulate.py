@@ -80,7 +80,7 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
     slack = tendon_slack(m, setup, th, direction=d)
     if slack.any():
         rel = slack & (d < 0)
-        where = (f"the whole release" if rel.sum() == (d < 0).sum() else
+        where = ("the whole release" if rel.sum() == (d < 0).sum() else
                  f"{int(rel.sum())} of {int((d < 0).sum())} release samples" if rel.any() else
                  f"{int(slack.sum())} samples")
         below = (f" (the required force is negative below {math.degrees(th[rel].max()):.0f}° while releasing)"

@@ -35,7 +35,7 @@ class FingerParams:
     requested: tuple[dict, ...] = field(default=(), repr=False)
 
     @classmethod
-    def from_dict(cls, data: dict, source: str = "<dict>") -> "FingerParams":
+    def from_dict(cls, data: dict, source: str = "<dict>") -> FingerParams:
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
         built, requested = cls.joints_from_dict(data)
         # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
@@ -100,7 +100,7 @@ class FingerParams:
         return built, requested
 
     @classmethod
-    def from_toml(cls, path: str | Path) -> "FingerParams":
+    def from_toml(cls, path: str | Path) -> FingerParams:
         data = load_toml(path, GLOBAL_KEYS)
         return cls.from_dict(data, source=str(path))
 

@@ -77,7 +77,7 @@ class DesktopLayout:
     groove_depth: float
 
     @classmethod
-    def of(cls, p) -> "DesktopLayout":
+    def of(cls, p) -> DesktopLayout:
         """Derive the layout from a :class:`rjcad.design.params.JointParams` ``p`` (duck-typed: no import cycle)."""
         d = p.spring
         c, b = p.clearance, d.width

@@ -8,7 +8,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from rjcad.errors import ParameterError, RjcadError
+from rjcad.errors import ParameterError
 from rjcad.io.outputs import cannot_write, restore_times
 from rjcad.io.untrusted import read_toml
 

@@ -90,7 +90,7 @@ class ManifestError(ParameterError):
         self.problem, self.source = problem, source
         self.args = (f"{source}: {quote(key, 120, repr_=False)} {problem}",)
 
-    def at(self, source: str | os.PathLike) -> "ManifestError":
+    def at(self, source: str | os.PathLike) -> ManifestError:
         """The same error, naming the file ``source``."""
         return ManifestError(self.parameter, self.value, self.problem, str(source))
 
@@ -265,12 +265,12 @@ class Manifest:
 
     # --- reading ---------------------------------------------------------------
     @classmethod
-    def read(cls, path: str | os.PathLike) -> "Manifest":
+    def read(cls, path: str | os.PathLike) -> Manifest:
         """The manifest in the JSON file ``path`` (rjcad.io.untrusted); one error line naming the file (and key)."""
         return cls.from_json(read_json(path), source=path)
 
     @classmethod
-    def from_json(cls, data, source: str | os.PathLike | None = None) -> "Manifest":
+    def from_json(cls, data, source: str | os.PathLike | None = None) -> Manifest:
         """The manifest of a JSON object of version 1 or 0; one ``ManifestError`` line naming a bad key (and
         ``source``, the file it came from, if given)."""
         try:
@@ -279,7 +279,7 @@ class Manifest:
             raise (e.at(source) if source is not None else e) from None
 
     @classmethod
-    def _from_json(cls, data) -> "Manifest":
+    def _from_json(cls, data) -> Manifest:
         if not isinstance(data, dict):
             raise ManifestError("manifest", type(data).__name__,
                                 f"must be a JSON object, not {_JSON_TYPES.get(type(data), type(data).__name__)}")
@@ -304,7 +304,7 @@ class Manifest:
         return cls(kind, joints, bodies, **typed, extra=rest, read_version=version)
 
     @classmethod
-    def coerce(cls, manifest) -> "Manifest":
+    def coerce(cls, manifest) -> Manifest:
         """``manifest`` itself if it is a Manifest, else ``from_json(manifest)``."""
         return manifest if isinstance(manifest, cls) else cls.from_json(manifest)
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from collections.abc import Callable
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer

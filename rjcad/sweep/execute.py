@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
 import threading
 import time
-from typing import Callable
+from collections.abc import Callable
 
 
 class Progress:
@@ -104,10 +105,8 @@ def _worker_start(lifeline) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
     def watch() -> None:
-        try:
+        with contextlib.suppress(EOFError, OSError):
             lifeline.recv_bytes()  # nothing is ever sent: returns only by EOF, when the main process is gone
-        except (EOFError, OSError):
-            pass
         os._exit(1)
 
     threading.Thread(target=watch, name="rjcad-lifeline", daemon=True).start()
