@@ -105,7 +105,7 @@ def eye_cuts(p: JointParams, height: float) -> list[cq.Shape]:
     ze0, ze1 = p.z_eye
     W, R_e, xm = p.link_width, p.eye_radius, p.block_start
     return [
-        cq.Solid.makeCylinder(p.pin_radius + p.clearance, height + 2, cq.Vector(0, 0, -1), Z),
+        cq.Solid.makeCylinder(p.pin_radius + p.clearance_mm, height + 2, cq.Vector(0, 0, -1), Z),
         cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, ze1 - ze0, cq.Vector(xm, R_e, ze0)),
     ]
 

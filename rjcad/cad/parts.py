@@ -121,7 +121,7 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
     if p.end_condition == "clamped":
         return strip, [tab, radial_box(r0, p.key_tip_radius, p.key_width, phi1, z0, b, side=-p.key_width / 2)]
     # pinned: a radial stub into a closed ring around the post's place
-    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance
+    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance_mm
     w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
     stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
     return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]

@@ -28,6 +28,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rjcad.design.params import JointParams
 
 #: Angle of every conical surface from horizontal [rad]: steeper than the overhang check's 45°, so that each
 #: 0.2 mm layer steps out by 0.17 mm, inside the road under it (the slicer check's rule) with margin.
@@ -77,10 +81,10 @@ class DesktopLayout:
     groove_depth: float
 
     @classmethod
-    def of(cls, p) -> DesktopLayout:
-        """Derive the layout from a :class:`rjcad.design.params.JointParams` ``p`` (duck-typed: no import cycle)."""
+    def of(cls, p: JointParams) -> DesktopLayout:
+        """Derive the layout from a joint's parameters ``p`` (imported for the types only: no import cycle)."""
         d = p.spring
-        c, b = p.clearance, d.width
+        c, b = p.clearance_mm, d.width
         cz = (c + FACET_MARGIN) * SEC
         seat = min(b, max(1.5, min(2.0, 0.3 * b)))
         r_h = p.pin_radius
@@ -163,7 +167,7 @@ class DesktopLayout:
         """Stop lugs end below the tendon [mm]."""
         return self.z_t - self.groove_half - 0.7
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """Manifest keys of the layout [mm, deg]."""
         return {
             "layout": "desktop", "cone_angle_deg": math.degrees(CONE_ANGLE), "clearance_normal_mm": self.c,
