@@ -26,6 +26,7 @@ if TYPE_CHECKING:
     import trimesh
 
     from rjcad.cad.joint import JointSolids
+    from rjcad.design.finger_params import FingerParams
 
 #: The joint's body colours (preview and GLB).
 JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
@@ -249,7 +250,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
 class FingerBuild:
     """A built finger: named solids, meshes, manifest and timings."""
 
-    params: object  # rjcad.design.finger_params.FingerParams
+    params: FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
     manifest: Manifest

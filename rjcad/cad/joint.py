@@ -88,7 +88,7 @@ def eye_parts(p: JointParams) -> list[cq.Shape]:
     R_e, flange = p.eye_radius, 1.0
     h_s = p.seat_height
     z_post0, z_post1 = p.z_spring1[1] - h_s, p.z_spring2[0] + h_s
-    sockets = []
+    sockets: list[cq.Shape] = []
     if p.end_condition == "clamped":
         sockets = socket_solids(p, z_post0, h_s) + socket_solids(p, p.z_spring2[0], h_s)
     return sockets + [

@@ -27,7 +27,8 @@ TITLE_PX = 40
 def rgb(colour: str) -> tuple[float, float, float]:
     """'#rrggbb' → (r, g, b) in [0, 1]."""
     c = colour.lstrip("#")
-    return tuple(int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+    r, g, b = (int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+    return r, g, b
 
 
 @functools.cache
@@ -43,13 +44,12 @@ def _vtk():
         from vtkmodules.util import numpy_support
 
     class V:
-        pass
+        np = numpy_support
 
     for mod in (vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore):
         for name in dir(mod):
             if name.startswith("vtk"):
                 setattr(V, name, getattr(mod, name))
-    V.np = numpy_support
     return V
 
 

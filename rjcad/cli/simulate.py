@@ -174,7 +174,8 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
         return run_stroke(mujoco_model(source), stroke, steps)
     if source is not None and Path(source).suffix.lower() == ".xml":
         raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
-    from rjcad.physics.finger import load_finger_model, simulate_stroke
+    from rjcad.physics.finger import simulate_stroke
+    from rjcad.physics.finger_sources import load_finger_model
 
     model = load_finger_model(source, mu_t=mu_t)
     if mu_t > 0 and not any(model.wrap):

@@ -59,8 +59,8 @@ def to_json(ident: Identification) -> dict:
     """
     fin, des = ident.final, ident.design
     params = {"stiffness_nmm_per_rad": fin.values["stiffness_nmm_per_rad"], "preload_deg": fin.values["preload_deg"]}
-    for e in ident.effects:
-        for n in EFFECTS[e].param_names:
+    for eff in ident.effects:
+        for n in EFFECTS[eff].param_names:
             params[n] = fin.values[n]
     for n in ident.not_identifiable:  # reported, not fitted arbitrarily
         if n in fin.names:

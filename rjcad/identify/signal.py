@@ -43,8 +43,8 @@ class Motion:
     sigma_theta: float      # raw angle noise [rad]
     step: float             # hysteresis h [rad]
     window: int             # smoothing window [samples]
-    glitches: np.ndarray = None  # bool: camera outliers, replaced by the running median
-    at_reversal: np.ndarray = None  # bool: masked because the direction is ambiguous there
+    glitches: np.ndarray | None = None  # bool: camera outliers, replaced by the running median
+    at_reversal: np.ndarray | None = None  # bool: masked because the direction is ambiguous there
     velocity_sigma: float = 0.0  # σ of the velocity estimate from the angle noise alone [rad/s]
 
     @property

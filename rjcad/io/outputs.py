@@ -15,7 +15,7 @@ import shutil
 import tempfile
 from contextlib import contextmanager, suppress
 from pathlib import Path
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 
 from rjcad.errors import RjcadError
 
@@ -94,7 +94,7 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
             restore_times(out, times)
 
 
-def write_set(out_dir: str | os.PathLike, files: dict[str, bytes | str],
+def write_set(out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str],
               remove: tuple[str, ...] = ()) -> list[Path]:
     """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``)."""
     out = Path(out_dir)

@@ -74,12 +74,14 @@ def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progre
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed as done
     import multiprocessing as mp
+    from multiprocessing.context import BaseContext
 
     # forkserver where the platform has it: a clean server process imports CadQuery once (about 2 s) and
     # forks the workers from there, so they start at once; plain fork could inherit locked thread pools
     if "forkserver" in mp.get_all_start_methods():
-        ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
+        forkserver = mp.get_context("forkserver")
+        forkserver.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
+        ctx: BaseContext = forkserver
     else:
         ctx = mp.get_context("spawn")
     lifeline_r, lifeline_w = ctx.Pipe(duplex=False)
