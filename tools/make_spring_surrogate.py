@@ -97,7 +97,7 @@ def _window_distance(X, Y, tangY, lo, hi):
     """Per node i of X: distance to the curve Y near its nearest node among Y[i+lo … i+hi] (inf if none)."""
     n, m = len(X), len(Y)
     J = np.arange(n)[:, None] + np.arange(lo, hi + 1)[None, :]
-    ok = (J >= 0) & (m > J)
+    ok = (J >= 0) & (J < m)
     J = np.clip(J, 0, m - 1)
     dx = X[:, 0, None] - Y[J, 0]
     dy = X[:, 1, None] - Y[J, 1]

@@ -86,7 +86,8 @@ def end_fitting_entry(p: JointParams) -> dict:
 def seating_text(p: JointParams) -> str:
     """What the user does after printing, one sentence."""
     if p.layout == "desktop":
-        return (f"lift the spring's key out of the bed plane (into the cup) by {p.seat_height + p.clearance_mm:.1f} mm, "
+        lift = p.seat_height + p.clearance_mm
+        return (f"lift the spring's key out of the bed plane (into the cup) by {lift:.1f} mm, "
                 f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
                 "drop between the tines of its socket on the cup")
     what, where = ("key", "between the tines of its socket") if p.end_condition == "clamped" else \

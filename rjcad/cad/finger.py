@@ -109,7 +109,7 @@ def distal_body(p: JointParams) -> cq.Shape:
     would reach back behind it, into the joint's clearance."""
     L, W, H = p.link_length, p.link_width, p.height
     tip: cq.Shape = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
-    if p.block_start > L - W:
+    if L - W < p.block_start:
         tip = tip.intersect(link_block(p.block_start, L, W, H))
     body = _fuse(moving_side(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")
     xa = distal_anchor_x(p)

@@ -83,7 +83,8 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
             bisector = (u + other).normalized()  # normal of the mitre plane, along the mean direction
             cuts.append((knee + bisector * (sign * MITRE_OVERLAP), bisector * sign))
         side = Z.cross(u).normalized()
-        prism: cq.Shape = cq.Solid.extrudeLinear(cq.Face.makeFromWires(_teardrop_wire(start, side, radius)), end - start)
+        face = cq.Face.makeFromWires(_teardrop_wire(start, side, radius))
+        prism: cq.Shape = cq.Solid.extrudeLinear(face, end - start)
         for at, normal in cuts:
             prism = _keep_side(prism, at, normal)
         solids.append(prism)

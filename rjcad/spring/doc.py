@@ -27,7 +27,8 @@ def _contact(end, sense, arms=1, theta=math.pi):
 
     ``arms=2``: two such arms interleaved 180° apart, each at twice the pitch (the same coil-to-coil gap).
     """
-    res = rod.spiral_windup(OLD["r_in"], OLD["pitch"], OLD["turns"], OLD["b"], OLD["t"], OLD["E"], end=end, sense=sense, arms=arms, theta_max=theta, steps=72)
+    res = rod.spiral_windup(OLD["r_in"], OLD["pitch"], OLD["turns"], OLD["b"], OLD["t"], OLD["E"], end=end,
+                            sense=sense, arms=arms, theta_max=theta, steps=72)
     fc = res.first_contact
     return (None if fc is None else math.degrees(fc)), float(res.gap.min())
 
