@@ -28,10 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
-
-if TYPE_CHECKING:
-    from rjcad.design.params import JointParams
+from typing import Any, Protocol
 
 #: Angle of every conical surface from horizontal [rad]: steeper than the overhang check's 45°, so that each
 #: 0.2 mm layer steps out by 0.17 mm, inside the road under it (the slicer check's rule) with margin.
@@ -54,6 +51,51 @@ LUG_WIDTH = 2.0
 LUG_INSET = 0.5, 0.1
 #: Ray of the seated key's socket on the ground cup [rad] (towards the ground link).
 SOCKET_RAY = math.pi
+
+
+class _Strip(Protocol):
+    @property
+    def width(self) -> float: ...
+
+
+class _Walls(Protocol):
+    @property
+    def min_wall_mm(self) -> float: ...
+
+
+class JointLike(Protocol):
+    """What the layout reads of a joint's parameters: JointParams, described here (importing it is a cycle)."""
+
+    @property
+    def spring(self) -> _Strip: ...
+    @property
+    def printer_spec(self) -> _Walls: ...
+    @property
+    def clearance_mm(self) -> float: ...
+    @property
+    def pin_radius(self) -> float: ...
+    @property
+    def tendon_diameter(self) -> float: ...
+    @property
+    def tendon_line_diameter(self) -> float: ...
+    @property
+    def eye_radius(self) -> float: ...
+    @property
+    def moment_arm(self) -> float: ...
+    @property
+    def key_tip_radius(self) -> float: ...
+    @property
+    def key_width(self) -> float: ...
+    @property
+    def wound_radius(self) -> float: ...
+    @property
+    def gap_internal(self) -> float: ...
+    @property
+    def gap_z(self) -> float: ...
+    @property
+    def link_width(self) -> float: ...
+    @property
+    def rotation(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -81,8 +123,8 @@ class DesktopLayout:
     groove_depth: float
 
     @classmethod
-    def of(cls, p: JointParams) -> DesktopLayout:
-        """Derive the layout from a joint's parameters ``p`` (imported for the types only: no import cycle)."""
+    def of(cls, p: JointLike) -> DesktopLayout:
+        """Derive the layout from a joint's parameters ``p`` (a :class:`rjcad.design.params.JointParams`)."""
         d = p.spring
         c, b = p.clearance_mm, d.width
         cz = (c + FACET_MARGIN) * SEC
