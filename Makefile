@@ -7,7 +7,7 @@ PYTEST_ARGS ?=
 # test processes (pytest-xdist): one per core, at most 4 (each imports CadQuery; the CAD tests are CPU-bound)
 JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 
-.PHONY: demo test pytest bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
+.PHONY: demo test pytest lint bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
 
 # three.js for `rjcad view`'s pages, from the npm registry (pinned; MIT licence kept beside it); not committed.
 THREE_VERSION ?= 0.170.0
@@ -42,6 +42,12 @@ docs-images: $(VENV)/.installed
 
 test: $(VENV)/.installed
 	$(MAKE) --no-print-directory pytest
+
+# lint (ruff: rules and formatting) and types (mypy); both configured in pyproject.toml
+lint: $(VENV)/.installed
+	$(VENV)/bin/ruff check rjcad tests benchmarks tools
+	$(VENV)/bin/ruff format --check rjcad tests benchmarks tools
+	$(VENV)/bin/mypy
 
 # pytest's exit code 5 (nothing collected) is not a failure; every other non-zero is.
 pytest:

@@ -2,6 +2,7 @@
 
 import math
 import reprlib
+from typing import Any
 
 #: Longest value (and parameter name) an error line quotes: a prefix, then "…".
 QUOTE_CHARS = 60
@@ -10,12 +11,12 @@ QUOTE_CHARS = 60
 class _Short(reprlib.Repr):
     """reprlib with short strings, few items, shallow nesting, and integers of any length."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__()
         self.maxlevel, self.maxlist, self.maxtuple, self.maxdict, self.maxset = 3, 6, 6, 6, 6
         self.maxstring = self.maxother = self.maxlong = 4 * QUOTE_CHARS
 
-    def repr_int(self, x, level):
+    def repr_int(self, x: int, level: int) -> str:
         bits = abs(x).bit_length()
         if bits <= 200:
             return repr(x)
@@ -26,15 +27,12 @@ class _Short(reprlib.Repr):
 _SHORT = _Short()
 
 
-def quote(value, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
+def quote(value: Any, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
     """A user's value for an error line: its repr (``str`` if not ``repr_``) on one line, cut to ``limit``
     characters + "…"; a float as ``%g``; containers shortened (few items, shallow)."""
     if isinstance(value, float):
         return f"{value:g}"
-    if isinstance(value, str) and not repr_:
-        text = value[:4 * limit]
-    else:
-        text = _SHORT.repr(value)
+    text = value[:4 * limit] if isinstance(value, str) and not repr_ else _SHORT.repr(value)
     text = " ".join(text.split())
     return text if len(text) <= limit else text[:limit] + "…"
 
@@ -58,7 +56,7 @@ class ParameterError(RjcadError, ValueError):
     ``parameter`` names it as the user wrote it; ``limit`` states the range.
     """
 
-    def __init__(self, parameter: str, value, limit: str, unit: str = ""):
+    def __init__(self, parameter: str, value: Any, limit: str, unit: str = "") -> None:
         self.parameter = parameter
         self.value = value
         self.limit = limit
@@ -70,6 +68,6 @@ class ParameterError(RjcadError, ValueError):
 class InfeasibleDesign(RjcadError):
     """No design meets every constraint; ``constraint`` names the binding one."""
 
-    def __init__(self, constraint: str, message: str):
+    def __init__(self, constraint: str, message: str) -> None:
         self.constraint = constraint
         super().__init__(message)

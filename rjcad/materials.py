@@ -63,7 +63,7 @@ class Printer:
     build_volume_mm: tuple[float, float, float]
     source: str
 
-    def check_gap(self, name: str, gap) -> float:
+    def check_gap(self, name: str, gap: object) -> float:
         """``gap`` [mm] if this printer prints it between bodies side by side (>= ``min_gap_mm``), else
         ParameterError naming ``name``."""
         return in_range(name, gap, self.min_gap_mm, unit="mm", tol=1e-12, not_a_number="must be a number",

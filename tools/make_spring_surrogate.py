@@ -59,7 +59,8 @@ THETA_SMALL = 1e-3
 ENDS = ("clamped", "pinned")
 SENSES = ("tighten", "unwind")
 # r_in / arm pitch: 2^(k/2), k = -3 … 8. arms=1 uses k ≥ -1, arms=2 (r_in/p = 2·that) k ≤ 6.
-RHO_ARM = 2.0 ** (np.arange(-3, 9) / 2.0)
+KS = np.arange(-3, 9)
+RHO_ARM = 2.0 ** (KS / 2.0)
 # Turns per arm: finer where the one-turn ripple (where the outer end sits relative to the
 # inner tab) is strong, coarser at many turns where it fades.
 TURNS = np.unique(np.round(np.concatenate([np.arange(0.5, 4.0, 1 / 16), np.arange(4.0, 8.0, 1 / 8),
@@ -361,7 +362,7 @@ def _grid_task(task):
     return windup(2.0 ** (k / 2.0), turns, end, sense, need)
 
 
-def build(jobs: int = 1, log=print, ks=np.arange(-3, 9), turns=TURNS) -> dict:
+def build(jobs: int = 1, log=print, ks=KS, turns=TURNS) -> dict:
     """Solve the grid; returns the arrays of the file (tables as floats, margins absent)."""
     tasks = [(end, sense, int(k), float(n)) for end in ENDS for sense in SENSES for k in ks for n in turns]
     results = _map(_grid_task, tasks, jobs, log)

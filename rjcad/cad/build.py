@@ -12,7 +12,8 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
+from collections.abc import Callable
 
 import numpy as np
 
@@ -25,6 +26,7 @@ if TYPE_CHECKING:
     import trimesh
 
     from rjcad.cad.joint import JointSolids
+    from rjcad.design.finger_params import FingerParams
 
 #: The joint's body colours (preview and GLB).
 JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
@@ -51,7 +53,7 @@ def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float]
 
 def end_fitting_entry(p: JointParams) -> dict:
     """Manifest keys of the springs' outer-end fitting that the builder made for ``p.end_condition``."""
-    h_s, c = p.seat_height, p.clearance
+    h_s, c = p.seat_height, p.clearance_mm
     common = {
         "end": p.end_condition,
         "spiral": (f"printed winding {'counter-clockwise' if p.layout == 'desktop' else 'clockwise'} outwards "
@@ -84,13 +86,14 @@ def end_fitting_entry(p: JointParams) -> dict:
 def seating_text(p: JointParams) -> str:
     """What the user does after printing, one sentence."""
     if p.layout == "desktop":
-        return (f"lift the spring's key out of the bed plane (into the cup) by {p.seat_height + p.clearance:.1f} mm, "
+        lift = p.seat_height + p.clearance_mm
+        return (f"lift the spring's key out of the bed plane (into the cup) by {lift:.1f} mm, "
                 f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
                 "drop between the tines of its socket on the cup")
     what, where = ("key", "between the tines of its socket") if p.end_condition == "clamped" else \
         ("ring", "around its post")
     return (f"for each spring, push its {what} out of the spring's plane (away from the joint's middle) by "
-            f"{p.seat_height + p.clearance:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
+            f"{p.seat_height + p.clearance_mm:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
             f"(seen from +Z, the flexion sense: this unwinds the spiral) and let it spring back {where} "
             "on the moving link")
 
@@ -169,7 +172,7 @@ def build(p: JointParams, cad=None) -> JointBuild:
             "radial_pin_eye": p.gap_xy,
             "axial_stack": p.gap_z,
             "spring_internal_min": p.gap_internal,
-            "extension_stop_in_print": p.clearance,
+            "extension_stop_in_print": p.clearance_mm,
             "note": GAPS_NOTE,
         },
         "measured_min_gap_mm": gap,
@@ -193,7 +196,7 @@ def build(p: JointParams, cad=None) -> JointBuild:
         },
     }
     manifest = Manifest("joint", [entry], measured.bodies, material=p.material, printer=p.printer,
-                        clearance_mm=p.clearance, extra=extra)
+                        clearance_mm=p.clearance_mm, extra=extra)
     timings = {"build_s": shape.timings["build_s"], "tessellate_s": shape.timings["triangulate_s"] + t1 - t0,
                "measure_s": measured.timings["arm_wrap_s"] + t2 - t1}
     return JointBuild(p, source.solids, meshes, manifest, shape.tendon, source.step, timings)
@@ -248,7 +251,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
 class FingerBuild:
     """A built finger: named solids, meshes, manifest and timings."""
 
-    params: object  # rjcad.design.finger_params.FingerParams
+    params: FingerParams
     solids: dict
     meshes: dict[str, trimesh.Trimesh]
     manifest: Manifest
@@ -296,7 +299,7 @@ def build_finger_model(fp) -> FingerBuild:
                  "about +Z (towards +Y, the tendon side); every body stands on z = 0",
     }
     manifest = Manifest("finger", joints, body_entries(solids, p0.material_spec.density_g_cm3),
-                        material=p0.material, printer=p0.printer, clearance_mm=p0.clearance, extra=extra)
+                        material=p0.material, printer=p0.printer, clearance_mm=p0.clearance_mm, extra=extra)
     t3 = time.perf_counter()
     return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
                                                       "measure_s": t3 - t2})

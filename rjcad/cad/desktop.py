@@ -10,6 +10,7 @@ mirrored across the XZ plane (counter-clockwise outwards, key at +preload) and t
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import cadquery as cq
 
@@ -28,7 +29,7 @@ def revolved(points: list[tuple[float, float]], angle: float = 360.0, start: flo
     return solid.rotate(ORIGIN, Z, start) if start else solid
 
 
-def _turned(shapes: list[cq.Shape]) -> list[cq.Shape]:
+def _turned(shapes: Sequence[cq.Shape]) -> list[cq.Shape]:
     """Mirror across XZ and turn to the socket's ray."""
     return [s.mirror("XZ").rotate(ORIGIN, Z, math.degrees(SOCKET_RAY)) for s in shapes]
 

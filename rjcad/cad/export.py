@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import tempfile
@@ -122,7 +123,7 @@ def measure_wrap_angle(shape: cq.Shape, radius: float, along=(1.0, 0.0, 0.0)) ->
     u = np.asarray(along, dtype=float)
     axes.sort(key=lambda pd: float(np.dot(pd[0], u)))
     total = 0.0
-    for (_, d1), (_, d2) in zip(axes[:-1], axes[1:]):
+    for (_, d1), (_, d2) in itertools.pairwise(axes):
         total += math.acos(min(1.0, abs(float(np.dot(d1, d2)))))
     return total
 

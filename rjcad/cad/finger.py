@@ -108,7 +108,7 @@ def distal_body(p: JointParams) -> cq.Shape:
     The tip is a cylinder of the link's width cut at the block's start: a wide, short link's whole cylinder
     would reach back behind it, into the joint's clearance."""
     L, W, H = p.link_length, p.link_width, p.height
-    tip = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
+    tip: cq.Shape = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
     if L - W < p.block_start:
         tip = tip.intersect(link_block(p.block_start, L, W, H))
     body = _fuse(moving_side(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")

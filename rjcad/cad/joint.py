@@ -22,7 +22,6 @@ rests on the extension-stop lugs at θ = 0.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import cadquery as cq
@@ -30,7 +29,7 @@ from OCP.BRepCheck import BRepCheck_Analyzer
 
 from rjcad.design.params import JointParams
 from rjcad.cad import desktop
-from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # noqa: F401 (re-exported)
+from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # also re-exported
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
 
 Z = cq.Vector(0, 0, 1)
@@ -89,7 +88,7 @@ def eye_parts(p: JointParams) -> list[cq.Shape]:
     R_e, flange = p.eye_radius, 1.0
     h_s = p.seat_height
     z_post0, z_post1 = p.z_spring1[1] - h_s, p.z_spring2[0] + h_s
-    sockets = []
+    sockets: list[cq.Shape] = []
     if p.end_condition == "clamped":
         sockets = socket_solids(p, z_post0, h_s) + socket_solids(p, p.z_spring2[0], h_s)
     return sockets + [
@@ -106,7 +105,7 @@ def eye_cuts(p: JointParams, height: float) -> list[cq.Shape]:
     ze0, ze1 = p.z_eye
     W, R_e, xm = p.link_width, p.eye_radius, p.block_start
     return [
-        cq.Solid.makeCylinder(p.pin_radius + p.clearance, height + 2, cq.Vector(0, 0, -1), Z),
+        cq.Solid.makeCylinder(p.pin_radius + p.clearance_mm, height + 2, cq.Vector(0, 0, -1), Z),
         cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, ze1 - ze0, cq.Vector(xm, R_e, ze0)),
     ]
 

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from rjcad.cad import export as ex
-from rjcad.cad.joint import build_joint, ground_channel_points, moving_channel_points, strip_volume
+from rjcad.cad.joint import JointSolids, build_joint, ground_channel_points, moving_channel_points, strip_volume
 from rjcad.cad.results import JointMeasures, JointShape
 from rjcad.io.manifest import BodyEntry
 from rjcad.design.params import JointParams
@@ -45,8 +45,15 @@ class LocalJoint:
 
     def __init__(self, p: JointParams):
         self.params = p
-        self.solids = None
-        self._shape = self._measures = None
+        self.solids: JointSolids | None = None
+        self._shape: JointShape | None = None
+        self._measures: JointMeasures | None = None
+
+    def _built(self) -> JointSolids:
+        """The bodies, which ``shape()`` builds (once)."""
+        self.shape()
+        assert self.solids is not None  # shape() set them
+        return self.solids
 
     def shape(self) -> JointShape:
         if self._shape is None:
@@ -62,8 +69,7 @@ class LocalJoint:
 
     def measures(self) -> JointMeasures:
         if self._measures is None:
-            self.shape()
-            p, s = self.params, self.solids
+            p, s = self.params, self._built()
             t0 = time.perf_counter()
             arm = ex.measure_moment_arm(s.moving, p.z_mid, p.tendon_line_diameter)
             wrap = ex.measure_wrap_angle(s.ground, p.tendon_diameter / 2)
@@ -74,5 +80,5 @@ class LocalJoint:
 
     def step(self, name: str = "joint") -> bytes:
         """The STEP file of both bodies, its assembly named ``name``."""
-        self.shape()
-        return ex.step_bytes({"ground": self.solids.ground, "moving": self.solids.moving}, name)
+        s = self._built()
+        return ex.step_bytes({"ground": s.ground, "moving": s.moving}, name)

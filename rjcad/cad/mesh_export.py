@@ -9,6 +9,7 @@ from __future__ import annotations
 import io
 import os
 import zipfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 from xml.sax.saxutils import escape
@@ -53,7 +54,7 @@ def stl_bytes(meshes: list[trimesh.Trimesh]) -> bytes:
     """All bodies in one binary STL."""
     import trimesh
 
-    return trimesh.util.concatenate(meshes).export(file_type="stl")
+    return trimesh.util.concatenate(meshes).export(file_obj=None, file_type="stl")
 
 
 #: The 3MF part names PrusaSlicer reads (its own per-object config: one volume per triangle range).
@@ -118,9 +119,9 @@ def threemf_bytes(meshes: dict[str, trimesh.Trimesh], name: str = "assembly") ->
     return buf.getvalue()
 
 
-def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: list[np.ndarray] = (),
+def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: Sequence[np.ndarray] = (),
                 colours: dict[str, str] | None = None,
-                sections: list[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = ()) -> bytes:
+                sections: Sequence[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = ()) -> bytes:
     """Preview: a shaded, depth-correct isometric view plus plane sections (label, origin, normal); PNG bytes
     (rendered off-screen by ``rjcad.cad.render``)."""
     from rjcad.cad.render import preview_png as render

@@ -50,7 +50,7 @@ def _keep_side(solid: cq.Shape, at: cq.Vector, normal: cq.Vector) -> cq.Shape:
     return solid.cut(box)
 
 
-def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Solid]:
+def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Shape]:
     """A channel to cut along a polyline: teardrop prisms along horizontal segments (cylinders along others).
     Two horizontal segments meet in a mitre: each prism runs r·tan(β/2) past the knee (β the bend) and is cut
     on the bisector's vertical plane (+ MITRE_OVERLAP), so that their roofs meet in one ridge with no notch or
@@ -58,7 +58,7 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
     pts = [cq.Vector(*p) for p in points]
     n = len(pts)
     horiz = [_horizontal(points[i], points[i + 1]) for i in range(n - 1)]
-    solids = []
+    solids: list[cq.Shape] = []
     for i in range(n - 1):
         va, vb = pts[i], pts[i + 1]
         d = vb - va
@@ -83,7 +83,8 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
             bisector = (u + other).normalized()  # normal of the mitre plane, along the mean direction
             cuts.append((knee + bisector * (sign * MITRE_OVERLAP), bisector * sign))
         side = Z.cross(u).normalized()
-        prism = cq.Solid.extrudeLinear(cq.Face.makeFromWires(_teardrop_wire(start, side, radius)), end - start)
+        face = cq.Face.makeFromWires(_teardrop_wire(start, side, radius))
+        prism: cq.Shape = cq.Solid.extrudeLinear(face, end - start)
         for at, normal in cuts:
             prism = _keep_side(prism, at, normal)
         solids.append(prism)
@@ -103,7 +104,7 @@ def spring_phi0(p: JointParams) -> float:
     return -p.preload + 2 * math.pi * p.spring.turns
 
 
-def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
+def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Shape]]:
     """The strip alone, and its fused end fittings (inner tab, outer key or stub + ring), for z ∈ [z0, z0+b].
 
     The strip runs STRIP_OVERLAP mm past both end rays into the fittings, which lie beyond the rays
@@ -121,13 +122,13 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Solid]]:
     if p.end_condition == "clamped":
         return strip, [tab, radial_box(r0, p.key_tip_radius, p.key_width, phi1, z0, b, side=-p.key_width / 2)]
     # pinned: a radial stub into a closed ring around the post's place
-    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance
+    R_h, r_ring = p.post_ring_radius, p.post_radius + p.clearance_mm
     w_stub = 1.2 * max(t, p.printer_spec.min_wall_mm)
     stub = radial_box(r0, R_h - r_ring - 0.5 * p.hook_wall, w_stub, phi1, z0, b, side=-w_stub / 2)
     return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]
 
 
-def socket_solids(p: JointParams, z0: float, height: float, base_end: float | None = None) -> list[cq.Solid]:
+def socket_solids(p: JointParams, z0: float, height: float, base_end: float | None = None) -> list[cq.Shape]:
     """A clamped spring's socket on the moving link at rest (its key's ray is +X), z ∈ [z0, z0 + height].
 
     Key seated: u ∈ [key root, R_k], v ∈ [−w_k, 0]. The clockwise tine's face passes through the key's

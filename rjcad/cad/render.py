@@ -27,7 +27,8 @@ TITLE_PX = 40
 def rgb(colour: str) -> tuple[float, float, float]:
     """'#rrggbb' → (r, g, b) in [0, 1]."""
     c = colour.lstrip("#")
-    return tuple(int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+    r, g, b = (int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+    return r, g, b
 
 
 @functools.cache
@@ -37,19 +38,18 @@ def _vtk():
     from rjcad.imports import collector_paused
 
     with collector_paused():  # once per process (cached)
-        import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+        import vtkmodules.vtkRenderingFreeType  # imported for its side effect: text rendering
         import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
         from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
         from vtkmodules.util import numpy_support
 
     class V:
-        pass
+        np = numpy_support
 
     for mod in (vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore):
         for name in dir(mod):
             if name.startswith("vtk"):
                 setattr(V, name, getattr(mod, name))
-    V.np = numpy_support
     return V
 
 

@@ -12,6 +12,7 @@ design's length.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import cadquery as cq
 
@@ -55,7 +56,7 @@ def strip_solid(design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int
     r_in, p, n, t = design.inner_radius, design.pitch, design.turns, design.thickness
     r_out = r_in + p * n
     a0, a1 = -extend / r_in, 2 * math.pi * n + extend / r_out
-    kw = dict(arcs_per_turn=arcs_per_turn, hand=hand, a_start=a0, a_end=a1)
+    kw: dict[str, Any] = dict(arcs_per_turn=arcs_per_turn, hand=hand, a_start=a0, a_end=a1)
     outer = spiral_side(r_in, p, n, phi0, +t / 2, **kw)
     inner_back = spiral_side(r_in, p, n, phi0, -t / 2, backwards=True, **kw)
     k = p / (2 * math.pi)
@@ -86,7 +87,7 @@ def line_box(u: float, v: float, angle: float, s: tuple[float, float], q: tuple[
     return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(angle)).translate(cq.Vector(u, v, 0))
 
 
-def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float) -> cq.Solid:
+def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float) -> cq.Shape:
     """A closed ring, the annulus [r_inner, r_outer] around the point at radius ``centre_r`` on the ray φ."""
     c = _pt(centre_r, phi)
     return cq.Solid.makeCylinder(r_outer, height, cq.Vector(c.x, c.y, z0)).cut(

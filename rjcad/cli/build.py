@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import click
 
 from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+
+if TYPE_CHECKING:
+    from rjcad.io.manifest import Manifest
 
 #: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
 FIELDS = requirement(
@@ -43,7 +48,7 @@ def _springs(n: int) -> str:
     return "N·mm/rad (one spring)" if n == 1 else f"N·mm/rad ({n} springs)"
 
 
-def _bodies(m: dict) -> tuple[str, str, str]:
+def _bodies(m: Manifest | dict[str, Any]) -> tuple[str, str, str]:
     return ("bodies", ", ".join(f"{b['name']} {b['mass_g']:.1f} g" for b in m["bodies"]), "")
 
 
@@ -74,7 +79,7 @@ def joint(config, out_dir, no_png, **options):
     print_joint(b.manifest)
 
 
-def print_joint(m: dict) -> None:
+def print_joint(m: Manifest | dict[str, Any]) -> None:
     """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
     print_table([
         ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", _springs(m['spring'].get('springs', 2))),
@@ -142,7 +147,7 @@ def _template(path: str):
         raise ParameterError(f"{name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
 
-def print_finger(m: dict) -> None:
+def print_finger(m: Manifest | dict[str, Any]) -> None:
     """Summary table of a finger manifest: each joint's K, arm and wrap, the tendon length, the bodies."""
     rows = [(f"joint {i + 1} ({j['parent']} → {j['child']})",
              f"K {j['joint_stiffness_nmm_per_rad']:.2f}  r {j['tendon_moment_arm_mm']:.2f}  "

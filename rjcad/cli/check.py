@@ -19,10 +19,10 @@ ALLOWANCE_MM = (0.0, 0.05)
 @click.argument("mesh", type=click.Path(dir_okay=False))
 @click.option("--manifest", type=click.Path(dir_okay=False), help="The builder's JSON manifest (bodies, joints).")
 @click.option("--clearance", type=float,
-              help="Required gap between bodies [mm], in [%g, %g] and at least the printer's minimum gap "
-                   "(default: the manifest's, raised to the printer's minimum gap; or 0.25)." % CLEARANCE_MM)
+              help="Required gap between bodies [mm], in [{:g}, {:g}] and at least the printer's minimum gap "
+                   "(default: the manifest's, raised to the printer's minimum gap; or 0.25).".format(*CLEARANCE_MM))
 @click.option("--allowance", type=float, default=0.02, show_default=True,
-              help="Tessellation allowance [mm], in [%g, %g]." % ALLOWANCE_MM)
+              help="Tessellation allowance [mm], in [{:g}, {:g}].".format(*ALLOWANCE_MM))
 @click.option("--printer", type=str, help=f"One of: {', '.join(PRINTERS)} (default: the manifest's, or generic-0.4).")
 @click.option("--bodies", "n_bodies", type=click.IntRange(1, 1000), help="Expected number of bodies.")
 @click.option("--slicer", type=click.Choice(["prusa"]),

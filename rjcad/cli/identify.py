@@ -106,6 +106,7 @@ def identify(campaign, json_out, report_dir, allow_outside):
     if getattr(camp, "kind", "joint") == "finger-endpoint":
         from rjcad.identify.finger import endpoint
 
+        assert isinstance(camp, endpoint.EndpointCampaign)
         js = endpoint.identify_endpoints(camp)
         written = []
         if report_dir:
@@ -115,12 +116,17 @@ def identify(campaign, json_out, report_dir, allow_outside):
             written = [str(Path(report_dir) / "report.md")]
     elif getattr(camp, "kind", "joint") == "finger":
         from rjcad.identify.finger import result as finger_result
+        from rjcad.identify.finger.data import FingerCampaign
         from rjcad.identify.finger.problem import identify_finger
 
+        assert isinstance(camp, FingerCampaign)
         ident = identify_finger(camp)
         js = finger_result.to_json(ident)
         written = [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
     else:
+        from rjcad.identify.data import Campaign
+
+        assert isinstance(camp, Campaign)
         ident = run(camp)
         js = to_json(ident)
         written = [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []

@@ -30,7 +30,9 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
     if pull == "path":
         from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON
 
-        files[xml_name] = files[xml_name].replace(f'tendon="{GROOVE_TENDON}"', f'tendon="{PATH_TENDON}"')
+        xml = files[xml_name]
+        assert isinstance(xml, str)  # the model is text; its meshes are bytes
+        files[xml_name] = xml.replace(f'tendon="{GROOVE_TENDON}"', f'tendon="{PATH_TENDON}"')
     return files
 
 
@@ -75,11 +77,11 @@ def mujoco_model(source: str | None, gravity: str | None = None):
             raise RjcadError(f"{source}: MuJoCo cannot load it: {str(e).splitlines()[0]}") from None
     if source is not None and Path(source).suffix.lower() == ".json":
         files = build_files(source, "finger.xml", gravity or "off", None, "groove")
-        return load(files.pop("finger.xml"), {k: v for k, v in files.items()})
+        return load(files.pop("finger.xml"), dict(files))
     from rjcad.mjcf.export import gravity_of
     from rjcad.mjcf.model import spec_from_model
     from rjcad.mjcf.spec import to_xml
-    from rjcad.physics.finger import load_finger_model
+    from rjcad.physics.finger_sources import load_finger_model
 
     spec = spec_from_model(load_finger_model(source), gravity=gravity_of(gravity or "off"))
     return load(to_xml(spec))

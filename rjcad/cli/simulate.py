@@ -80,7 +80,7 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
     slack = tendon_slack(m, setup, th, direction=d)
     if slack.any():
         rel = slack & (d < 0)
-        where = (f"the whole release" if rel.sum() == (d < 0).sum() else
+        where = ("the whole release" if rel.sum() == (d < 0).sum() else
                  f"{int(rel.sum())} of {int((d < 0).sum())} release samples" if rel.any() else
                  f"{int(slack.sum())} samples")
         below = (f" (the required force is negative below {math.degrees(th[rel].max()):.0f}° while releasing)"
@@ -174,7 +174,8 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
         return run_stroke(mujoco_model(source), stroke, steps)
     if source is not None and Path(source).suffix.lower() == ".xml":
         raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
-    from rjcad.physics.finger import load_finger_model, simulate_stroke
+    from rjcad.physics.finger import simulate_stroke
+    from rjcad.physics.finger_sources import load_finger_model
 
     model = load_finger_model(source, mu_t=mu_t)
     if mu_t > 0 and not any(model.wrap):

@@ -60,7 +60,8 @@ def wound_states(r_in: float, pitch: float, turns: float, t: float, preload: flo
     X, tangents, _ = rod.spiral_nodes(r_in, pitch, turns, preload - 2 * math.pi * turns, per_turn=PER_TURN)
     x, y = X[-1]  # counter-clockwise spiral, end at +preload: the mirror image (y → −y) of the printed one
 
-    def path(lam):  # unwinding turns the end of the counter-clockwise spiral clockwise
+    # unwinding turns the end of the counter-clockwise spiral clockwise
+    def path(lam: float) -> tuple[float, float, float | None]:
         c, s = math.cos(lam * windup), math.sin(lam * windup)
         return (c * x + s * y - x, -s * x + c * y - y, -lam * windup if end == "clamped" else None)
 

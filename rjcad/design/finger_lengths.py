@@ -10,6 +10,11 @@ holds joint 1's ground block and two M3 holes.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rjcad.design.params import JointParams
 
 #: The paper's link length, axis to axis, and the default base length [mm].
 PAPER_LINK_LENGTH = 40.0
@@ -18,7 +23,7 @@ DEFAULT_BASE_LENGTH = 25.0
 BASE_LAND = 12.0
 
 
-def base_length_min(p) -> float:
+def base_length_min(p: JointParams) -> float:
     """Shortest base: X_g + BASE_LAND [mm]."""
     return p.ground_block_start + BASE_LAND
 
@@ -28,12 +33,12 @@ def base_length_min(p) -> float:
 CHANNEL_RUNS = (2.0, 3.5)
 
 
-def channel_shift(p, q) -> float:
+def channel_shift(p: JointParams, q: JointParams) -> float:
     """How far the tendon's channel moves across a link, from joint ``p``'s moment arm and plane to ``q``'s [mm]."""
     return math.hypot(q.moment_arm - p.moment_arm, q.z_mid - p.z_mid)
 
 
-def link_length_min(p, q=None) -> float:
+def link_length_min(p: JointParams, q: JointParams | None = None) -> float:
     """Shortest link after joint ``p``: X_m + slot + X_g(q) + 0.5 to the next joint ``q`` (+ 4 + the channel's
     shift when the moment arms differ: its runs and a shift at 45° at most, from the slot's end at X_m + slot − 0.5
     to the fork's face at L − X_g + 0.5), or, distal, X_m + slot + W/2 + 6 [mm]."""
@@ -49,7 +54,7 @@ def whole_mm(x: float, at_least: float = 0.0) -> float:
     return float(max(at_least, math.ceil(x - 1e-9)))
 
 
-def shortest_lengths(joints, at_least: float = PAPER_LINK_LENGTH) -> tuple[float, list[float]]:
+def shortest_lengths(joints: Sequence[JointParams], at_least: float = PAPER_LINK_LENGTH) -> tuple[float, list[float]]:
     """(base, links): the shortest whole-millimetre lengths that hold ``joints``, links at least ``at_least``."""
     links = [whole_mm(link_length_min(p, joints[i + 1] if i + 1 < len(joints) else None), at_least)
              for i, p in enumerate(joints)]

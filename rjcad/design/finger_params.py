@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 from rjcad.io import templates
 from rjcad.io.config import check_key as _typed
@@ -32,10 +33,10 @@ class FingerParams:
     joints: tuple[JointParams, ...]
     base_length: float = 25.0
     source: str = "built-in paper finger"
-    requested: tuple[dict, ...] = field(default=(), repr=False)
+    requested: tuple[dict[str, Any], ...] = field(default=(), repr=False)
 
     @classmethod
-    def from_dict(cls, data: dict, source: str = "<dict>") -> "FingerParams":
+    def from_dict(cls, data: dict[str, Any], source: str = "<dict>") -> FingerParams:
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
         built, requested = cls.joints_from_dict(data)
         # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
@@ -46,7 +47,7 @@ class FingerParams:
         return fp
 
     @staticmethod
-    def joints_from_dict(data: dict) -> tuple[list[JointParams], list[dict]]:
+    def joints_from_dict(data: dict[str, Any]) -> tuple[list[JointParams], list[dict[str, Any]]]:
         """A template's joints, validated, with one eye (or tendon) plane for the whole finger, and each joint's
         table as given; the lengths are checked by :meth:`validate_lengths`."""
         for k, v in data.items():
@@ -55,13 +56,14 @@ class FingerParams:
         joints = data.get("joint", [])
         if not 1 <= len(joints) <= MAX_JOINTS:
             raise ParameterError("joint", len(joints), f"a finger needs 1 to {MAX_JOINTS} [[joint]] tables")
-        common = dict(
+        common: dict[str, Any] = dict(
             material=data.get("material", "absplus-p430"), printer=data.get("printer", "generic-0.4"),
             clearance=float(data["clearance_mm"]) if "clearance_mm" in data else None, layout=data.get("layout"),
             tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
             safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", JOINT_DEFAULT_END),
         )
-        built, requested = [], []
+        built: list[JointParams] = []
+        requested: list[dict[str, Any]] = []
         for i, j in enumerate(joints, start=1):
             where = f"joint[{i}]."
             if not isinstance(j, dict):
@@ -69,7 +71,7 @@ class FingerParams:
             merged = {**defaults, **{k: _typed(where, k, v, JOINT_KEYS) for k, v in j.items()}}
             if "stiffness_nmm_per_rad" not in merged:
                 raise ParameterError(f"{where}stiffness_nmm_per_rad", None, "is required (here or in [defaults])")
-            kw = dict(
+            kw: dict[str, Any] = dict(
                 stiffness=float(merged["stiffness_nmm_per_rad"]),
                 rotation=float(merged.get("rotation_deg", 90)) * DEG,
                 preload=float(merged.get("preload_deg", 90)) * DEG,
@@ -100,7 +102,7 @@ class FingerParams:
         return built, requested
 
     @classmethod
-    def from_toml(cls, path: str | Path) -> "FingerParams":
+    def from_toml(cls, path: str | Path) -> FingerParams:
         data = load_toml(path, GLOBAL_KEYS)
         return cls.from_dict(data, source=str(path))
 

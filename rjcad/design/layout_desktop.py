@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 #: Angle of every conical surface from horizontal [rad]: steeper than the overhang check's 45°, so that each
 #: 0.2 mm layer steps out by 0.17 mm, inside the road under it (the slicer check's rule) with margin.
@@ -50,6 +51,51 @@ LUG_WIDTH = 2.0
 LUG_INSET = 0.5, 0.1
 #: Ray of the seated key's socket on the ground cup [rad] (towards the ground link).
 SOCKET_RAY = math.pi
+
+
+class _Strip(Protocol):
+    @property
+    def width(self) -> float: ...
+
+
+class _Walls(Protocol):
+    @property
+    def min_wall_mm(self) -> float: ...
+
+
+class JointLike(Protocol):
+    """What the layout reads of a joint's parameters: JointParams, described here (importing it is a cycle)."""
+
+    @property
+    def spring(self) -> _Strip: ...
+    @property
+    def printer_spec(self) -> _Walls: ...
+    @property
+    def clearance_mm(self) -> float: ...
+    @property
+    def pin_radius(self) -> float: ...
+    @property
+    def tendon_diameter(self) -> float: ...
+    @property
+    def tendon_line_diameter(self) -> float: ...
+    @property
+    def eye_radius(self) -> float: ...
+    @property
+    def moment_arm(self) -> float: ...
+    @property
+    def key_tip_radius(self) -> float: ...
+    @property
+    def key_width(self) -> float: ...
+    @property
+    def wound_radius(self) -> float: ...
+    @property
+    def gap_internal(self) -> float: ...
+    @property
+    def gap_z(self) -> float: ...
+    @property
+    def link_width(self) -> float: ...
+    @property
+    def rotation(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -77,10 +123,10 @@ class DesktopLayout:
     groove_depth: float
 
     @classmethod
-    def of(cls, p) -> "DesktopLayout":
-        """Derive the layout from a :class:`rjcad.design.params.JointParams` ``p`` (duck-typed: no import cycle)."""
+    def of(cls, p: JointLike) -> DesktopLayout:
+        """Derive the layout from a joint's parameters ``p`` (a :class:`rjcad.design.params.JointParams`)."""
         d = p.spring
-        c, b = p.clearance, d.width
+        c, b = p.clearance_mm, d.width
         cz = (c + FACET_MARGIN) * SEC
         seat = min(b, max(1.5, min(2.0, 0.3 * b)))
         r_h = p.pin_radius
@@ -163,7 +209,7 @@ class DesktopLayout:
         """Stop lugs end below the tendon [mm]."""
         return self.z_t - self.groove_half - 0.7
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """Manifest keys of the layout [mm, deg]."""
         return {
             "layout": "desktop", "cone_angle_deg": math.degrees(CONE_ANGLE), "clearance_normal_mm": self.c,

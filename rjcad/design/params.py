@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 from rjcad.errors import ParameterError
-from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, get_material, get_printer
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
 from rjcad.design.envelope import WoundEnvelope, wound_envelope
 from rjcad.design.layout_desktop import DesktopLayout
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
@@ -34,7 +34,7 @@ from rjcad import DEG
 from rjcad.validate import in_range
 
 #: Validated ranges: name → (low, high, unit shown in errors). Angles in rad.
-RANGES = {
+RANGES: dict[str, tuple[float | None, float, str]] = {
     "stiffness": (0.2, 60.0, "N·mm/rad"),
     "rotation": (15 * DEG, 110 * DEG, "deg"),
     "preload": (30 * DEG, 120 * DEG, "deg"),
@@ -78,7 +78,7 @@ def default_clearance(material: str, printer: str, layout: str) -> float:
     return STACKED_CLEARANCE
 
 
-def _check(name: str, value, lo, hi, unit: str) -> None:
+def _check(name: str, value: object, lo: float | None, hi: float | None, unit: str) -> None:
     """``value`` within [lo, hi] (to 1e-12; shown in degrees when ``unit`` is "deg"), else ParameterError."""
     in_range(name, value, lo, hi, unit=unit, deg=unit == "deg", tol=1e-12, not_a_number="must be a number")
 
@@ -118,7 +118,7 @@ class JointParams:
     #: finger, whose whole length FingerParams checks
     standalone: bool = field(default=True, repr=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.layout is None:
             object.__setattr__(self, "layout", default_layout(self.printer))
         if self.layout not in LAYOUTS:
@@ -140,7 +140,8 @@ class JointParams:
             raise ParameterError("tendon_diameter", self.tendon_diameter,
                                  f"must be larger than the tendon line ({self.tendon_line_diameter} mm)")
         # geometry-dependent limits (these build the spring design: one optimiser call)
-        lo_arm = self.pin_radius + self.clearance + 2 * self.printer_spec.min_wall_mm + self.tendon_line_diameter / 2
+        lo_arm = (self.pin_radius + self.clearance_mm + 2 * self.printer_spec.min_wall_mm
+                  + self.tendon_line_diameter / 2)
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
         lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
@@ -154,27 +155,33 @@ class JointParams:
 
     # --- printer, spring -------------------------------------------------------
     @property
-    def printer_spec(self):
+    def printer_spec(self) -> Printer:
         return get_printer(self.printer)
 
     @property
-    def material_spec(self):
+    def material_spec(self) -> Material:
         return get_material(self.material)
+
+    @property
+    def clearance_mm(self) -> float:
+        """The clearance as resolved on construction (``clearance`` is never None after it) [mm]."""
+        assert self.clearance is not None  # __post_init__ sets the default
+        return self.clearance
 
     @property
     def gap_xy(self) -> float:
         """Radial (XY) gap between the bodies: the clearance [mm]."""
-        return self.clearance
+        return self.clearance_mm
 
     @property
     def gap_z(self) -> float:
         """Axial (Z) gap between stacked parts: max(clearance, printer's vertical minimum) [mm]."""
-        return max(self.clearance, self.printer_spec.min_gap_vertical_mm)
+        return max(self.clearance_mm, self.printer_spec.min_gap_vertical_mm)
 
     @property
     def gap_internal(self) -> float:
         """Gap kept inside the ground body (spring to its own parts): printer minimum gap [mm]."""
-        return max(self.printer_spec.min_gap_mm, self.clearance)
+        return max(self.printer_spec.min_gap_mm, self.clearance_mm)
 
     @property
     def springs(self) -> int:
@@ -184,7 +191,7 @@ class JointParams:
     @property
     def coil_gap_min(self) -> float | None:
         """The gap the coils keep over the whole wind-up: the clearance (desktop), else the printer's [mm]."""
-        return max(self.clearance, self.printer_spec.min_gap_mm) if self.layout == "desktop" else None
+        return max(self.clearance_mm, self.printer_spec.min_gap_mm) if self.layout == "desktop" else None
 
     @cached_property
     def desktop(self) -> DesktopLayout:
@@ -332,7 +339,7 @@ class JointParams:
         (its rotational play, ≈ 2c/ℓ) until it bears on both tines. Tilting the tines by α puts the
         bearing key exactly at its modelled pose: the printed pose turned by the preload.
         """
-        w, c, L = self.key_width, self.clearance, KEY_ENGAGEMENT
+        w, c, L = self.key_width, self.clearance_mm, KEY_ENGAGEMENT
         h = math.hypot(L, w)
         return math.asin((w + 2 * c) / h) - math.atan2(w, L)
 
@@ -355,7 +362,7 @@ class JointParams:
     def socket_span(self) -> tuple[float, float]:
         """(v_lo, v_hi): tangential extent of the socket's base (the ring, pinned) around its post's ray [mm]."""
         if self.end_condition != "clamped":
-            hw = self.post_radius + self.clearance + self.hook_wall
+            hw = self.post_radius + self.clearance_mm + self.hook_wall
             return (-hw, hw)
         a, wt = self.socket_tilt, self.tine_width
         reach = KEY_ENGAGEMENT + self.socket_base_depth / 2
@@ -367,7 +374,7 @@ class JointParams:
         R0, Rk, depth = self.socket_inner_radius, self.key_tip_radius, self.socket_base_depth
         ca, sa = math.cos(a), math.sin(a)
 
-        def box(u0, v0, s, q):
+        def box(u0: float, v0: float, s: tuple[float, float], q: tuple[float, float]) -> list[tuple[float, float]]:
             return [(u0 + si * ca - qi * sa, v0 + si * sa + qi * ca) for si in s for qi in q]
 
         v_lo, v_hi = self.socket_span
@@ -381,10 +388,10 @@ class JointParams:
         Clamped: the key lies clockwise of the ray at −preload; a socket corner at radius r and polar
         angle ψ is r·sin(preload + ψ) from that ray. Pinned: ring and post centres 2·R_h·sin(preload/2) apart.
         """
-        c = self.clearance + 0.05
+        c = self.clearance_mm + 0.05
         if self.end_condition == "clamped":
             return max(math.asin(min(1.0, c / math.hypot(u, v))) - math.atan2(v, u) for u, v in self.socket_corners())
-        reach = 2 * self.post_radius + self.clearance + self.hook_wall + c
+        reach = 2 * self.post_radius + self.clearance_mm + self.hook_wall + c
         return 2 * math.asin(min(1.0, reach / (2 * self.post_ring_radius)))
 
     @property
@@ -393,21 +400,21 @@ class JointParams:
         rho = self.post_radius
         if self.end_condition == "clamped":
             return self.key_tip_radius + rho + 0.2
-        return self.fitting_clear_radius + self.hook_wall + self.clearance + rho
+        return self.fitting_clear_radius + self.hook_wall + self.clearance_mm + rho
 
     @property
     def hook_outer_radius(self) -> float:
         """Outermost radius of the end fittings and sockets around the axis [mm]."""
         if self.end_condition == "clamped":
             return math.hypot(self.key_tip_radius + self.socket_base_depth, max(map(abs, self.socket_span)))
-        return self.post_ring_radius + self.post_radius + self.clearance + self.hook_wall
+        return self.post_ring_radius + self.post_radius + self.clearance_mm + self.hook_wall
 
     @property
     def fitting_half_width(self) -> float:
         """Largest tangential distance of the printed key or ring from its ray [mm]."""
         if self.end_condition == "clamped":
             return self.key_width
-        return self.post_radius + self.clearance + self.hook_wall
+        return self.post_radius + self.clearance_mm + self.hook_wall
 
     @property
     def fitting_outer_radius(self) -> float:
@@ -417,7 +424,7 @@ class JointParams:
     @property
     def cheek_radius(self) -> float:
         """Cheek disc radius: clears the posts' path by the clearance plus 0.1 mm [mm]."""
-        return self.post_ring_radius - self.post_radius - self.clearance - 0.1
+        return self.post_ring_radius - self.post_radius - self.clearance_mm - 0.1
 
     @property
     def cheek_plate_half_width(self) -> float:
@@ -427,7 +434,7 @@ class JointParams:
         posts' path there: w ≤ (R_h − ρ − c − 0.2)·sin(π − rotation − 2·stop angle − 2°).
         """
         free = math.pi - self.rotation - 2 * self.stop_angle - 2 * DEG
-        inner = self.post_ring_radius - self.post_radius - self.clearance - 0.2
+        inner = self.post_ring_radius - self.post_radius - self.clearance_mm - 0.2
         # ≤ 0.7·r_cheek: the plate's side crosses the cheek's circle at ≥ 45°, leaving no thin crescent
         w = 0.7 * self.cheek_radius
         return min(w, inner * math.sin(free)) if free < math.pi / 2 else w
@@ -444,7 +451,7 @@ class JointParams:
         """
         if self.layout == "desktop":
             return self.desktop.X_g
-        g, c = self.gap_internal, self.clearance
+        g, c = self.gap_internal, self.clearance_mm
         R_h, rho = self.post_ring_radius, self.post_radius
         bounds = [
             -self.wound.ground_x_min + self.spring.thickness / 2 + WOUND_MARGIN + g,
@@ -469,9 +476,9 @@ class JointParams:
         if self.layout == "desktop":
             return self.desktop.X_m
         corner = (-self.ground_block_start * math.cos(self.rotation)
-                  + self.link_width / 2 * math.sin(self.rotation) + self.clearance + 0.5)
+                  + self.link_width / 2 * math.sin(self.rotation) + self.clearance_mm + 0.5)
         wound = self.wound.moving_x_max + self.spring.thickness / 2 + WOUND_MARGIN + self.gap_internal
-        return max(self.hook_outer_radius + self.clearance + 0.3, corner, wound)
+        return max(self.hook_outer_radius + self.clearance_mm + 0.3, corner, wound)
 
     @property
     def link_width(self) -> float:
@@ -485,4 +492,4 @@ class JointParams:
     @property
     def stop_angle(self) -> float:
         """Angle between the post's centre line and a stop face at clearance, asin((ρ+c)/R_h) [rad]."""
-        return math.asin((self.post_radius + self.clearance) / self.post_ring_radius)
+        return math.asin((self.post_radius + self.clearance_mm) / self.post_ring_radius)

@@ -13,10 +13,14 @@ then the lower BIC. Each remaining set is reported with the experiment that woul
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from rjcad.identify.catalogue import EFFECTS
+
+if TYPE_CHECKING:
+    from rjcad.identify.fit import FitResult
 
 BIC_GATE = 10.0
 RMSE_MARGIN = 1.1
@@ -27,7 +31,7 @@ class Rival:
     """An effect set and its fit; ``bounded``: parameters the data only bound (or cannot pin)."""
 
     effects: list[str]
-    fit: object
+    fit: FitResult
     bounded: list[str]
     replaces: str = ""
     by: str = ""
@@ -126,7 +130,7 @@ def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
     if len(pool) == 1:
         return answer, []
     best = min(pool, key=lambda r: (r.k, bool(r.bounded), r.fit.bic))
-    out = []
+    out: list[dict[str, Any]] = []
     for r in pool:
         if r is best:
             continue

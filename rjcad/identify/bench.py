@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -38,7 +39,7 @@ PAPER_EXPERIMENTS = (
 )
 
 #: The paper campaign preset (`rjcad bench --paper`): its design and its measured parameters.
-PAPER_PRESET = {
+PAPER_PRESET: dict[str, Any] = {
     "design": dict(DEFAULT_DESIGN),
     "effects": ("spring_calibration", "coulomb_pin", "tendon_pin_friction", "capstan_path"),
     "params": {"stiffness_nmm_per_rad": JOINT.stiffness, "preload_deg": JOINT.preload / DEG, "mu_j_mm": JOINT.mu_j,

@@ -10,6 +10,7 @@ import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.ndimage import median_filter
@@ -193,7 +194,8 @@ def _experiment_specs(doc: dict, toml: Path, design: Design, allow_outside: bool
         raise RjcadError(f"{toml}: no [[experiment]] tables; add one per CSV file")
     if not isinstance(tables, list) or not all(isinstance(t, dict) for t in tables):
         raise RjcadError(f"{toml}: experiments must be an array of tables: one [[experiment]] per CSV file")
-    specs, names = [], {}
+    specs: list[dict[str, Any]] = []
+    names: dict[str, tuple[int, str]] = {}
     for i, table in enumerate(tables, start=1):
         where = f"{toml}: experiment {i}: "
         if "file" not in table:
@@ -325,7 +327,7 @@ def _found(names: list[str], most: int = 12) -> str:
     return f"columns found: {', '.join(names[:most])}{more}"
 
 
-def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np.ndarray], list]:
+def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np.ndarray], list[np.ndarray | None]]:
     """Parse cell by cell where needed: NaN for an empty or non-numeric cell, with a code per cell
     (0 ok, 1 non-numeric, 2 empty); the code array is None for a column whose cells all parse.
 
@@ -336,7 +338,8 @@ def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np
     joined = ",".join(rows)
     flat = joined.split(",")
     underscores = "_" in joined   # float() takes '1_0'; the fast path does not
-    values, codes = [], []
+    values: list[np.ndarray] = []
+    codes: list[np.ndarray | None] = []
     for j in cols:
         cells = flat[j::width]
         if not underscores:

@@ -13,6 +13,8 @@ The velocity's own smoothing bias (θ‴·w²) is not noise and is not corrected
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from rjcad.identify.catalogue import model_kwargs
@@ -33,7 +35,7 @@ def noise_power(values: dict[str, float], prob: Problem) -> float:
             continue
         m = JointModel(pulley_radius=p.exp.pulley_radius, **model_kwargs({**values, VISCOUS: 1.0}))
         args = (m, p.exp.setup, p.motion.theta)
-        kw = {"t": p.exp.t, "direction": p.motion.direction}
+        kw: dict[str, Any] = {"t": p.exp.t, "direction": p.motion.direction}
         s = simulate(*args, **kw, velocity_=p.motion.velocity + 1.0) - simulate(*args, **kw, velocity_=p.motion.velocity)
         total += float(np.sum((s[p.valid] * p.motion.velocity_sigma / p.sigma) ** 2))
     return total

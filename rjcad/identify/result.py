@@ -59,8 +59,8 @@ def to_json(ident: Identification) -> dict:
     """
     fin, des = ident.final, ident.design
     params = {"stiffness_nmm_per_rad": fin.values["stiffness_nmm_per_rad"], "preload_deg": fin.values["preload_deg"]}
-    for e in ident.effects:
-        for n in EFFECTS[e].param_names:
+    for eff in ident.effects:
+        for n in EFFECTS[eff].param_names:
             params[n] = fin.values[n]
     for n in ident.not_identifiable:  # reported, not fitted arbitrarily
         if n in fin.names:
@@ -72,11 +72,11 @@ def to_json(ident: Identification) -> dict:
         e = p.exp
         exps.append({
             "file": e.file, "quantity": e.quantity, "drive": e.drive, "normal_load_n": e.normal_load,
-            "routed": e.routed, "samples": int(len(e.t)), "samples_fitted": int(p.valid.sum()),
+            "routed": e.routed, "samples": len(e.t), "samples_fitted": int(p.valid.sum()),
             "samples_masked_at_reversals": _n(p.motion.at_reversal),
             "outliers_angle": _n(p.motion.glitches), "outliers_quantity": _n(p.outliers),
             "cycles": p.motion.n_cycles,
-            "reversals": int(len(p.motion.reversals)), "rows_dropped": dict(e.dropped),
+            "reversals": len(p.motion.reversals), "rows_dropped": dict(e.dropped),
             "rmse_design": _r(rmse_d), "rmse_final": _r(rmse_f), "noise": _r(p.sigma),
             "final_over_noise": _r(rmse_f / p.sigma), "range": _r(p.span),
             "diagnostics_design": _clean(diagnose(p, rd)),

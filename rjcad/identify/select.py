@@ -9,6 +9,7 @@ Backward: drop any accepted effect whose removal, the others refitted, costs ΔB
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -64,7 +65,7 @@ class Identification:
     heldout_final: float | None
     notes: list[str] = field(default_factory=list)
     ambiguous: list[dict] = field(default_factory=list)  # rival effect sets the data cannot tell apart
-    predictor: object = None  # (values, prepared) → prediction; None: the joint model's
+    predictor: Callable[[dict[str, float], Prepared], np.ndarray] | None = None  # None: the joint model's
 
     def predictions(self, values=None) -> list[np.ndarray]:
         v = self.final.values if values is None else values
@@ -99,7 +100,8 @@ class Selector:
         self.base = self._base(campaign)
         self.prob = self.problem(self.base)
         self.frozen: dict[str, str] = {}   # parameters fixed at neutral: not identifiable
-        self._lo, self._hi = {}, {}
+        self._lo: dict[str, float] = {}
+        self._hi: dict[str, float] = {}
         for e in self.catalogue:
             lo, hi = e.bounds(self.design_json)
             self._lo.update(zip(e.param_names, lo))
@@ -162,12 +164,13 @@ class Selector:
     def fit_set(self, effects, start: dict[str, float], masks=None, frozen=None) -> FitResult:
         names = self.free_names(effects, frozen)
         lo, hi = self.bounds(names)
-        best = None
+        best: FitResult | None = None
         for s in self.starts(effects, start):
             prob = self.problem({**self.base, **{k: v for k, v in s.items() if k not in names}})
             fr = prob.fit(names, [s[n] for n in names], lo, hi, masks=masks)
             if best is None or fr.cost < best.cost:
                 best = fr
+        assert best is not None  # every effect has a start point
         return best
 
     def heldout(self, effects, start: dict[str, float]) -> float | None:
@@ -324,7 +327,8 @@ class Selector:
     # -- the selection -----------------------------------------------------------------------
     def run(self) -> Identification:
         design = self.prob.fit((), [], [], [])
-        current, accepted = design, []
+        current = design
+        accepted: list[str] = []
         ho_cur = self.heldout([], {})
         ho_design = ho_cur
         steps: list[Step] = []

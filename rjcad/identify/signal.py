@@ -43,8 +43,8 @@ class Motion:
     sigma_theta: float      # raw angle noise [rad]
     step: float             # hysteresis h [rad]
     window: int             # smoothing window [samples]
-    glitches: np.ndarray = None  # bool: camera outliers, replaced by the running median
-    at_reversal: np.ndarray = None  # bool: masked because the direction is ambiguous there
+    glitches: np.ndarray | None = None  # bool: camera outliers, replaced by the running median
+    at_reversal: np.ndarray | None = None  # bool: masked because the direction is ambiguous there
     velocity_sigma: float = 0.0  # σ of the velocity estimate from the angle noise alone [rad/s]
 
     @property
@@ -54,7 +54,7 @@ class Motion:
 
 def _window(t: np.ndarray, span_s: float) -> int:
     dt = float(np.median(np.diff(t)))
-    w = int(round(span_s / dt)) if dt > 0 else 5
+    w = round(span_s / dt) if dt > 0 else 5
     w = max(5, min(w, max(5, len(t) // 20)))
     return w | 1  # odd
 
@@ -161,10 +161,7 @@ def _direction_and_mask(th, s0, exts, h, w):
         dep = np.abs(th[c:] - level)
         i2 = np.flatnonzero(dep > 2 * h)
         i4 = np.flatnonzero(dep > 4 * h)
-        if len(i2) and len(i4):
-            back = int(i2[0]) + int(math.ceil((int(i4[0]) - int(i2[0])) / (2 ** (1 / 3) - 1)))
-        else:
-            back = n - c
+        back = int(i2[0]) + math.ceil((int(i4[0]) - int(i2[0])) / (2 ** (1 / 3) - 1)) if len(i2) and len(i4) else n - c
         n_amb = back + half
         if b - a + 1 <= 3 * n_amb:        # a turn
             switch, lo = e + 1, max(a - half, 0)

@@ -5,15 +5,19 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from rjcad.errors import ParameterError, RjcadError
+from rjcad.errors import ParameterError
 from rjcad.io.outputs import cannot_write, restore_times
 from rjcad.io.untrusted import read_toml
 
+#: Known keys and the type (or types) each takes.
+KeyTypes = Mapping[str, type | tuple[type, ...]]
 
-def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...]]) -> dict[str, Any]:
+
+def load_toml(path: str | os.PathLike[str], allowed: KeyTypes) -> dict[str, Any]:
     """Read a TOML file (rjcad.io.untrusted: size, depth, finite numbers) and check every top-level key against
     ``allowed`` (key → type)."""
     p = Path(path)
@@ -23,7 +27,7 @@ def load_toml(path: str | os.PathLike, allowed: dict[str, type | tuple[type, ...
     return data
 
 
-def check_key(where: str, key: str, value, allowed: dict[str, type | tuple[type, ...]]):
+def check_key(where: str, key: str, value: Any, allowed: KeyTypes) -> Any:
     """``value`` if ``key`` is known and of its type; else ParameterError naming ``where + key``."""
     if key not in allowed:
         raise ParameterError(f"{where}{key}", value, f"unknown key; known keys: {', '.join(allowed)}")

@@ -23,7 +23,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Self, TypeVar
 
 from rjcad.errors import ParameterError, quote
 from rjcad.io.untrusted import read_json
@@ -31,6 +33,9 @@ from rjcad.validate import default_limit
 
 #: Version written by ``Manifest.to_json``; ``from_json`` also reads 0 (no version key).
 SCHEMA_VERSION = 1
+
+#: A JSON object as read or written.
+JSONObject = dict[str, Any]
 
 #: A joint manifest's top-level keys mirrored from its one joint entry: top-level key → entry field.
 JOINT_FLAT_KEYS = {
@@ -66,7 +71,7 @@ KEY_ORDER = {
 CLEARANCE_MM = (0.1, 5.0)
 
 #: Range of a typed number: field → (low, high, low open, unit). Absent: any finite number.
-LIMITS = {
+LIMITS: dict[str, tuple[float, float | None, bool, str]] = {
     "clearance_mm": (*CLEARANCE_MM, False, "mm"),
     "volume_mm3": (0.0, None, True, "mm³"),
     "mass_g": (0.0, None, False, "g"),
@@ -85,12 +90,12 @@ class ManifestError(ParameterError):
     """A manifest key is missing, has the wrong type or is out of range: ``<source>: <key path> <problem>``
     (``source`` is the file, or "manifest" for an object given in memory)."""
 
-    def __init__(self, key: str, value, problem: str, source: str = "manifest"):
+    def __init__(self, key: str, value: Any, problem: str, source: str = "manifest") -> None:
         super().__init__(key, value, problem)
         self.problem, self.source = problem, source
         self.args = (f"{source}: {quote(key, 120, repr_=False)} {problem}",)
 
-    def at(self, source: str | os.PathLike) -> "ManifestError":
+    def at(self, source: str | os.PathLike[str]) -> ManifestError:
         """The same error, naming the file ``source``."""
         return ManifestError(self.parameter, self.value, self.problem, str(source))
 
@@ -100,36 +105,37 @@ class ManifestError(ParameterError):
 # --------------------------------------------------------------------------
 
 
-def _is_number(v) -> bool:
+def _is_number(v: object) -> bool:
     """A finite int or float (not a bool)."""
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
-def _vector(v) -> bool:
+def _vector(v: object) -> bool:
     return isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v)
 
 
 #: annotation (without "| None") → (test, what the error says it must be). The annotations are read as
 #: strings (``from __future__ import annotations`` above): a field's type is its JSON schema.
-_KINDS = {
+_KINDS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "str": (lambda v: isinstance(v, str), "must be a string"),
     "float": (_is_number, "must be a finite number"),
     "list[float]": (_vector, "must be a list of 3 numbers"),
-    "dict": (lambda v: isinstance(v, dict), "must be an object"),
+    "dict[str, Any]": (lambda v: isinstance(v, dict), "must be an object"),
 }
 
 
-def _typed_fields(cls) -> list[tuple[str, str, bool]]:
+def _typed_fields(cls: type[Any]) -> list[tuple[str, str, bool]]:
     """(name, kind, required) of a dataclass's JSON fields, in order (``extra`` excluded)."""
     out = []
     for f in dataclasses.fields(cls):
         if f.name != "extra":
+            assert isinstance(f.type, str)  # the annotations are strings (see _KINDS)
             kind = f.type.replace(" | None", "")
             out.append((f.name, kind, kind == f.type))
     return out
 
 
-def _check(kind: str, value, path: str):
+def _check(kind: str, value: Any, path: str) -> Any:
     """``value`` if it is of ``kind`` and within the LIMITS of its field (the last part of ``path``)."""
     test, must = _KINDS[kind]
     if value is None:
@@ -146,11 +152,15 @@ def _check(kind: str, value, path: str):
     return list(value) if kind == "list[float]" else value
 
 
-def _read(cls, data, path: str):
+_E = TypeVar("_E", bound="_Entry")
+
+
+def _read(cls: type[_E], data: Any, path: str) -> _E:
     """``cls`` from a JSON object: typed fields checked, other keys into ``extra``."""
     if not isinstance(data, dict):
         raise ManifestError(path.rstrip("."), data, f"must be an object, not {quote(data)}")
-    values, extra = {}, {}
+    values: JSONObject = {}
+    extra: JSONObject = {}
     kinds = {name: (kind, req) for name, kind, req in _typed_fields(cls)}
     for key, v in data.items():
         if key in kinds:
@@ -163,7 +173,7 @@ def _read(cls, data, path: str):
     return cls(**values, extra=extra)
 
 
-def _write(obj) -> dict:
+def _write(obj: _Entry) -> JSONObject:
     """JSON object of a typed entry: its set fields in order, then ``extra``."""
     out = {name: getattr(obj, name) for name, _, _ in _typed_fields(type(obj)) if getattr(obj, name) is not None}
     out.update(obj.extra)
@@ -179,12 +189,16 @@ class _Entry:
     """A typed JSON object: ``to_json`` writes its set fields then ``extra``; ``from_json`` checks types."""
 
     _PATH = ""
+    extra: JSONObject
 
-    def to_json(self) -> dict:
+    if TYPE_CHECKING:  # each entry is a dataclass, built from its fields by keyword
+        def __init__(self, **values: Any) -> None: ...
+
+    def to_json(self) -> JSONObject:
         return _write(self)
 
     @classmethod
-    def from_json(cls, data, path: str | None = None):
+    def from_json(cls, data: Any, path: str | None = None) -> Self:
         return _read(cls, data, cls._PATH if path is None else path)
 
 
@@ -197,7 +211,7 @@ class BodyEntry(_Entry):
     volume_mm3: float | None = None
     mass_g: float | None = None
     com_mm: list[float] | None = None
-    extra: dict = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
     _PATH = "body."
 
 
@@ -212,7 +226,7 @@ class JointEntry(_Entry):
     axis_dir: list[float] | None = None
     joint_stiffness_nmm_per_rad: float | None = None
     requested_stiffness_nmm_per_rad: float | None = None
-    spring: dict | None = None
+    spring: dict[str, Any] | None = None
     preload_deg: float | None = None
     rotation_deg: float | None = None
     link_length_mm: float | None = None
@@ -220,7 +234,7 @@ class JointEntry(_Entry):
     height_mm: float | None = None
     tendon_moment_arm_mm: float | None = None
     tendon_wrap_angle_rad: float | None = None
-    extra: dict = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
     _PATH = "joint."
 
 
@@ -234,16 +248,16 @@ class Manifest:
     material: str | None = None
     printer: str | None = None
     clearance_mm: float | None = None
-    extra: dict = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
     #: the schema version it was read from (0: a joint's keys were flat at the top)
     read_version: int = field(default=SCHEMA_VERSION, compare=False, repr=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.kind not in KEY_ORDER:
             raise ValueError(f"Manifest.kind must be one of {sorted(KEY_ORDER)}, not {self.kind!r}")
 
     # --- writing ---------------------------------------------------------------
-    def to_json(self) -> dict:
+    def to_json(self) -> JSONObject:
         """The JSON object: ``schema_version`` first, then the keys in ``KEY_ORDER``, then any others."""
         values = {k: getattr(self, k) for k in ("material", "printer", "clearance_mm") if getattr(self, k) is not None}
         values.update(self.extra)
@@ -256,7 +270,7 @@ class Manifest:
                 values.update({k: entry[f] for k, f in JOINT_FLAT_KEYS.items() if f in entry})
         else:
             values["joints"] = joints
-        out = {"schema_version": SCHEMA_VERSION}
+        out: JSONObject = {"schema_version": SCHEMA_VERSION}
         out.update({k: values.pop(k) for k in KEY_ORDER[self.kind] if k in values})
         out.update(values)
         if self.kind == "joint":
@@ -265,12 +279,12 @@ class Manifest:
 
     # --- reading ---------------------------------------------------------------
     @classmethod
-    def read(cls, path: str | os.PathLike) -> "Manifest":
+    def read(cls, path: str | os.PathLike[str]) -> Manifest:
         """The manifest in the JSON file ``path`` (rjcad.io.untrusted); one error line naming the file (and key)."""
         return cls.from_json(read_json(path), source=path)
 
     @classmethod
-    def from_json(cls, data, source: str | os.PathLike | None = None) -> "Manifest":
+    def from_json(cls, data: Any, source: str | os.PathLike[str] | None = None) -> Manifest:
         """The manifest of a JSON object of version 1 or 0; one ``ManifestError`` line naming a bad key (and
         ``source``, the file it came from, if given)."""
         try:
@@ -279,7 +293,7 @@ class Manifest:
             raise (e.at(source) if source is not None else e) from None
 
     @classmethod
-    def _from_json(cls, data) -> "Manifest":
+    def _from_json(cls, data: Any) -> Manifest:
         if not isinstance(data, dict):
             raise ManifestError("manifest", type(data).__name__,
                                 f"must be a JSON object, not {_JSON_TYPES.get(type(data), type(data).__name__)}")
@@ -304,7 +318,7 @@ class Manifest:
         return cls(kind, joints, bodies, **typed, extra=rest, read_version=version)
 
     @classmethod
-    def coerce(cls, manifest) -> "Manifest":
+    def coerce(cls, manifest: Any) -> Manifest:
         """``manifest`` itself if it is a Manifest, else ``from_json(manifest)``."""
         return manifest if isinstance(manifest, cls) else cls.from_json(manifest)
 
@@ -315,13 +329,13 @@ class Manifest:
         return f"joints[{i + 1}].{name}"
 
     # --- the JSON view, read-only (for printers and callers that want a key) --------------
-    def __getitem__(self, key: str):
+    def __getitem__(self, key: str) -> Any:
         return self.to_json()[key]
 
     def __contains__(self, key: str) -> bool:
         return key in self.to_json()
 
-    def get(self, key: str, default=None):
+    def get(self, key: str, default: Any = None) -> Any:
         return self.to_json().get(key, default)
 
 
@@ -329,7 +343,7 @@ _JSON_TYPES = {list: "an array", str: "a string", int: "a number", float: "a num
                type(None): "null"}
 
 
-def _bodies(data) -> list[BodyEntry] | None:
+def _bodies(data: Any) -> list[BodyEntry] | None:
     if data is None:
         return None
     if not isinstance(data, list):
@@ -337,13 +351,13 @@ def _bodies(data) -> list[BodyEntry] | None:
     return [BodyEntry.from_json(b, f"bodies[{i}].") for i, b in enumerate(data, 1)]
 
 
-def _joint_list(data) -> list[JointEntry]:
+def _joint_list(data: Any) -> list[JointEntry]:
     if not isinstance(data, list):
         raise ManifestError("joints", data, "must be a list of joints, proximal first")
     return [JointEntry.from_json(j, f"joints[{i}].") for i, j in enumerate(data, 1)]
 
 
-def _flat_joint(rest: dict, bodies: list[BodyEntry] | None) -> JointEntry:
+def _flat_joint(rest: JSONObject, bodies: list[BodyEntry] | None) -> JointEntry:
     """Version 0 joint: the entry from the flat keys (consumed from ``rest``); its parent the other body."""
     kinds = {name: kind for name, kind, _ in _typed_fields(JointEntry)}
     values = {f: _check(kinds[f], rest.pop(k), k) for k, f in JOINT_FLAT_KEYS.items() if k in rest}
@@ -353,7 +367,7 @@ def _flat_joint(rest: dict, bodies: list[BodyEntry] | None) -> JointEntry:
     return JointEntry(**values)
 
 
-def _drop_mirrored(rest: dict, joints: list[JointEntry]) -> None:
+def _drop_mirrored(rest: JSONObject, joints: list[JointEntry]) -> None:
     """Version 1 joint: the flat keys must agree with its one entry (which they mirror); drop them."""
     if len(joints) != 1:
         raise ManifestError("joints", len(joints), "must hold exactly one joint in a joint manifest (moving_body)")

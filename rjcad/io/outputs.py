@@ -13,9 +13,9 @@ import errno
 import os
 import shutil
 import tempfile
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
-from typing import Iterator
+from collections.abc import Iterator, Mapping
 
 from rjcad.errors import RjcadError
 
@@ -94,7 +94,7 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
             restore_times(out, times)
 
 
-def write_set(out_dir: str | os.PathLike, files: dict[str, bytes | str],
+def write_set(out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str],
               remove: tuple[str, ...] = ()) -> list[Path]:
     """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``)."""
     out = Path(out_dir)
@@ -128,18 +128,14 @@ def _make_dirs(out: Path) -> list[Path]:
 def _unmake(made: list[Path]) -> None:
     """Remove the directories ``_make_dirs`` made, if still empty."""
     for d in made:
-        try:
+        with suppress(OSError):
             d.rmdir()
-        except OSError:
-            pass
 
 
 def restore_times(out: Path, st: os.stat_result) -> None:
     """Give ``out`` back the times it had before a temporary file or stage came and went (best effort)."""
-    try:
+    with suppress(OSError):
         os.utime(out, ns=(st.st_atime_ns, st.st_mtime_ns))
-    except OSError:
-        pass
 
 
 def _target(path: Path, stage: Path, out: Path) -> Path:

@@ -3,13 +3,13 @@
 from rjcad.paper import FINGER
 
 #: A finger template's keys and their types (the builder and the physics read the same files).
-FINGER_KEYS = {
+FINGER_KEYS: dict[str, type | tuple[type, ...]] = {
     "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
     "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str, "layout": str,
     "defaults": dict, "joint": list,
 }
 #: Keys of ``[defaults]`` and of each ``[[joint]]``.
-FINGER_JOINT_KEYS = {
+FINGER_JOINT_KEYS: dict[str, type | tuple[type, ...]] = {
     "stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "rotation_deg": (int, float),
     "link_length_mm": (int, float), "tendon_moment_arm_mm": (int, float),
 }

@@ -12,7 +12,7 @@ so ``rjcad.spring.optimise`` can import ``rjcad.life`` without a cycle.
 """
 
 from rjcad.life.constraint import (
-    _CACHE,
+    _CACHE as _CACHE,  # re-exported: the tests swap the cached design model
     DESIGN_EFFECTS,
     DESIGN_STRESS_TERM,
     amplitude_limit,

@@ -64,12 +64,13 @@ def amplitude_limit(min_cycles: float, thickness, backlash=0.25, level: float = 
     t = np.atleast_1d(np.asarray(thickness, dtype=float))
     z = NormalDist().inv_cdf(0.5 + level / 2)
     target = math.log10(min_cycles)
-    beta = m.beta()
+    beta, cov = m.beta(), m.cov
+    assert cov is not None  # the design model is fitted with its covariance
     amp = np.full(t.shape, 5.0)
     for _ in range(4):
         d = _query(amp, t, backlash)
         X = m.design(d)
-        sd = np.sqrt(m.params["s"] ** 2 + np.einsum("ij,jk,ik->i", X, m.cov, X))
+        sd = np.sqrt(m.params["s"] ** 2 + np.einsum("ij,jk,ik->i", X, cov, X))
         rest = X @ beta + m.params["m"] * np.log10(amp)  # everything but −m·u
         margin = rest - z * sd - target
         if m.params["m"] <= 1e-9:

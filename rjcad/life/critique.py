@@ -156,7 +156,7 @@ def selection_frequencies(c: Critique, n_sim: int = 200, seed: int = 0) -> dict[
     gens = {"stress_only": c.baseline.model, **{e: cand.model for e, cand in c.candidates.items()}}
     out = {}
     for g, model in gens.items():
-        counts = {k: 0 for k in gens}
+        counts = dict.fromkeys(gens, 0)
         for _ in range(n_sim):
             sim = simulate(model, c.data, rng, runout)
             if sim.censored.sum() >= sim.n - 4:  # too few failures to fit a 4-parameter model

@@ -79,7 +79,7 @@ def _old_pinned_peaks() -> np.ndarray:
     tab = read_table()
     E = get_material(tab.meta["material"]).youngs_modulus_mpa
     theta = (float(tab.meta["rotation_deg"]) + float(tab.meta["preload_deg"])) * DEG
-    return windup_stress(E, float(tab.meta["width_mm"]), tab.thickness, tab.length, theta, "pinned")
+    return np.asarray(windup_stress(E, float(tab.meta["width_mm"]), tab.thickness, tab.length, theta, "pinned"))
 
 
 def _old_ratio() -> str:

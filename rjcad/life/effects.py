@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from rjcad.life.table import LifeData
 
 #: Road (extrusion) width assumed for the paper's printer (Stratasys Dimension Elite) [mm].
 ROAD_WIDTH = 0.5
@@ -15,7 +20,7 @@ class Effect:
     """A candidate cause: in words, its feature x = feature(LifeData), its coefficient's name and what that means."""
 
     cause: str
-    feature: object  # LifeData -> array
+    feature: Callable[[LifeData], np.ndarray]
     param: str
     unit: str
 

@@ -77,7 +77,7 @@ class LifeData:
     def n(self) -> int:
         return len(self.cycles)
 
-    def subset(self, keep) -> "LifeData":
+    def subset(self, keep) -> LifeData:
         return LifeData(*(np.asarray(getattr(self, f))[keep] for f in
                           ("stress_amp", "thickness", "backlash", "cycles", "censored")))
 

@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from collections.abc import Callable
+from typing import Any
 
 from rjcad.errors import ParameterError
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
@@ -36,7 +37,7 @@ LIFE_NOTE = ("rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 9
              "an extrapolation for other materials and printers")
 
 #: (stress amplitude [MPa], thickness [mm], backlash [mm]) → (median, lower, upper) cycles, as arrays.
-LifePredictor = Callable[..., tuple]
+LifePredictor = Callable[..., tuple[Any, Any, Any]]
 
 
 def check_end(end: str) -> str:
@@ -46,7 +47,7 @@ def check_end(end: str) -> str:
     return end
 
 
-def _angle(name: str, value, lo: float, lo_open: bool, limit: str) -> None:
+def _angle(name: str, value: object, lo: float, lo_open: bool, limit: str) -> None:
     """An angle in rad within lo..360° (shown in degrees); a non-finite value is shown as given."""
     in_range(name, value, limit=limit)
     in_range(name, value, lo, TWO_PI + 1e-12, lo_open=lo_open, deg=True, limit=limit)
@@ -82,7 +83,7 @@ class SpringRequirement:
     #: Smallest gap the coils keep over the whole wind-up [mm]; None: the printer's minimum gap.
     min_gap: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # lower bounds far below any printable spring (a 1 m strip of 0.4 × 1 mm ABS is 0.01 N·mm/rad), but
         # away from 0: the optimiser divides by them
         in_range("stiffness", self.joint_stiffness, 0.01, 1e4,
@@ -277,7 +278,7 @@ class SpringDesign:
                                 self.outer_radius <= req.outer_radius_max + tol),
         }
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """The keys of ``rjcad spring --json``: stiffnesses per joint unless the key says spring."""
         req = self.requirement
         rod = self.rod
@@ -324,7 +325,7 @@ class SpringDesign:
             **self._life_keys(),
         }
 
-    def _life_keys(self) -> dict:
+    def _life_keys(self) -> dict[str, Any]:
         if self.life is None:
             return {}
         med, lo, hi = self.predicted_life()

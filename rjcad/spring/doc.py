@@ -18,7 +18,7 @@ from rjcad.spring.formulas import coil_gap as handbook_gap
 from rjcad.spring.paper_check import paper_check, table_i_spread
 
 #: The first wave's default spring (b 7.6, t 0.8, L 219.5, r_in 3, pitch 1.1434, 5.62 turns, E 2200).
-OLD = dict(r_in=3.0, pitch=1.1434137451636173, turns=5.620157989891363, b=7.6, t=0.8, E=2200.0)
+OLD: dict[str, float] = dict(r_in=3.0, pitch=1.1434137451636173, turns=5.620157989891363, b=7.6, t=0.8, E=2200.0)
 DEG = math.pi / 180
 
 
@@ -27,7 +27,8 @@ def _contact(end, sense, arms=1, theta=math.pi):
 
     ``arms=2``: two such arms interleaved 180° apart, each at twice the pitch (the same coil-to-coil gap).
     """
-    res = rod.spiral_windup(**OLD, end=end, sense=sense, arms=arms, theta_max=theta, steps=72)
+    res = rod.spiral_windup(OLD["r_in"], OLD["pitch"], OLD["turns"], OLD["b"], OLD["t"], OLD["E"], end=end,
+                            sense=sense, arms=arms, theta_max=theta, steps=72)
     fc = res.first_contact
     return (None if fc is None else math.degrees(fc)), float(res.gap.min())
 
@@ -121,7 +122,7 @@ def _why_section(cases: dict) -> list[str]:
 
 def _surrogate_section(n: int = 40, seed: int = 5) -> list[str]:
     rng = np.random.default_rng(seed)
-    errs = []
+    found: list[float] = []
     for _ in range(n):
         r_in = rng.uniform(3.0, 8.0)
         t = rng.uniform(0.5, min(1.6, r_in / 3))
@@ -130,8 +131,8 @@ def _surrogate_section(n: int = 40, seed: int = 5) -> list[str]:
                                 theta_max=theta, steps=max(2, math.ceil(theta / (3.75 * DEG))))
         ours = float(fx.coil_gap(theta, r_in, p, turns, t, "clamped"))
         if np.isfinite(ours) and (res.coil_gap.min() + t) / p >= 0.1:
-            errs.append(ours - float(res.coil_gap.min()))
-    errs = np.array(errs)
+            found.append(ours - float(res.coil_gap.min()))
+    errs = np.array(found)
     return [
         "## The surrogate the search uses",
         "",

@@ -37,7 +37,7 @@ THETA_MAX = 2.0 * math.pi
 FALLBACK_M = {"clamped": 1.3, "pinned": 2.3}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def use_margin(end: str, sense: str = JOINT_SENSE) -> bool:
     """Whether the table carries its fitted error margins for (end, sense): the shipped one does.
 

@@ -23,10 +23,15 @@ the designer uses the rod model's gap instead.
 from __future__ import annotations
 
 import math
+from typing import Any, TypeAlias
 
 import numpy as np
+import numpy.typing as npt
 
 TWO_PI = 2.0 * math.pi
+
+#: A number or an array of them: every formula here broadcasts, and gives back the same kind.
+Value: TypeAlias = float | npt.NDArray[np.floating[Any]]
 
 #: Outer-end conditions: (stiffness factor on E·b·t³/(12L), peak-moment factor on T).
 END_CONDITIONS: dict[str, tuple[float, float]] = {
@@ -46,7 +51,7 @@ def end_factors(end: str) -> tuple[float, float]:
         raise ValueError(f"end = {end!r} is invalid: known end conditions: {', '.join(END_CONDITIONS)}") from None
 
 
-def stiffness(E, b, t, L, end: str = "clamped"):
+def stiffness(E: Value, b: Value, t: Value, L: Value, end: str = "clamped") -> Value:
     """Torsional stiffness of one spring, K = c_end·E·b·t³/(12·L) [N·mm/rad].
 
     c_end = 1 (clamped) or 0.8 (pinned). E in MPa, b, t, L in mm.
@@ -55,13 +60,13 @@ def stiffness(E, b, t, L, end: str = "clamped"):
     return k_end * E * b * t**3 / (12.0 * L)
 
 
-def length_for_stiffness(K, E, b, t, end: str = "clamped"):
+def length_for_stiffness(K: Value, E: Value, b: Value, t: Value, end: str = "clamped") -> Value:
     """Active length giving stiffness K, L = c_end·E·b·t³/(12·K) [mm]."""
     k_end, _ = end_factors(end)
     return k_end * E * b * t**3 / (12.0 * K)
 
 
-def peak_stress(torque, b, t, end: str = "clamped"):
+def peak_stress(torque: Value, b: Value, t: Value, end: str = "clamped") -> Value:
     """Peak bending stress for spring torque T, σ = m_end·6·T/(b·t²) [MPa].
 
     m_end = 1 (clamped) or 2 (pinned, Wahl). T in N·mm.
@@ -70,7 +75,7 @@ def peak_stress(torque, b, t, end: str = "clamped"):
     return m_end * 6.0 * torque / (b * t**2)
 
 
-def windup_stress(E, b, t, L, theta, end: str = "clamped"):
+def windup_stress(E: Value, b: Value, t: Value, L: Value, theta: Value, end: str = "clamped") -> Value:
     """Peak stress at total wind-up θ (rad) from the printed shape [MPa].
 
     σ = m_end·6·K·θ/(b·t²); clamped this is E·t·θ/(2L), pinned 0.8·E·t·θ/L.
@@ -78,7 +83,7 @@ def windup_stress(E, b, t, L, theta, end: str = "clamped"):
     return peak_stress(stiffness(E, b, t, L, end) * theta, b, t, end)
 
 
-def stress_amplitude(K, rotation, b, t, end: str = "clamped"):
+def stress_amplitude(K: Value, rotation: Value, b: Value, t: Value, end: str = "clamped") -> Value:
     """Stress amplitude of a cycle of ``rotation`` (rad) on any preload, σ_a = m_end·6·K·rotation/(2·b·t²) [MPa].
 
     Half the stress swing: the stress is linear in the wind-up, so the preload drops out.
@@ -86,7 +91,7 @@ def stress_amplitude(K, rotation, b, t, end: str = "clamped"):
     return peak_stress(K * rotation, b, t, end) / 2
 
 
-def archimedean_length(r_in, pitch, turns):
+def archimedean_length(r_in: Value, pitch: Value, turns: Value) -> Value:
     """Exact centreline length of r(φ) = r_in + p·φ/(2π), φ ∈ [0, 2πn] [mm].
 
     With k = p/(2π) and u = r/k: L = (k/2)·[u·√(u²+1) + asinh u] from u_in to u_out.
@@ -95,23 +100,23 @@ def archimedean_length(r_in, pitch, turns):
     u0 = r_in / k
     u1 = u0 + TWO_PI * turns
 
-    def prim(u):
+    def prim(u: Value) -> Value:
         return u * np.sqrt(u * u + 1.0) + np.arcsinh(u)
 
     return 0.5 * k * (prim(u1) - prim(u0))
 
 
-def approx_length(r_in, pitch, turns):
+def approx_length(r_in: Value, pitch: Value, turns: Value) -> Value:
     """Mean-radius length approximation, L ≈ 2π·n·r_in + π·p·n² [mm]."""
     return TWO_PI * turns * r_in + math.pi * pitch * turns**2
 
 
-def outer_radius(r_in, pitch, turns):
+def outer_radius(r_in: Value, pitch: Value, turns: Value) -> Value:
     """Centreline radius at the outer end, r_out = r_in + p·n [mm]."""
     return r_in + pitch * turns
 
 
-def turns_for_length(L, r_in, pitch, iterations: int = 6):
+def turns_for_length(L: Value, r_in: Value, pitch: Value, iterations: int = 6) -> Value:
     """Turns n whose exact Archimedean length is L (Newton on L(n)) [-].
 
     Starts from the mean-radius approximation, which overestimates n; L(n) is
@@ -126,11 +131,11 @@ def turns_for_length(L, r_in, pitch, iterations: int = 6):
     return n
 
 
-def wound_pitch(r_in, pitch, turns, windup):
+def wound_pitch(r_in: Value, pitch: Value, turns: Value, windup: Value) -> Value:
     """Pitch after tightening by θ (rad): (r_out − r_in)/(n + θ/2π) [mm]."""
     return pitch * turns / (turns + windup / TWO_PI)
 
 
-def coil_gap(r_in, pitch, turns, t, windup):
+def coil_gap(r_in: Value, pitch: Value, turns: Value, t: Value, windup: Value) -> Value:
     """Gap between neighbouring coils at wind-up θ, wound pitch − t [mm]."""
     return wound_pitch(r_in, pitch, turns, windup) - t

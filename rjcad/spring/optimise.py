@@ -94,7 +94,7 @@ def _pitch(L, r_in, t, theta, g_min, end, sense, holes_ok=False, guess=None):
 
     def ok(p, sel, axis=False):
         args = [x[sel][:, None] if axis else x[sel] for x in cells]
-        gap = _gap_at(p, *args[:4], end, sense)
+        gap = _gap_at(p, args[0], args[1], args[2], args[3], end, sense)
         return np.where(np.isnan(gap), args[4], gap) >= g_min - 1e-12
 
     def bisect(lo, hi, sel, steps):
@@ -283,8 +283,8 @@ def optimise_arrays(
     rot = _rows(max_windup if rotation is None else rotation, shape)
     r_in = np.maximum(inner_radius_min, MIN_RADIUS_TO_THICKNESS * t)
     life = min_cycles is not None
-    life_amp = (np.broadcast_to(amplitude_limit(min_cycles, t[0], backlash)[None, :], shape) if life
-                else np.full(shape, np.inf))
+    life_amp = (np.broadcast_to(amplitude_limit(min_cycles, t[0], backlash)[None, :], shape)
+                if min_cycles is not None else np.full(shape, np.inf))
     bounds = dict(width_min=width_min, width_max=width_max, min_turns=min_turns)
     b, b_need, L, p, n, found = _solve(K, theta, rot, s_allow, t, r_in, wf, E=E, end=end, sense=sense,
                                        printer=printer, g_min=g_min, life_amp=life_amp, bounds=bounds,

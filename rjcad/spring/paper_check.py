@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Any
 
 import numpy as np
 
@@ -75,7 +76,7 @@ def table_i_spread(r_in: float = 3.0) -> list[dict]:
     """The same check for each of Table I's (pitch, t) pairs, L from the paper's formula."""
     rows = []
     for pitch, t in TABLE_I_PAIRS:
-        row = dict(pitch=pitch, t=t, length=paper_length(t))
+        row: dict[str, Any] = dict(pitch=pitch, t=t, length=paper_length(t))
         for end in ("clamped", "pinned"):
             slope, small = joint_stiffness(r_in, pitch, t, end)
             row[end] = dict(slope_error=slope / JOINT.stiffness - 1.0, small_error=small / JOINT.stiffness - 1.0)

@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import SupportsInt, cast
 
 import numpy as np
 from rjcad.spring import banded
@@ -228,7 +229,7 @@ def solve_rod(nodes, bc, load=None, *, EI, EA, steps=20, tangents=None, tol: flo
     """
     X0 = np.asarray(nodes, dtype=float)
     n = len(X0)
-    lams = np.linspace(0, 1, int(steps) + 1)[1:] if np.isscalar(steps) else np.asarray(steps, float)
+    lams = np.linspace(0, 1, int(cast(SupportsInt, steps)) + 1)[1:] if np.isscalar(steps) else np.asarray(steps, float)
     fixed, values = _bc_setup(bc, n)
     f_ext = np.zeros(3 * n)
     for node, F in (load or {}).items():
@@ -285,7 +286,8 @@ def archimedean_length(r_in, pitch, turns):
     return float(0.5 * k * (prim[1] - prim[0]))
 
 
-def spiral_nodes(r_in, pitch, turns, phi0, per_turn=80):
+def spiral_nodes(r_in: float, pitch: float, turns: float, phi0: float,
+                 per_turn: float = 80) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Nodes (N, 2), exact tangent angles (N,) and spiral angle φ − φ0 (N,) of one arm."""
     m = max(8, math.ceil(turns * per_turn))
     a = np.linspace(0.0, TWO_PI * turns, m + 1)

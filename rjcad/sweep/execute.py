@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
 import threading
 import time
-from typing import Callable
+from collections.abc import Callable
 
 
 class Progress:
@@ -73,12 +74,14 @@ def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progre
     """
     from concurrent.futures import ProcessPoolExecutor, as_completed as done
     import multiprocessing as mp
+    from multiprocessing.context import BaseContext
 
     # forkserver where the platform has it: a clean server process imports CadQuery once (about 2 s) and
     # forks the workers from there, so they start at once; plain fork could inherit locked thread pools
     if "forkserver" in mp.get_all_start_methods():
-        ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
+        forkserver = mp.get_context("forkserver")
+        forkserver.set_forkserver_preload(["rjcad.cad.build", "rjcad.sweep"])
+        ctx: BaseContext = forkserver
     else:
         ctx = mp.get_context("spawn")
     lifeline_r, lifeline_w = ctx.Pipe(duplex=False)
@@ -104,10 +107,8 @@ def _worker_start(lifeline) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
     def watch() -> None:
-        try:
+        with contextlib.suppress(EOFError, OSError):
             lifeline.recv_bytes()  # nothing is ever sent: returns only by EOF, when the main process is gone
-        except (EOFError, OSError):
-            pass
         os._exit(1)
 
     threading.Thread(target=watch, name="rjcad-lifeline", daemon=True).start()

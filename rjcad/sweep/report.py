@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -67,7 +68,7 @@ def pareto_front(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
-def write_report(out: Path, rows: list[dict], build: bool, notes: list[str] = ()) -> None:
+def write_report(out: Path, rows: list[dict], build: bool, notes: Sequence[str] = ()) -> None:
     """pareto.png (outer radius vs stress margin, and vs life when known) and summary.md (with ``notes``)."""
     ok = [r for r in rows
           if str(r.get("feasible")) in ("True", "true", "1") and r.get("outer_radius_mm") not in ("", None)]

@@ -134,7 +134,7 @@ def _intact(row: dict) -> bool:
         value = row.get(name)
         if kind is float:
             try:
-                float(value)
+                float(value)  # type: ignore[arg-type]  # None (a missing cell) raises TypeError: rejected
             except (TypeError, ValueError):
                 return False
         elif not isinstance(value, str) or not value:

@@ -125,7 +125,7 @@ class SweepSpec:
     seed: int = 0
 
     @classmethod
-    def from_toml(cls, path: str | Path) -> "SweepSpec":
+    def from_toml(cls, path: str | Path) -> SweepSpec:
         """The sweep file ``path`` (rjcad.io.untrusted); a bad file is one error line naming it and the key."""
         data = load_toml(path, {"sweep": dict, "fixed": dict, "params": dict})
         try:
@@ -134,7 +134,7 @@ class SweepSpec:
             raise ParameterError(f"{Path(path).name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
     @classmethod
-    def from_dict(cls, data: dict) -> "SweepSpec":
+    def from_dict(cls, data: dict) -> SweepSpec:
         """Check types and structure (a wrong type is a bad file); values out of range are bad designs (rows)."""
         data = _table("sweep file", data)
         sweep = _table("sweep", data.get("sweep", {}))
