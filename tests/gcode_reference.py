@@ -255,3 +255,11 @@ def parse_gcode(text: str) -> Toolpaths:
     width = np.where(np.isnan(width), from_e, width)
     return Toolpaths(x0, y0, x1, y1, z, width, height, cols[:, 8].astype(int), cols[:, 9].astype(int),
                      cols[:, 10].astype(int), rd.objects, rd.kinds)
+
+
+def assert_same(a: Toolpaths, b: Toolpaths) -> None:
+    """Two readers' Toolpaths are equal, row for row and bit for bit (NaN equal to NaN)."""
+    for f in ("x0", "y0", "x1", "y1", "z", "width", "height", "obj", "kind", "path", "length"):
+        u, v = getattr(a, f), getattr(b, f)
+        assert u.dtype.kind == v.dtype.kind and np.array_equal(u, v, equal_nan=True), f
+    assert a.objects == b.objects and a.kinds == b.kinds

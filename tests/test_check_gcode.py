@@ -174,6 +174,7 @@ def test_empty_or_travel_only_gcode_has_no_rows():
 
 
 # ---------------------------------------------------------------- the numpy reader against the line-by-line one
+# (and on the default joint's G-code: tests/test_check_print.py)
 
 MIXED = """; filament_diameter = 1.75
 G90
@@ -214,16 +215,9 @@ G1 X3 Y0 E0.1
 """
 
 
-def _same(a, b):
-    for f in ("x0", "y0", "x1", "y1", "z", "width", "height", "obj", "kind", "path", "length"):
-        u, v = getattr(a, f), getattr(b, f)
-        assert u.dtype.kind == v.dtype.kind and np.array_equal(u, v, equal_nan=True), f
-    assert a.objects == b.objects and a.kinds == b.kinds
-
-
 @pytest.mark.parametrize("text", [MIXED, MIXED.replace("\n", "\r\n"), "", "G1 X1\n", "G1 X1 Y1 E1"])
 def test_numpy_reader_gives_what_the_line_by_line_reader_gave(text):
-    from gcode_reference import parse_gcode as reference
+    from gcode_reference import assert_same, parse_gcode as reference
 
-    _same(parse_gcode(text), reference(text))
+    assert_same(parse_gcode(text), reference(text))
     assert len(parse_gcode(MIXED).x0) > 8

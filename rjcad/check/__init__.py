@@ -11,8 +11,9 @@ STL bodies are matched to a manifest's bodies by volume.
 Modules: ``load`` (mesh file, manifest, body names), ``mesh_checks`` (the bodies at rest),
 ``motion`` (the joints' sweep), ``copies`` (the simplified copies gaps and sweeps are measured on, so that
 their cost follows the shape, not the triangle count), ``feature`` (walls, gaps, bed), ``overhang`` (downward surfaces),
-``slicer`` (PrusaSlicer, supports off) with ``gcode`` (G-code reader) and ``toolpath`` (its analysis),
-``report``.
+``slicer`` (PrusaSlicer, supports off: started in the background before the mesh checks, so that they run while
+it slices; its G-code kept per process in ``GCODE_CACHE``) with ``gcode`` (G-code reader) and ``toolpath`` (its
+analysis), ``report``.
 """
 
 from __future__ import annotations
