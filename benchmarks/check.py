@@ -11,11 +11,17 @@ the whole `rjcad check --json` runs as a subprocess on the largest size (wall ti
 that process). The slicer is not part of these: `rjcad check` runs PrusaSlicer only
 with `--slicer prusa`.
 
+And the whole `rjcad check --slicer prusa` on the default finger's 3MF against PrusaSlicer alone on the same
+bodies and settings, measured in turn in the same run (`finger_check_over_slicer`: ratio of the medians;
+`_paired`: median of each round's ratio), with `rjcad check` without the slicer and the G-code read time it
+reports (`finger_vs_slicer`; each `rjcad check` in a fresh process, so no G-code cache carries over).
+
 Prints one JSON object (medians of --repeats after a warm-up; the big-mesh figures are single runs).
 Targets: watertight + manifold >= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion
 sweep <= 2 s; the overhang check on the default finger <= 1 s (first call on fresh meshes: ray structures
 built inside); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
---quick, nor without prusa-slicer); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
+--quick, nor without prusa-slicer); the finger's `rjcad check --slicer prusa` <= 1.3 x PrusaSlicer alone and
+without the slicer <= 5 s (not with --quick); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
 <= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
 """
@@ -30,18 +36,61 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
 import trimesh
 
-from _timing import emit, median_time, parse_args, target
+from _timing import emit, median_of, median_time, parse_args, target
 
 from rjcad import check as chk
 from rjcad.check.copies import simplified
-from rjcad.cad.build import build_finger_model, write_joint
+from rjcad.cad.build import build_finger_model, write_finger, write_joint
 from rjcad.design.params import JointParams
 from rjcad.materials import get_printer
+
+
+def _finger_check(cmd: list[str]) -> tuple[float, dict]:
+    """Wall seconds and JSON report of one `rjcad check` in its own process."""
+    t0 = time.perf_counter()
+    out = subprocess.run(cmd, capture_output=True, text=True).stdout
+    return time.perf_counter() - t0, json.loads(out)
+
+
+def finger_vs_slicer(quick: bool, repeats: int) -> dict:
+    """`rjcad check --slicer prusa` on the default finger (3MF + manifest, as `rjcad finger` writes them) against
+    PrusaSlicer alone slicing the same bodies with the check's settings, and `rjcad check` without the slicer; run
+    in turn ``repeats`` times (no warm-up: each `rjcad check` is a fresh process), medians and their ratio, and
+    the median of each round's ratio. Not with --quick, nor without prusa-slicer."""
+    keys = ("finger_check_slicer_s", "finger_prusaslicer_alone_s", "finger_check_no_slicer_s",
+            "finger_check_gcode_read_s", "finger_check_over_slicer", "finger_check_over_slicer_paired")
+    if quick or not shutil.which("prusa-slicer"):
+        return dict.fromkeys(keys)
+    from rjcad.cad.finger import FingerParams
+
+    template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        write_finger(FingerParams.from_toml(str(template)), d, png=False)
+        mesh, man = str(Path(d, "finger.3mf")), chk.load_manifest(Path(d, "finger.json"))
+        bodies, names = chk.load_bodies(mesh)
+        names, prn = chk.name_bodies(bodies, names, man), get_printer(man.printer or "generic-0.4")
+        cmd = [sys.executable, "-m", "rjcad", "check", mesh, "--manifest", str(Path(d, "finger.json")), "--json"]
+        for _ in range(max(repeats, 1)):
+            chk.GCODE_CACHE.clear()
+            t0 = time.perf_counter()
+            gcode, error, _ = chk.start_slicer(bodies, names, prn, "prusa").wait()
+            alone = time.perf_counter() - t0
+            assert gcode is not None, error
+            whole, rep = _finger_check(cmd + ["--slicer", "prusa"])
+            plain, _ = _finger_check(cmd)
+            read = re.search(r"G-code read in ([\d.]+) s", rep["checks"][-1]["detail"])
+            rows.append({"whole": whole, "alone": alone, "plain": plain, "read": float(read.group(1)) if read else 0.0,
+                         "ratio": whole / alone})
+    med = median_of(rows)
+    return dict(zip(keys, (med["whole"], med["alone"], med["plain"], med["read"], med["whole"] / med["alone"],
+                           med["ratio"])))
 
 
 def print_checks(quick: bool, repeats: int) -> dict:
@@ -184,6 +233,7 @@ def main() -> None:
     t_clear, _ = median_time(lambda: chk.check_clearance(bodies, names, mans, 0.25, 0.02), args.repeats)
     t_feat, _ = median_time(lambda: chk.check_min_feature(bodies, names, prn, 0.02), args.repeats)
     prints = print_checks(args.quick, args.repeats)
+    versus = finger_vs_slicer(args.quick, args.repeats)
     big = scale["big_mesh_triangles"] >= BIG_TRIANGLES
     out = {
         "solid_mesh_triangles": tris,
@@ -196,6 +246,7 @@ def main() -> None:
         "joint_min_feature_s": t_feat,
         "min_feature_s_per_100k_triangles": t_feat / (sum(len(b.faces) for b in bodies) / 1e5),
         **prints,
+        **versus,
         **scale,
         "repeats": args.repeats,
         "targets": {
@@ -203,6 +254,8 @@ def main() -> None:
             "joint_motion_sweep_s": target(t_motion, at_most=2.0),
             "finger_overhang_s": target(prints["finger_overhang_s"], at_most=1.0),
             "finger_slicer_s": target(prints["finger_slicer_s"], at_most=30.0),
+            "finger_check_over_slicer": target(versus["finger_check_over_slicer"], at_most=1.3),
+            "finger_check_no_slicer_s": target(versus["finger_check_no_slicer_s"], at_most=5.0),
             "big_check_s": target(scale["big_check_s"] if big else None, at_most=60.0),
             "big_check_peak_rss_gb": target(scale["big_check_peak_rss_gb"] if big else None, at_most=4.0),
         },

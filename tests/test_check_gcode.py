@@ -171,3 +171,53 @@ def test_malformed_width_falls_back_to_the_filament_pushed():
 def test_empty_or_travel_only_gcode_has_no_rows():
     tp = parse_gcode("G90\nG1 X1 Y1\nG1 X2 Y2 F100\n")
     assert len(tp.x0) == 0 and tp.objects == [] and len(tp.layers()) == 0
+
+
+# ---------------------------------------------------------------- the numpy reader against the line-by-line one
+# (and on the default joint's G-code: tests/test_check_print.py)
+
+MIXED = """; filament_diameter = 1.75
+G90
+M82
+G92 E0
+;TYPE:Perimeter
+;WIDTH:0.45
+;HEIGHT:0.2
+G1 Z.2 F7800
+; printing object body0.stl id:0 copy 0
+G1 X10.5 Y-3 F9000
+G1 X20.125 Y-3 E.5
+g1 x21 y-2 e0.6 ; lowercase, with a comment
+G1 X22 Y-2 E0.6
+G1 X22 Y-2 E0.7
+G1 X23 Y-1 Ebad E0.8
+G1 X24 Y-1 E1e-0
+G1 E.2 F2400
+; stop printing object body0.stl id:0 copy 0
+M486 S1 A"second part"
+M486 S1
+;TYPE:Solid infill
+;WIDTH:wide
+G1 X30 Y30
+G1 E1.0
+G1 X31 Y30 E1.1
+G3 X32 Y31 I0 J1 E1.3
+G1 Z.4
+G91
+G1 X1 E0.1
+M83
+G1 X1 Y1 E0.1
+G92 X0 Y0
+G90
+G1 X2 Y0 E0.1
+M486 S-1
+G1 X3 Y0 E0.1
+"""
+
+
+@pytest.mark.parametrize("text", [MIXED, MIXED.replace("\n", "\r\n"), "", "G1 X1\n", "G1 X1 Y1 E1"])
+def test_numpy_reader_gives_what_the_line_by_line_reader_gave(text):
+    from gcode_reference import assert_same, parse_gcode as reference
+
+    assert_same(parse_gcode(text), reference(text))
+    assert len(parse_gcode(MIXED).x0) > 8

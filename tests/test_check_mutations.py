@@ -1,10 +1,10 @@
 """Issue #16: `rjcad check` never passes a broken mesh and does not cry wolf on a sound one.
 
-A sound two-body print-in-place part (a pin in a tube with an arm, and a comb of two walls 0.6 mm apart, all made
-here from trimesh/manifold3d primitives) is damaged one way at a time; each damaged file, written as STL and as
+A sound two-body print-in-place part (a pin with a pointed tip in a tube with an arm, and a comb of two walls
+0.6 mm apart, all made here from trimesh/manifold3d primitives) is damaged one way at a time; each damaged file, written as STL and as
 3MF, must fail the named check with `where` within 1 mm of the damage, and the sound part must pass every check.
-Sound parts with creases, fillets, chamfers, a countersink and a near-tangent union pass watertight and
-min_feature.
+Sound parts with creases, fillets, chamfers, a countersink, a near-tangent union, a cone's tip and a chamfer's
+knife-edge end pass watertight and min_feature.
 """
 
 from __future__ import annotations
@@ -27,9 +27,16 @@ def comb(slot=0.6, wall=1.2):
     return union(box((-10, y0, 2), (-4, y0 + wall, 8)), box((-10, y0 + wall + slot, 2), (-4, y0 + 2 * wall + slot, 8)))
 
 
+def pin():
+    """The pin: r 2, z 0 … 14, with a 20° cone on top narrowing to a point (a tip, no thin wall)."""
+    tip = trimesh.creation.cone(radius=2.0, height=2.0 / np.tan(np.radians(20)), sections=SEG)
+    tip.apply_translation((0, 0, 14.0))
+    return union(cyl(2.0, 0, 14, sections=SEG), tip)
+
+
 def part(slot=0.6, wall=1.2):
-    """ground: plate + pin r 2 + comb; moving: a tube (bore r 2.25) with an arm along +X."""
-    ground = union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14, sections=SEG), comb(slot, wall))
+    """ground: plate + pin r 2 with a pointed tip + comb; moving: a tube (bore r 2.25) with an arm along +X."""
+    ground = union(box((-12, -12, 0), (12, 12, 2)), pin(), comb(slot, wall))
     tube = difference(cyl(5.0, 2.4, 12, sections=SEG), cyl(2.25, 2.0, 12.5, sections=SEG))
     moving = union(tube, box((4, -2, 2.4), (16, 2, 12)))
     return {"ground": ground, "moving": moving}
@@ -128,7 +135,7 @@ def shift_gap(b):
 
 def thin_wall(b):
     """The comb's first wall 0.2 mm thick."""
-    return part(wall=1.2) | {"ground": union(box((-12, -12, 0), (12, 12, 2)), cyl(2.0, 0, 14, sections=SEG),
+    return part(wall=1.2) | {"ground": union(box((-12, -12, 0), (12, 12, 2)), pin(),
                                              box((-10, -11, 2), (-4, -10.8, 8)),
                                              box((-10, -10.2, 2), (-4, -9.0, 8)))}, \
         np.array([(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-11.0, -10.8) for z in np.linspace(2, 8, 13)])
@@ -224,7 +231,23 @@ def near_tangent():
     return union(box((0, -5, 0), (10, 5, 6)), cyl(3.0, 0, 6, -2.9, 0, sections=SEG))
 
 
-SOUND_SHAPES = [crease, fillet, chamfer, countersink, near_tangent]
+def cone_tip(half_angle=20.0):
+    """A post r 3 with a cone on top narrowing to a point (``half_angle`` from its axis): the last 0.7 mm of a
+    20° tip are thinner than the minimum wall, and the nozzle prints it as far as it can (no thin wall)."""
+    height = 3.0 / np.tan(np.radians(half_angle))
+    tip = trimesh.creation.cone(radius=3.0, height=height, sections=SEG)
+    tip.apply_translation((0, 0, 5.0))
+    return union(cyl(3.0, 0, 5.0, sections=SEG), tip)
+
+
+def chamfer_end():
+    """A block whose end is chamfered top and bottom to a knife edge (a chamfer's end, 14° each side)."""
+    pts = [(0, 0, 0), (10, 0, 0), (0, 10, 0), (10, 10, 0), (0, 0, 4), (0, 10, 4), (10, 0, 4), (10, 10, 4),
+           (18, 0, 2), (18, 10, 2)]
+    return trimesh.convex.convex_hull(np.array(pts, float))
+
+
+SOUND_SHAPES = [crease, fillet, chamfer, countersink, near_tangent, cone_tip, chamfer_end]
 
 
 @pytest.mark.parametrize("fmt", ["stl", "3mf"])

@@ -315,6 +315,10 @@ def test_prusaslicer_slices_the_default_joint_3mf_as_one_object_at_its_modelled_
                    capture_output=True, timeout=300, check=True)
     text = gcode.read_text()
     assert len(set(re.findall(r"; printing object (.*?) id:\d+ copy \d+", text))) == 1  # one object
+    from gcode_reference import assert_same, parse_gcode as reference
+    from rjcad.check.gcode import parse_gcode
+
+    assert_same(parse_gcode(text), reference(text))  # the numpy reader reads it as the line-by-line one did
     xy = np.array([(float(x), float(y)) for x, y in re.findall(r"G1 X([-\d.]+) Y([-\d.]+) E", text)])
     lo = np.min([m.bounds[0] for m in b.meshes.values()], axis=0)
     hi = np.max([m.bounds[1] for m in b.meshes.values()], axis=0)
@@ -341,3 +345,16 @@ def test_a_body_the_slicer_moved_or_dropped_is_caught():
     empty = roads(0.0)
     empty.objects = ["body7.stl"]
     assert _moved(empty, [body], ["block"], offset) == "PrusaSlicer printed nothing of block"
+
+
+@pytest.mark.skipif(shutil.which("prusa-slicer") is None, reason="prusa-slicer is not installed")
+def test_the_same_bodies_are_sliced_once_per_process():
+    """GCODE_CACHE: slicing the same bodies with the same settings again reads the G-code of the first run."""
+    from rjcad.check import GCODE_CACHE
+
+    first = run_checks(printable_pair(), slicer="prusa", printer="generic-0.4").get("slicer")
+    n = len(GCODE_CACHE)
+    again = run_checks(printable_pair(), slicer="prusa", printer="generic-0.4").get("slicer")
+    assert len(GCODE_CACHE) == n >= 1 and "from this run’s cache" in again.detail
+    assert (again.passed, again.value, again.where) == (first.passed, first.value, first.where)
+    assert again.detail.split("; sliced in")[0] == first.detail.split("; sliced in")[0]

@@ -11,8 +11,9 @@ STL bodies are matched to a manifest's bodies by volume.
 Modules: ``load`` (mesh file, manifest, body names), ``mesh_checks`` (the bodies at rest),
 ``motion`` (the joints' sweep), ``copies`` (the simplified copies gaps and sweeps are measured on, so that
 their cost follows the shape, not the triangle count), ``feature`` (walls, gaps, bed), ``overhang`` (downward surfaces),
-``slicer`` (PrusaSlicer, supports off) with ``gcode`` (G-code reader) and ``toolpath`` (its analysis),
-``report``.
+``slicer`` (PrusaSlicer, supports off: started in the background before the mesh checks, so that they run while
+it slices; its G-code kept per process in ``GCODE_CACHE``) with ``gcode`` (G-code reader) and ``toolpath`` (its
+analysis), ``report``.
 """
 
 from __future__ import annotations
@@ -26,14 +27,15 @@ from rjcad.check.mesh_checks import check_bodies, check_clearance, check_manifol
 from rjcad.check.motion import check_motion, motion_joints, subtree
 from rjcad.check.overhang import check_overhang
 from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
-from rjcad.check.slicer import check_slicer, prusa_config
+from rjcad.check.slicer import GCODE_CACHE, Slicing, check_slicer, finish_slicer, prusa_config, start_slicer
 from rjcad.io.manifest import Manifest
 from rjcad.materials import get_printer
 
 __all__ = [
     "BadInput", "CheckResult", "Report", "run_checks", "format_table", "load_bodies", "load_manifest", "name_bodies",
     "check_watertight", "check_manifold", "check_bodies", "check_clearance", "check_motion", "check_min_feature",
-    "check_bed", "check_overhang", "check_slicer", "feature_sizes", "motion_joints", "subtree", "prusa_config",
+    "check_bed", "check_overhang", "check_slicer", "start_slicer", "finish_slicer", "GCODE_CACHE", "feature_sizes",
+    "motion_joints", "subtree", "prusa_config",
     "DEFAULT_ALLOWANCE", "FEATURE_SAMPLES", "CONE_HALF_ANGLE",
 ]
 
@@ -68,6 +70,18 @@ def run_checks(source, manifest: Manifest | dict | str | Path | None = None, cle
         clearance = float(man.clearance_mm) if man is not None and man.clearance_mm is not None else 0.25
     prn = get_printer(printer or (man.printer if man is not None else None) or "generic-0.4")
     expected = bodies if bodies is not None else (len(man.bodies) if listed else None)
+    started = start_slicer(meshes, names, prn, slicer)  # PrusaSlicer slices in the background meanwhile
+    try:
+        rep = _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance)
+        rep.checks.append(finish_slicer(started, meshes, names, prn, allowance))
+    finally:
+        if isinstance(started, Slicing):
+            started.close()
+    return rep
+
+
+def _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance) -> Report:
+    """Every check but the slicer's, in the report's order."""
     rep = Report(body_names=names)
     rep.checks.append(check_watertight(meshes, names))
     man_check, mans = check_manifold(meshes, names)
@@ -85,5 +99,4 @@ def run_checks(source, manifest: Manifest | dict | str | Path | None = None, cle
                       skipped("min_feature", "skipped: needs watertight bodies"))
     rep.checks.append(check_bed(meshes, prn))
     rep.checks.append(check_overhang(meshes, names, prn))
-    rep.checks.append(check_slicer(meshes, names, prn, slicer, allowance))
     return rep

@@ -17,12 +17,17 @@ FEATURE_SAMPLES = 20000
 CONE_HALF_ANGLE = math.radians(25)
 
 
-def _cone(n: np.ndarray, half_angle: float) -> list[np.ndarray]:
-    """The normals, and four directions tilted from them by ``half_angle``."""
+def _frame(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit directions across each unit normal, at right angles to each other."""
     ref = np.where(np.abs(n[:, [0]]) < 0.9, np.array([[1.0, 0, 0]]), np.array([[0, 1.0, 0]]))
     u = np.cross(n, ref)
     u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(n, u)
+    return u, np.cross(n, u)
+
+
+def _cone(n: np.ndarray, half_angle: float) -> list[np.ndarray]:
+    """The normals, and four directions tilted from them by ``half_angle``."""
+    u, v = _frame(n)
     c, s = math.cos(half_angle), math.sin(half_angle)
     return [n] + [c * n + s * w for w in (u, -u, v, -v)]
 
@@ -64,24 +69,43 @@ def feature_sizes(mesh: trimesh.Trimesh, samples: int = FEATURE_SAMPLES, seed: i
     real = np.linalg.norm(n, axis=1) > 0.5  # trimesh gives degenerate faces a zero normal: no direction to cast
     pts, n = pts[real], n[real]
     eps = 1e-4
-    wall = np.zeros(len(pts))
-    gap = np.zeros(len(pts))
-    for k, d in enumerate(_cone(n, CONE_HALF_ANGLE)):
-        # project each ray on the normal: across a flat wall every ray of the cone then gives its thickness
-        c = 1.0 if k == 0 else math.cos(CONE_HALF_ANGLE)
-        wall = np.maximum(wall, c * _ray_lengths(mesh, pts - n * eps, -d))
-        gap = np.maximum(gap, c * _ray_lengths(mesh, pts + n * eps, d, facing=n))
+    # every ray of every cone in one call each (walls, gaps); each ray projected on the normal: across a flat
+    # wall every ray of the cone then gives its thickness
+    dirs = np.concatenate(_cone(n, CONE_HALF_ANGLE))
+    proj = np.repeat([1.0] + [math.cos(CONE_HALF_ANGLE)] * 4, len(pts))
+    normals, at = np.tile(n, (5, 1)), np.tile(pts, (5, 1))
+    wall = (proj * _ray_lengths(mesh, at - normals * eps, -dirs)).reshape(5, -1).max(axis=0)
+    gap = (proj * _ray_lengths(mesh, at + normals * eps, dirs, facing=normals)).reshape(5, -1).max(axis=0)
     return pts, n, wall, gap
 
 
+def _wide(mesh: trimesh.Trimesh, pts: np.ndarray, n: np.ndarray, wall: np.ndarray, reach: float) -> np.ndarray:
+    """Which thin samples lie on a wall that goes on ``reach`` further on every side: the points ``reach`` away
+    from the wall's middle (pts − n·wall/2) along two directions across n, both ways, all lie inside the body.
+    A tip or an edge that narrows to a point ends within ``reach`` on some side: the nozzle prints it as far as it
+    can, and it is no thin wall."""
+    mid = pts - n * (wall / 2)[:, None]
+    u, v = _frame(n)
+    probes = np.concatenate([mid + s * reach * w for w in (u, v) for s in (1.0, -1.0)])
+    return mesh.contains(probes).reshape(4, len(pts)).all(axis=0)
+
+
 def check_min_feature(bodies, names, printer: Printer, allowance: float) -> CheckResult:
-    """Thinnest wall ≥ the printer's minimum wall; gaps inside a body ≥ its minimum gap (Z gaps: vertical)."""
+    """Thinnest wall ≥ the printer's minimum wall; gaps inside a body ≥ its minimum gap (Z gaps: vertical).
+
+    A sample thinner than the minimum counts only where the wall is thin over more than a nozzle's footprint: it
+    goes on a nozzle's diameter on every side (``_wide``); samples at a tip that narrows to a point are excused."""
     worst_wall = (math.inf, None, None)
     worst_gap = (math.inf, None, None, None)  # (ratio-to-limit margin, value, where, name/limit)
+    tips = 0
     for b, name in zip(bodies, names):
         pts, n, wall, gap = feature_sizes(b)
         if not len(pts):
             continue
+        thin = np.flatnonzero(wall < printer.min_wall_mm - allowance)
+        if len(thin):
+            tip = thin[~_wide(b, pts[thin], n[thin], wall[thin], printer.nozzle_mm)]
+            wall[tip], tips = np.inf, tips + len(tip)
         k = int(np.argmin(wall))
         if wall[k] < worst_wall[0]:
             worst_wall = (float(wall[k]), pts[k], name)
@@ -101,6 +125,9 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
         detail += (f"narrowest gap inside a body {worst_gap[1]:.3f} mm in {name} "
                    f"({'vertical' if vert else 'horizontal'}, min {lim} mm); ")
     detail += f"{FEATURE_SAMPLES} ray-cone samples per body, allowance {allowance} mm"
+    if tips:
+        detail += (f"; {tips} samples at tips excused (thinner than the minimum wall over less than a nozzle's "
+                   f"footprint: {printer.nozzle_mm} mm on some side)")
     if not wall_ok:
         return CheckResult("min_feature", False, round(worst_wall[0], 4), printer.min_wall_mm,
                            point(worst_wall[1]), "wall too thin: " + detail)

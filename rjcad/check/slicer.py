@@ -14,6 +14,7 @@ On a printer with soluble support, roads on nothing are reported but do not fail
 
 from __future__ import annotations
 
+import hashlib
 import re
 import shutil
 import subprocess
@@ -58,29 +59,74 @@ def prusa_config(printer: Printer) -> str:
     ])
 
 
-def _run_prusa(exe: str, bodies, printer: Printer, offset: np.ndarray, timeout: float):
-    """Slice every body as its own object; returns (G-code text or None, error message, seconds)."""
-    with tempfile.TemporaryDirectory() as d:
-        files = []
+#: G-code of this process's slicings: sha256 of what PrusaSlicer is given (its path, the settings file, each
+#: body's STL bytes in order) → (G-code, seconds the slicing took). The same bodies sliced again in one run
+#: (two checks, two tests) are read from here; ``GCODE_CACHE.clear()`` slices anew.
+GCODE_CACHE: dict[str, tuple[str, float]] = {}
+
+
+def slice_key(exe: str, config: str, stls: list[bytes]) -> str:
+    """The cache key of a slicing: sha256 of the slicer's path, its settings and the bodies' STL bytes."""
+    h = hashlib.sha256(f"{exe}\n{config}\n".encode())
+    for s in stls:
+        h.update(len(s).to_bytes(8, "little") + s)
+    return h.hexdigest()
+
+
+class Slicing:
+    """One PrusaSlicer run on the bodies (each its own object, moved by ``offset``), started in the background so
+    that the mesh checks run while it slices; or its G-code from GCODE_CACHE."""
+
+    def __init__(self, exe: str, bodies, printer: Printer, offset: np.ndarray, timeout: float):
+        self.dir = tempfile.TemporaryDirectory()
+        d, config, stls, files = self.dir.name, prusa_config(printer), [], []
         for k, b in enumerate(bodies):
             m = b.copy()
             m.apply_translation(offset)
+            stls.append(m.export(file_type="stl"))
             files.append(str(Path(d, f"body{k}.stl")))
-            m.export(files[-1])
-        ini, gcode = Path(d, "check.ini"), Path(d, "check.gcode")
-        ini.write_text(prusa_config(printer))
-        t0 = time.perf_counter()
+            Path(files[-1]).write_bytes(stls[-1])
+        self.key, self.timeout, self.gcode = slice_key(exe, config, stls), timeout, Path(d, "check.gcode")
+        self.offset, self.proc, self.cached = offset, None, self.key in GCODE_CACHE
+        self.t0 = time.perf_counter()
+        if self.cached:
+            return
+        ini = Path(d, "check.ini")
+        ini.write_text(config)
+        self.log = open(Path(d, "log.txt"), "w+")
+        self.proc = subprocess.Popen([exe, "--export-gcode", "--merge", "--dont-arrange", "--load", str(ini),
+                                      "--output", str(self.gcode), *files], stdout=self.log, stderr=subprocess.STDOUT,
+                                     text=True)
+
+    def wait(self) -> tuple[str | None, str, float]:
+        """(G-code text or None, error message, seconds the slicing took)."""
         try:
-            r = subprocess.run([exe, "--export-gcode", "--merge", "--dont-arrange", "--load", str(ini),
-                                "--output", str(gcode), *files], capture_output=True, text=True, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None, f"PrusaSlicer did not finish within {timeout:g} s", timeout
-        secs = time.perf_counter() - t0
-        errors = [ln for ln in (r.stderr + r.stdout).splitlines()
-                  if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln]
-        if r.returncode != 0 or not gcode.exists() or gcode.stat().st_size == 0 or errors:
-            return None, "PrusaSlicer failed: " + (errors[-1].strip() if errors else f"exit code {r.returncode}"), secs
-        return gcode.read_text(), "", secs
+            if self.proc is None:
+                return (*GCODE_CACHE[self.key][:1], "", GCODE_CACHE[self.key][1])
+            try:
+                code = self.proc.wait(timeout=max(self.timeout - (time.perf_counter() - self.t0), 0.0))
+            except subprocess.TimeoutExpired:
+                return None, f"PrusaSlicer did not finish within {self.timeout:g} s", self.timeout
+            secs = time.perf_counter() - self.t0
+            self.log.seek(0)
+            errors = [ln for ln in self.log.read().splitlines()
+                      if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln]
+            if code != 0 or not self.gcode.exists() or self.gcode.stat().st_size == 0 or errors:
+                return None, "PrusaSlicer failed: " + (errors[-1].strip() if errors else f"exit code {code}"), secs
+            GCODE_CACHE[self.key] = (self.gcode.read_text(), secs)
+            return GCODE_CACHE[self.key][0], "", secs
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Stop the slicer if it still runs, and remove its files."""
+        if self.proc is not None:
+            if self.proc.poll() is None:
+                self.proc.kill()
+                self.proc.wait()
+            self.log.close()
+            self.proc = None
+        self.dir.cleanup()
 
 
 def _moved(tp, bodies, names, offset) -> str | None:
@@ -120,6 +166,11 @@ def _describe(a: Analysis, offset: np.ndarray) -> tuple[str, list[float] | None]
 def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance: float = 0.02,
                  timeout: float = 600) -> CheckResult:
     """Slice with supports off and read the G-code back (skipped, with the reason, without PrusaSlicer)."""
+    return finish_slicer(start_slicer(bodies, names, printer, slicer, timeout), bodies, names, printer, allowance)
+
+
+def start_slicer(bodies, names, printer: Printer, slicer: str | None, timeout: float = 600):
+    """The slicer check's verdict if it needs no slicing (skipped, mid-air, too big), else the Slicing started."""
     if slicer is None:
         return CheckResult("slicer", None, None, None, None, "skipped: no --slicer given")
     if slicer != "prusa":
@@ -144,7 +195,15 @@ def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance:
                            f"the bodies ({ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm) do not fit the "
                            f"{printer.key} build volume as placed{turn}; not sliced")
     offset = np.r_[bed / 2 - (lo[:2] + hi[:2]) / 2, -lo[2]]
-    gcode, error, t_slice = _run_prusa(exe, bodies, printer, offset, timeout)
+    return Slicing(exe, bodies, printer, offset, timeout)
+
+
+def finish_slicer(started, bodies, names, printer: Printer, allowance: float = 0.02) -> CheckResult:
+    """The slicer check: wait for the Slicing (``start_slicer``), read its G-code back and judge it."""
+    if isinstance(started, CheckResult):
+        return started
+    offset = started.offset
+    gcode, error, t_slice = started.wait()
     if gcode is None:
         return CheckResult("slicer", False, "no G-code", "G-code", None, error)
     t0 = time.perf_counter()
@@ -166,7 +225,8 @@ def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance:
         where = point(np.asarray(a.gap_where) - offset)
     how = (f"{version.group(1) if version else 'PrusaSlicer'}, supports off, {printer.nozzle_mm} mm nozzle, "
            f"{printer.layer_height_mm} mm layers, thick bridges off, 100 % infill; {a.layers} layers; "
-           f"sliced in {t_slice:.1f} s, G-code read in {t_read:.1f} s")
+           f"sliced in {t_slice:.1f} s{' (G-code from this run’s cache)' if started.cached else ''}, "
+           f"G-code read in {t_read:.1f} s")
     bridges = f"{a.bridges} bridges excused (longest {a.longest_bridge:.1f} mm)"
     if a.failures and printer.soluble_support:
         text = f"not failing: {printer.key} prints soluble support under these; " + text

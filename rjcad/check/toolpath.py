@@ -81,6 +81,14 @@ class _Layer:
     def __post_init__(self):
         self.tree = cKDTree(np.stack([self.x, self.y], axis=1))
         self.w_max = float(self.w.max())
+        self.lo = np.array([self.x.min(), self.y.min()])
+        self.hi = np.array([self.x.max(), self.y.max()])
+
+    def near(self, other: "_Layer", reach: float) -> np.ndarray:
+        """Indices of this layer's samples within ``reach`` of the other's bounding box (the only ones that can
+        lie within ``reach`` of its samples)."""
+        return np.flatnonzero((self.x >= other.lo[0] - reach) & (self.x <= other.hi[0] + reach) &
+                              (self.y >= other.lo[1] - reach) & (self.y <= other.hi[1] + reach))
 
 
 def _sample(tp: Toolpaths, idx: np.ndarray) -> _Layer:
@@ -105,7 +113,7 @@ def _supported(cur: _Layer, prev: _Layer | None, h: float, enclosed: bool = True
     if prev is None:
         return np.zeros(len(cur.x), dtype=bool)
     pts = np.stack([cur.x, cur.y], axis=1)
-    d, i = prev.tree.query(pts, distance_upper_bound=h + prev.w_max / 2 + TOL_MM)
+    d, i = prev.tree.query(pts, distance_upper_bound=h + prev.w_max / 2 + TOL_MM, workers=-1)
     found = np.isfinite(d)
     allow = h + (prev.w[np.minimum(i, len(prev.w) - 1)] - cur.w) / 2 + TOL_MM
     ok = found & (d <= allow)
@@ -199,14 +207,17 @@ def _gaps(a: Analysis, tp: Toolpaths, cur: dict, z: float, h: float, lz: int, na
     for m, oa in enumerate(objs):
         for ob in objs[m + 1:]:
             la, lb = cur[oa], cur[ob]
-            d, i = lb.tree.query(np.stack([la.x, la.y], axis=1),
-                                 distance_upper_bound=la.w_max / 2 + lb.w_max / 2 + min_gap + 0.5)
+            reach = la.w_max / 2 + lb.w_max / 2 + min_gap + 0.5
+            near = la.near(lb, reach)
+            if not len(near):
+                continue
+            d, i = lb.tree.query(np.stack([la.x[near], la.y[near]], axis=1), distance_upper_bound=reach)
             hit = np.isfinite(d)
             if not hit.any():
                 continue
-            gap = np.where(hit, d - la.w / 2 - lb.w[np.minimum(i, len(lb.w) - 1)] / 2, np.inf)
-            k = int(np.argmin(gap))
-            j = int(i[k])
+            gap = np.where(hit, d - la.w[near] / 2 - lb.w[np.minimum(i, len(lb.w) - 1)] / 2, np.inf)
+            best = int(np.argmin(gap))
+            k, j = int(near[best]), int(i[best])
             exact = _seg_distance(tp, int(la.seg[k]), int(lb.seg[j])) - la.w[k] / 2 - lb.w[j] / 2
             if exact < a.min_gap:
                 a.min_gap = float(exact)
