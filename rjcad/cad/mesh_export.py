@@ -32,10 +32,9 @@ def prepare(png: bool = True) -> None:
     """Import what meshing, the gap measurement and the files need (trimesh, manifold3d, and with ``png`` the
     renderer's VTK modules, and its off-screen context started): 1.0–1.3 s that the ``rjcad`` program spends
     while its CAD process builds."""
-    from rjcad.imports import load
+    import trimesh  # noqa: F401
 
-    load("trimesh")
-    load("rjcad.mesh")  # manifold3d
+    import rjcad.mesh  # noqa: F401  (manifold3d)
     if png:
         from rjcad.cad.render import warm_up
 
