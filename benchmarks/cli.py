@@ -124,14 +124,14 @@ def main() -> None:
     build_s = in_process_build_stl_step(n)
     osc = out["openscad"]["median_s"] if out["openscad"] else None
     ratio = osc / out["joint"]["median_s"] if osc else None
+    out["saved_by_cad_process_s"] = saved(out["joint"], out["joint_one_process"])
+    out["saved_by_quick_exit_s"] = saved(out["joint"], out["joint_usual_exit"])
     out.update({
         "in_process_build_stl_step_s": build_s,
         "ratio_openscad_over_rjcad_joint": ratio,
         "ratio_openscad_over_rjcad_joint_paired": (statistics.median(out["openscad"]["ratios_to_first"])
                                                    if osc else None),
         "ratio_joint_over_joint_one_process": out["joint"]["median_s"] / out["joint_one_process"]["median_s"],
-        "saved_by_cad_process_s": saved(out["joint"], out["joint_one_process"]),
-        "saved_by_quick_exit_s": saved(out["joint"], out["joint_usual_exit"]),
         "ratio_openscad_over_rjcad_joint_cpu": (out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"]
                                                 if osc else None),
         "load_average_1min": os.getloadavg()[0],

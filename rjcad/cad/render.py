@@ -39,6 +39,10 @@ def _vtk():
     from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
     from vtkmodules.util import numpy_support
 
+    # text drawn by FreeType always: VTK gives a label with '|' to matplotlib's MathText when it can (when the
+    # process has loaded all of VTK, as CadQuery's import does), which draws it differently
+    vtkRenderingCore.vtkTextRenderer.GetInstance().SetDefaultBackend(vtkRenderingCore.vtkTextRenderer.FreeType)
+
     class V:
         pass
 
