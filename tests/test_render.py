@@ -97,22 +97,3 @@ def test_glb_holds_the_named_bodies_in_their_colours():
         srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
         assert np.allclose(srgb, rgb(COLOURS[name]), atol=2 / 255), name  # glTF's colour factors are linear
     assert ex.glb_bytes({"near": near, "far": far}, COLOURS) == glb  # reruns give the same bytes
-
-
-DEFERRED = """
-import sys
-import rjcad.cad.build  # imports CadQuery, whose OCP runs `import vtk`
-print(type(sys.modules["vtk"]).__name__, "vtkmodules.vtkRenderingVR" in sys.modules)
-import vtk
-print(vtk.vtkPolyData.__name__, type(sys.modules["vtk"]).__name__, "vtkmodules.vtkRenderingVR" in sys.modules)
-"""
-
-
-def test_cadquery_import_leaves_the_vtk_umbrella_unexecuted_until_used():
-    """rjcad.cad defers `vtk` (all of VTK, 1.3 s of imports) that OCP imports for nothing; it runs in full, under
-    its own name, on the first name read from it."""
-    import subprocess
-    import sys
-
-    r = subprocess.run([sys.executable, "-c", DEFERRED], capture_output=True, text=True, timeout=120, check=True)
-    assert r.stdout.split("\n")[:2] == ["_Deferred False", "vtkPolyData module True"], r.stdout + r.stderr

@@ -145,9 +145,9 @@ def build(p: JointParams, cad=None) -> JointBuild:
     """Build, tessellate and measure the joint; nothing is written. ``cad``: a ``rjcad.cad.process.CadProcess``
     to build the solids in (default: this process)."""
     if cad is None:
-        from rjcad.imports import load
+        from rjcad.cad.measure import LocalJoint  # CadQuery
 
-        source = load("rjcad.cad.measure").LocalJoint(p)  # CadQuery, imported without the collector
+        source = LocalJoint(p)
     else:
         source = cad.joint(p)
     shape = source.shape()
@@ -260,13 +260,9 @@ class FingerBuild:
 
 def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
-    from rjcad.imports import load
-
-    finger = load("rjcad.cad.finger")  # CadQuery, imported without the collector
     from rjcad.cad import export as ex
+    from rjcad.cad.finger import build_finger, tendon_path  # CadQuery
     from rjcad.cad.measure import body_entries
-
-    build_finger, tendon_path = finger.build_finger, finger.tendon_path
 
     t0 = time.perf_counter()
     solids = build_finger(fp)

@@ -33,10 +33,9 @@ def prepare(png: bool = True) -> None:
     """Import what meshing, the gap measurement and the files need (trimesh, manifold3d, and with ``png`` the
     renderer's VTK modules, and its off-screen context started): 1.0–1.3 s that the ``rjcad`` program spends
     while its CAD process builds."""
-    from rjcad.imports import load
+    import manifold3d  # noqa: F401
+    import trimesh  # noqa: F401
 
-    load("trimesh")
-    load("rjcad.check.mesh_checks")  # manifold3d
     if png:
         from rjcad.cad.render import warm_up
 

@@ -11,13 +11,6 @@ bit: the files are the ones an in-process build writes (``tests/test_cad_process
 for ``rjcad joint`` (``benchmarks/cli.py``). Building the two bodies in two processes as well was tried and
 gave nothing (OCCT's booleans already use both cores): the bodies are built here one after the other.
 
-The child's import is the command's longest wait, so it is made shorter: CadQuery's import-time VTK, ezdxf
-and CasADi are left out (``rjcad.cad.absent``; unless ``RJCAD_CAD_ABSENT=0``) and the garbage collector
-is paused for it (``rjcad.imports``). If the child cannot build without the packages left out (a CadQuery
-release that calls one at import or on the build's path), it says so and the program builds the rest
-itself, with a warning (``--debug`` shows it). Measured with both: 2.91 → 2.33 s (median of 15, paired);
-OpenSCAD / ``rjcad joint`` 1.91 → 2.45 (``benchmarks/cli.py``).
-
 Used only by the ``rjcad`` program itself (``rjcad.cli.entry``), where fork is the platform's way to start a
 process, before any thread or CadQuery exists in it, and unless ``RJCAD_CAD_PROCESS=0``. An error in the
 child is raised again in the parent (its traceback is a note, printed with ``--debug``). The child ignores
@@ -101,46 +94,23 @@ class CadProcess:
             exc, text = value
             exc.add_note(f"in the CAD process:\n{text}")
             raise exc
-        if kind == "fallback":
-            raise _Fallback(value)
         return value
 
 
-class _Fallback(Exception):
-    """The CAD process could not build without the packages it leaves out (``rjcad.cad.absent``)."""
-
-
 class RemoteJoint:
-    """The joint the CAD process builds: ``LocalJoint``'s three stages, each received once, in order. If the
-    CAD process could not build it without the packages it leaves out (a CadQuery release that uses one at
-    import, or on the build's path), the rest is built here, with them (a warning says so, shown with
-    ``--debug``)."""
+    """The joint the CAD process builds: ``LocalJoint``'s three stages, each received once, in order."""
+
+    #: The bodies stay in the child.
+    solids = None
 
     def __init__(self, cad: CadProcess, p):
-        self._cad, self._params = cad, p
+        self._cad = cad
         self._got: list = []
-        self._local = None
-
-    @property
-    def solids(self):
-        """The bodies: None while they stay in the child."""
-        return None if self._local is None else self._local.solids
 
     def _stage(self, i: int):
-        while len(self._got) <= i and self._local is None:
-            try:
-                self._got.append(self._cad._receive())
-            except _Fallback as why:
-                import warnings
-
-                from rjcad.cad.measure import LocalJoint
-
-                warnings.warn(f"the CAD process could not build the joint ({why}); building it in this process",
-                              RuntimeWarning, stacklevel=2)
-                self._local = LocalJoint(self._params)
-        if i < len(self._got):
-            return self._got[i]
-        return (self._local.shape, self._local.measures, lambda: self._local.step("joint"))[i]()
+        while len(self._got) <= i:
+            self._got.append(self._cad._receive())
+        return self._got[i]
 
     def shape(self):
         return self._stage(0)
@@ -159,54 +129,29 @@ def _serve(conn, parent_end) -> None:
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent answers it
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    from rjcad.cad import absent
-    from rjcad.imports import collector_paused
-
-    if os.environ.get(absent.ENV, "1") != "0":
-        absent.install()  # VTK, ezdxf and CasADi: 0.4 s of CadQuery's import, unused by a build
     try:
-        with collector_paused():  # 0.24 s less
-            from rjcad.cad.measure import LocalJoint  # CadQuery: the reason for this process
-    except Exception as e:  # noqa: BLE001 (the program imports it itself, with every package, and says why not)
-        failure = f"importing CadQuery{' without ' + ', '.join(absent.PACKAGES) if absent.installed() else ''}: " \
-                  f"{type(e).__name__}: {e}"
-    else:
-        failure = None
+        from rjcad.cad.measure import LocalJoint  # CadQuery: the reason for this process
+    except BaseException as e:  # noqa: BLE001 (said to the parent when it asks for the joint)
+        LocalJoint, failure = None, e
     try:
         p = conn.recv()
-    except EOFError:  # the parent stopped before asking
-        return
-    try:
-        if failure is not None:
-            conn.send(("fallback", failure))
-            return
+        if LocalJoint is None:
+            raise failure
         source = LocalJoint(p)
         conn.send(("ok", source.shape()))
         conn.send(("ok", source.measures()))
         conn.send(("ok", source.step("joint")))
+    except EOFError:  # the parent stopped before asking
+        pass
     except (BrokenPipeError, ConnectionResetError):  # the parent stopped listening: nobody to tell
         pass
     except BaseException as e:  # noqa: BLE001 (every failure is the parent's to report)
-        left_out = _caused_by(e, absent.AbsentError)  # a package left out was called: the parent builds it
-        answer = ("fallback", str(left_out)) if left_out is not None else \
-            ("error", (_picklable(e), traceback.format_exc()))
         try:
-            conn.send(answer)
+            conn.send(("error", (_picklable(e), traceback.format_exc())))
         except OSError:
             pass
     finally:
         conn.close()
-
-
-def _caused_by(e: BaseException, kind: type) -> BaseException | None:
-    """The exception of type ``kind`` that ``e`` is or was raised from or while handling, if any."""
-    seen = set()
-    while e is not None and id(e) not in seen:
-        if isinstance(e, kind):
-            return e
-        seen.add(id(e))
-        e = e.__cause__ or e.__context__
-    return None
 
 
 def _picklable(e: BaseException) -> BaseException:

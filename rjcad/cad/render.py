@@ -1,7 +1,7 @@
 """The preview PNG, rendered off-screen with VTK: a shaded, depth-correct view and plane sections.
 
-VTK comes with CadQuery's OCP; the preview imports only the VTK modules it draws with (``rjcad.cad`` defers
-VTK's all-modules ``vtk``, which OCP imports for nothing: 1.3 s). The window is off-screen: EGL (Mesa's
+VTK comes with CadQuery's OCP; the preview imports only the VTK modules it draws with (the ``rjcad`` program
+renders while its CAD process builds, and has not loaded all of VTK). The window is off-screen: EGL (Mesa's
 software rasteriser when there is no GPU) unless ``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display
 is needed. One window holds every panel (a viewport each): the isometric view (bodies in their colours, the
 tendon as a red tube, dashed on an overlay where a body hides it), then each section (label, point, normal)
@@ -35,13 +35,14 @@ def rgb(colour: str) -> tuple[float, float, float]:
 def _vtk():
     """The VTK modules the preview uses (imported on first use; registers the OpenGL and font back ends)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    from rjcad.imports import collector_paused
+    import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
+    from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
+    from vtkmodules.util import numpy_support
 
-    with collector_paused():  # once per process (cached)
-        import vtkmodules.vtkRenderingFreeType  # imported for its side effect: text rendering
-        import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render window's implementation)
-        from vtkmodules import vtkCommonCore, vtkCommonDataModel, vtkFiltersCore, vtkIOImage, vtkRenderingCore
-        from vtkmodules.util import numpy_support
+    # text drawn by FreeType always: VTK gives a label with '|' to matplotlib's MathText when it can (when the
+    # process has loaded all of VTK, as CadQuery's import does), which draws it differently
+    vtkRenderingCore.vtkTextRenderer.GetInstance().SetDefaultBackend(vtkRenderingCore.vtkTextRenderer.FreeType)
 
     class V:
         np = numpy_support

@@ -104,15 +104,23 @@ def main(argv: list[str] | None = None) -> None:
 PROGRAM = False
 
 
+#: Set to 0 to leave the ``rjcad`` program through the interpreter's usual exit (``entry``).
+QUICK_EXIT = "RJCAD_QUICK_EXIT"
+
+
 def entry() -> None:
     """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()``, then leave without tearing
     the interpreter down. Freeing CadQuery's, VTK's and SciPy's modules one by one takes about 0.5 s after a
     build (measured: ``import cadquery`` then a normal exit 2.6 s, with ``os._exit`` 2.05 s), for nothing: every
     output is written (and renamed into place) before a command returns. Threads are joined, the ``atexit``
     handlers run (``weakref.finalize`` clean-ups among them) and stdout and stderr are flushed before
-    ``os._exit``. An uncaught exception (a bug) still leaves the usual way, with its traceback."""
+    ``os._exit``. An uncaught exception (a bug) still leaves the usual way, with its traceback.
+    ``RJCAD_QUICK_EXIT=0``: the interpreter's usual exit."""
     global PROGRAM
     PROGRAM = True
+    if os.environ.get(QUICK_EXIT, "1") == "0":
+        main()
+        return
     try:
         main()
         code = 0
