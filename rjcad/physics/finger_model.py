@@ -1,5 +1,5 @@
 """The finger model's parameters: one validated, frozen set of per-joint values (re-exported by
-``rjcad.physics.finger``, whose solver reads them through the cached arrays here)."""
+``rjcad.physics.finger``, whose compiled solver reads them through the cached arrays here)."""
 
 from __future__ import annotations
 
@@ -122,15 +122,6 @@ class FingerModel:
         """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as read-only arrays (made once
         per model)."""
         return self._link_arrays
-
-    def link_lists(self):
-        """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as lists of floats, for
-        ``weight_terms`` (made once per model)."""
-        return self._link_lists
-
-    @functools.cached_property
-    def _link_lists(self):
-        return tuple(a.tolist() for a in self._link_arrays)
 
     @functools.cached_property
     def _link_arrays(self):

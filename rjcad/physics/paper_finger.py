@@ -17,7 +17,8 @@ from rjcad.errors import ParameterError
 from rjcad.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
 from rjcad.params import JointParams
-from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
+from rjcad.physics.finger import (FingerModel, load_finger_model, onset_tendon, simulate_angles, simulate_path,
+                                  simulate_stroke)
 from rjcad.physics.uncertainty import parameter_std
 from rjcad.plotting import png_bytes, pyplot
 from rjcad.units import DEG
@@ -61,10 +62,7 @@ class Explanation:
 
 def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
     """Bounded least squares from several starts (the stops make the problem non-smooth). The residuals take the
-    end angles of a 120-step pull from the compiled closure (rjcad.physics.finger_fast, the reference's angles to
-    1e-9); what is reported is the reference's, on 200 steps."""
-    from rjcad.physics.finger_fast import simulate_angles
-
+    end angles of a 120-step pull (``simulate_angles``); what is reported is the closure's on 200 steps."""
     path = np.linspace(0.0, STROKE, 121)
 
     def resid(x):
