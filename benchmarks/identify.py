@@ -5,8 +5,8 @@ paper campaign; 1e5 samples: one run unless --repeats-large). Targets (issue #7)
 campaign (5 × 3000 samples, full selection) in ≤ 10 s; the time grows no worse than linearly
 with samples per experiment (every scaling exponent ≤ 1.05). Issue #18: a 3-joint whole-finger campaign of
 3 experiments × 3000 samples in ≤ 30 s (one hidden effect and a pair), and the finger solver's speed on one path
-(µs per step: the angles and tension that fits use, and the full closure with joint tensions and states). The scaling exponent is
-log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
+(µs per step: the angles and tension that fits use, and the full closure with joint tensions and states).
+The scaling exponent is log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
 Run: .venv/bin/python benchmarks/identify.py [--sizes 1000,10000,100000] [--repeats 3] [--quick]
 """
 

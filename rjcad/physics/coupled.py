@@ -53,7 +53,7 @@ GRAVITY_MARGIN = 0.5
 SINGULAR = 1e-13
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def gauss(A: np.ndarray, b: np.ndarray, x: np.ndarray) -> bool:
     """Solves A·x = b by Gaussian elimination with partial pivoting (A and b are overwritten); False if singular."""
     k = len(b)
@@ -85,29 +85,31 @@ def gauss(A: np.ndarray, b: np.ndarray, x: np.ndarray) -> bool:
     return True
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def joint_torque(E: np.ndarray, H: np.ndarray, d: np.ndarray, i: int) -> float:
     """Joint i's elastic torque with the weight after the moves d = θ − prev: E_i + Σ_j H_ij·d_j [N·mm]."""
-    v = E[i]
+    v: float = E[i]
     for j in range(len(d)):
         if d[j] != 0.0:
             v += H[i, j] * d[j]
     return v
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _up_edge(i: int, torque: float, s: np.ndarray, jt: Joints, rc: np.ndarray) -> float:
     """The tension [N] at which joint i, sticking with elastic torque ``torque``, starts closing."""
-    return (torque + jt.f0[i] + jt.gp[i] * s[i]) / rc[i]
+    edge: float = (torque + jt.f0[i] + jt.gp[i] * s[i]) / rc[i]
+    return edge
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _down_edge(i: int, torque: float, s: np.ndarray, jt: Joints, rc: np.ndarray) -> float:
     """The tension [N] below which joint i, sticking with elastic torque ``torque``, starts opening."""
-    return (torque - jt.f0[i] - jt.gn[i] * s[i]) / rc[i]
+    edge: float = (torque - jt.f0[i] - jt.gn[i] * s[i]) / rc[i]
+    return edge
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def solve_states(state: np.ndarray, slack: bool, t_d: float, prev: np.ndarray, E: np.ndarray, H: np.ndarray,
                  s: np.ndarray, jt: Joints, rc: np.ndarray, comp: float, d: np.ndarray) -> tuple[int, float]:
     """Fills d = θ − prev for the joints' states ``state``; returns (0, 0) where singular, (1, T) with the tension
@@ -161,7 +163,7 @@ def solve_states(state: np.ndarray, slack: bool, t_d: float, prev: np.ndarray, E
     return 1, (0.0 if slack else x[k])
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _wrong_move(state: np.ndarray, prev: np.ndarray, thmax: np.ndarray, d: np.ndarray) -> tuple[int, int]:
     """(joint, new state) for the first sliding joint that moved the wrong way or through its stop."""
     for i in range(len(prev)):
@@ -178,7 +180,7 @@ def _wrong_move(state: np.ndarray, prev: np.ndarray, thmax: np.ndarray, d: np.nd
     return CONSISTENT, 0
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _length_violation(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, E: np.ndarray, H: np.ndarray,
                       s: np.ndarray, jt: Joints, rc: np.ndarray, d: np.ndarray) -> tuple[int, int]:
     """Every joint fixed on an inextensible tendon: its length is set by the joints. Too short a take-up: the
@@ -206,7 +208,7 @@ def _length_violation(state: np.ndarray, t_d: float, tol: float, prev: np.ndarra
     return (bi, DOWN) if bi >= 0 else (n, 1)
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def first_violation(state: np.ndarray, slack: bool, T_set: bool, T: float, t_d: float, tol: float,
                     prev: np.ndarray, E: np.ndarray, H: np.ndarray, s: np.ndarray, jt: Joints, rc: np.ndarray,
                     d: np.ndarray) -> tuple[int, int]:
@@ -242,7 +244,7 @@ def first_violation(state: np.ndarray, slack: bool, T_set: bool, T: float, t_d: 
     return CONSISTENT, 0
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def flat_tension(state: np.ndarray, prev: np.ndarray, prev_T: float, E: np.ndarray, H: np.ndarray,
                  s: np.ndarray, jt: Joints, rc: np.ndarray, d: np.ndarray) -> tuple[float, int, int]:
     """Every joint fixed on an inextensible tendon of the right length: (T, CONSISTENT, 0) with T the tension
@@ -268,7 +270,7 @@ def flat_tension(state: np.ndarray, prev: np.ndarray, prev_T: float, E: np.ndarr
     return min(max(prev_T, lo), hi), CONSISTENT, 0
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def coupled_solve(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, prev_T: float, E: np.ndarray,
                   H: np.ndarray, s: np.ndarray, jt: Joints, rc: np.ndarray, comp: float,
                   d: np.ndarray) -> tuple[bool, float]:
@@ -295,7 +297,7 @@ def coupled_solve(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, p
     return False, 0.0
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _linearise(at: np.ndarray, prev: np.ndarray, E0: np.ndarray, B: np.ndarray, wt: Weight, tg: np.ndarray,
                slope: np.ndarray, E: np.ndarray, H: np.ndarray) -> None:
     """The step's torque E + H·(θ − prev) with the weight linearised about ``at``: the spring's E0 + B·(θ − prev)
@@ -311,7 +313,7 @@ def _linearise(at: np.ndarray, prev: np.ndarray, E0: np.ndarray, B: np.ndarray, 
         H[i, i] += B[i]
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def coupled_step(t_d: float, prev: np.ndarray, prev_T: float, guess: np.ndarray, E0: np.ndarray, B: np.ndarray,
                  jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray) -> tuple[bool, float, bool]:
     """The step with the joints coupled through the weight, by Newton from ``guess`` (proximal where the finger

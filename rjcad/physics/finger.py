@@ -35,6 +35,11 @@ from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_of  
 from rjcad.physics.tendon_step import Joints
 from rjcad.units import DEG
 
+__all__ = ["AT_STOP", "CLOSING", "Closure", "FingerModel", "G", "MOVED_RAD", "OPENING", "STICKING", "capstan_factors",
+           "frictionless_optimum", "gravity_terms", "gravity_torques", "joint_states", "load_finger_model",
+           "model_from_manifest", "model_from_template", "onset_tendon", "path_times", "pulling_steps",
+           "simulate_angles", "simulate_path", "simulate_stroke", "unbalanced_readings", "weight_of"]
+
 #: A joint counts as moved in a step beyond this [rad], and as on a stop within this of it (``joint_states``).
 MOVED_RAD = 1e-12
 #: ``Closure.state`` values: sticking, sliding closed, sliding open, resting on a stop.

@@ -41,7 +41,7 @@ class Springs(NamedTuple):
     tr: float
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def spring_terms(prev: np.ndarray, tau_m: np.ndarray, a: float, b: float, inv_dt: float, sp: Springs,
                  jt: Joints, E: np.ndarray, B: np.ndarray) -> None:
     """The spring's part of the step: E = K·s + k3·s³ + a·τ_M [N·mm] and B = K + 3·k3·s² + c/Δt + K_M·b
@@ -53,7 +53,7 @@ def spring_terms(prev: np.ndarray, tau_m: np.ndarray, a: float, b: float, inv_dt
         B[i] = sp.K[i] + 3.0 * sp.k3[i] * s**2 + inv_dt * sp.c[i] + sp.km[i] * b
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def own_slope_step(t_d: float, prev: np.ndarray, prev_T: float, at: np.ndarray, Es: np.ndarray, Bs: np.ndarray,
                    jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray,
                    work: np.ndarray) -> tuple[float, bool]:
@@ -89,7 +89,7 @@ def own_slope_step(t_d: float, prev: np.ndarray, prev_T: float, at: np.ndarray, 
     return T, slack
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float]:
     """(a, b, 1/Δt) of step k (``spring_terms``), zeros without times or at the first step."""
     if len(t) == 0 or k == 0:
@@ -99,7 +99,7 @@ def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float
     return a, tr * (1.0 - a) / dt, 1.0 / dt
 
 
-@njit(cache=True, nogil=True)  # type: ignore[misc]
+@njit(cache=True, nogil=True)
 def closure_path(td: np.ndarray, t: np.ndarray, sp: Springs, jt: Joints, c_pull: np.ndarray, c_release: np.ndarray,
                  comp: float, wt: Weight, coupled: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(θ (steps, n) [rad], actuator tension (steps,) [N], slack (steps,)) along the tendon path ``td`` [mm] at

@@ -37,7 +37,7 @@ def weight_of(m: Any) -> Weight:
     return Weight(length, com, weight, float(gx), float(gy), bool(m.has_gravity))
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def weight_torque(theta: np.ndarray, wt: Weight, tau: np.ndarray, slope: np.ndarray) -> None:
     """Fills ``tau`` with the weight's torque about each joint, resisting flexion when positive [N·mm], and
     ``slope`` with its slope in that joint's own angle [N·mm/rad], at the angles ``theta`` [rad].

@@ -39,7 +39,7 @@ class Joints(NamedTuple):
     gn: np.ndarray
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
                       out: np.ndarray) -> None:
     """Fills ``out`` with θ_i(T) [rad]: stick inside the band, slide on its edge beyond it, clipped to the stops.
@@ -62,7 +62,7 @@ def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, 
         out[i] = min(max(th, 0.0), jt.thmax[i])
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def take_up(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, comp: float,
             th: np.ndarray) -> float:
     """S(T) = T/k_t + Σ r·θ(T): the tendon displacement the tendon's stretch and the joints take up at tension T
@@ -74,7 +74,7 @@ def take_up(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints
     return S
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def _sort_prefix(a: np.ndarray, m: int) -> None:
     """Insertion sort of a[:m] in place (a dozen breakpoints: no allocation; duplicates are harmless)."""
     for i in range(1, m):
@@ -86,7 +86,7 @@ def _sort_prefix(a: np.ndarray, m: int) -> None:
         a[j + 1] = v
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
                         bps: np.ndarray) -> int:
     """Writes 0 and the tensions [N] where some θ_i(T) changes slope (starts closing, starts opening, reaches its
@@ -107,7 +107,7 @@ def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Join
     return m
 
 
-@njit(cache=True)  # type: ignore[misc]
+@njit(cache=True)
 def solve_tendon(t_d: float, prev: np.ndarray, prev_T: float, E: np.ndarray, B: np.ndarray, jt: Joints,
                  rc: np.ndarray, comp: float, th: np.ndarray, bps: np.ndarray) -> tuple[float, bool]:
     """(T [N], slack) with S(T) = t_d (``take_up``); fills ``th`` with the angles. ``bps``: scratch of 4n + 1.
