@@ -41,40 +41,36 @@ class Springs(NamedTuple):
     tr: float
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def spring_terms(prev: np.ndarray, tau_m: np.ndarray, a: float, b: float, inv_dt: float, sp: Springs,
                  jt: Joints, E: np.ndarray, B: np.ndarray) -> None:
     """The spring's part of the step: E = K·s + k3·s³ + a·τ_M [N·mm] and B = K + 3·k3·s² + c/Δt + K_M·b
     [N·mm/rad] with s = prev + θ0 (spring and preload, stiffening, damping, the Maxwell arm's exact update for a
     constant rate over the step: a = exp(−Δt/T_r), b = T_r(1 − a)/Δt; all rate terms 0 without times)."""
+    K, k3, c, km, th0 = sp.K, sp.k3, sp.c, sp.km, jt.th0
     for i in range(len(prev)):
-        s = prev[i] + jt.th0[i]
-        E[i] = sp.K[i] * s + sp.k3[i] * s**3 + a * tau_m[i]
-        B[i] = sp.K[i] + 3.0 * sp.k3[i] * s**2 + inv_dt * sp.c[i] + sp.km[i] * b
+        s = prev[i] + th0[i]
+        E[i] = K[i] * s + k3[i] * s**3 + a * tau_m[i]
+        B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
 
 
 @njit(cache=True)
 def own_slope_step(t_d: float, prev: np.ndarray, prev_T: float, at: np.ndarray, Es: np.ndarray, Bs: np.ndarray,
-                   jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray,
-                   work: np.ndarray) -> tuple[float, bool]:
-    """The step with each joint's own slope of the weight k_g = max(S_i, −GRAVITY_SOFTENING·B_i), the weight
+                   jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray, E: np.ndarray,
+                   B: np.ndarray, tg: np.ndarray, slope: np.ndarray, bps: np.ndarray) -> tuple[float, bool]:
+    """The step with each joint's own slope of the weight k_g = max(S_i, −GRAVITY_SOFTENING·B_i): the weight
     tg + k_g·(θ − at) re-linearised about the result (damped by half once the moves stop contracting) until no
-    angle moves by more than GRAVITY_TOL: (T, slack), angles in ``th``; ``at`` is overwritten. Without weight:
-    one exact tendon solve. ``work``: zeroed scratch of (5, 4n + 1) (no allocation in the path's loop)."""
+    angle moves by more than GRAVITY_TOL, at most GRAVITY_ITERATIONS times: (T, slack), angles in ``th``; ``at``
+    is overwritten. ``E``, ``B``, ``tg``, ``slope``, ``bps``: the path's scratch arrays (no allocation per step)."""
     n = len(prev)
-    E, B, tg, slope, bps = work[0, :n], work[1, :n], work[2, :n], work[3, :n], work[4]
     T, slack = 0.0, False
     last, w = math.inf, 1.0
-    for _ in range(GRAVITY_ITERATIONS if wt.on else 1):
-        if wt.on:
-            weight_torque(at, wt, tg, slope)
+    for _ in range(GRAVITY_ITERATIONS):
+        weight_torque(at, wt, tg, slope)
         for i in range(n):
-            E[i] = Es[i] + tg[i]
-            B[i] = Bs[i]
-            if wt.on:
-                kg = max(slope[i], -GRAVITY_SOFTENING * B[i])
-                E[i] -= kg * (at[i] - prev[i])
-                B[i] += kg
+            kg = max(slope[i], -GRAVITY_SOFTENING * Bs[i])
+            E[i] = Es[i] + tg[i] - kg * (at[i] - prev[i])
+            B[i] = Bs[i] + kg
         T, slack = solve_tendon(t_d, prev, prev_T, E, B, jt, rc, comp, th, bps)
         moved = 0.0
         for i in range(n):
@@ -89,7 +85,7 @@ def own_slope_step(t_d: float, prev: np.ndarray, prev_T: float, at: np.ndarray, 
     return T, slack
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float]:
     """(a, b, 1/Δt) of step k (``spring_terms``), zeros without times or at the first step."""
     if len(t) == 0 or k == 0:
@@ -111,29 +107,33 @@ def closure_path(td: np.ndarray, t: np.ndarray, sp: Springs, jt: Joints, c_pull:
     slack = np.zeros(n_steps, np.bool_)
     prev, tau_m, at, th, rc = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     Es, Bs = np.zeros(n), np.zeros(n)
-    work = np.zeros((5, 4 * n + 1))
+    E, B, tg, slope, bps = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(4 * n + 1)  # scratch
+    r, thmax, km, gravity = jt.r, jt.thmax, sp.km, wt.on  # read once: the loop below runs per step
     pulling = True
     for k in range(n_steps):
         if k > 0 and td[k] != td[k - 1]:  # a hold keeps the direction
             pulling = td[k] > td[k - 1]
         for i in range(n):  # the tension reaching each joint: capstan losses one way or the other
-            rc[i] = jt.r[i] * (c_pull[i] if pulling else c_release[i])
+            rc[i] = r[i] * (c_pull[i] if pulling else c_release[i])
         prev_T = tension[k - 1] if k > 0 else 0.0
         a, b, inv_dt = _rate_factors(t, k, sp.tr)
         for i in range(n):  # Newton's first guess: the last two readings' extrapolation
-            at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), jt.thmax[i]) if wt.on and k >= 2 else prev[i]
+            at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
         spring_terms(prev, tau_m, a, b, inv_dt, sp, jt, Es, Bs)
-        done, T, sl = False, 0.0, False
-        if wt.on and coupled:
-            done, T, sl = coupled_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th)
-        if not done:
-            T, sl = own_slope_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, work)
-            if wt.on and coupled:  # near an equilibrium now: Newton from there again
-                ok, T2, sl2 = coupled_step(td[k], prev, prev_T, th.copy(), Es, Bs, jt, rc, comp, wt, th)
-                if ok:
-                    T, sl = T2, sl2
+        if not gravity:  # without weight: one exact tendon solve
+            T, sl = solve_tendon(td[k], prev, prev_T, Es, Bs, jt, rc, comp, th, bps)
+        else:  # the weight: the joints coupled through it (Newton) first, each joint's own slope as the fallback
+            done, T, sl = False, 0.0, False
+            if coupled:
+                done, T, sl = coupled_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th)
+            if not done:
+                T, sl = own_slope_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, E, B, tg, slope, bps)
+                if coupled:  # near an equilibrium now: Newton from there again
+                    ok, T2, sl2 = coupled_step(td[k], prev, prev_T, th.copy(), Es, Bs, jt, rc, comp, wt, th)
+                    if ok:
+                        T, sl = T2, sl2
         for i in range(n):  # the Maxwell arm after the step, exact for a constant rate
-            tau_m[i] = a * tau_m[i] + sp.km[i] * b * (th[i] - prev[i])
+            tau_m[i] = a * tau_m[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]
             prev[i] = th[i]
         tension[k], slack[k] = T, sl

@@ -39,7 +39,7 @@ class Joints(NamedTuple):
     gn: np.ndarray
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
                       out: np.ndarray) -> None:
     """Fills ``out`` with θ_i(T) [rad]: stick inside the band, slide on its edge beyond it, clipped to the stops.
@@ -47,34 +47,34 @@ def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, 
     Closing edge: θ = (r·c·T − E − f0 − γ⁺·θ0 + B·prev) / (B + γ⁺); opening edge: the same with −f0, +γ⁻·θ0,
     B − γ⁻.
     """
+    th0, thmax, f0, gp, gn = jt.th0, jt.thmax, jt.f0, jt.gp, jt.gn
     for i in range(len(E)):
-        s = prev[i] + jt.th0[i]  # the spring's wind-up at the step's start [rad]
-        up_T = (E[i] + jt.f0[i] + jt.gp[i] * s) / rc[i]  # the tension that starts the joint closing [N]
-        dn_T = (E[i] - jt.f0[i] - jt.gn[i] * s) / rc[i]  # ... and below which it opens [N]
+        s = prev[i] + th0[i]  # the spring's wind-up at the step's start [rad]
+        up_T = (E[i] + f0[i] + gp[i] * s) / rc[i]  # the tension that starts the joint closing [N]
+        dn_T = (E[i] - f0[i] - gn[i] * s) / rc[i]  # ... and below which it opens [N]
         if T >= up_T:
-            th = max((rc[i] * T - E[i] - jt.f0[i] - jt.gp[i] * jt.th0[i] + B[i] * prev[i]) / (B[i] + jt.gp[i]),
-                     prev[i])
+            th = max((rc[i] * T - E[i] - f0[i] - gp[i] * th0[i] + B[i] * prev[i]) / (B[i] + gp[i]), prev[i])
         elif T <= dn_T:
-            th = min((rc[i] * T - E[i] + jt.f0[i] + jt.gn[i] * jt.th0[i] + B[i] * prev[i]) / (B[i] - jt.gn[i]),
-                     prev[i])
+            th = min((rc[i] * T - E[i] + f0[i] + gn[i] * th0[i] + B[i] * prev[i]) / (B[i] - gn[i]), prev[i])
         else:  # sticking: friction holds the joint where it was
             th = prev[i]
-        out[i] = min(max(th, 0.0), jt.thmax[i])
+        out[i] = min(max(th, 0.0), thmax[i])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def take_up(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, comp: float,
             th: np.ndarray) -> float:
     """S(T) = T/k_t + Σ r·θ(T): the tendon displacement the tendon's stretch and the joints take up at tension T
     [mm] (``comp`` = 1/k_t [mm/N]); leaves θ(T) in ``th``."""
     angles_at_tension(T, prev, E, B, jt, rc, th)
+    r = jt.r
     S = comp * T
     for i in range(len(E)):
-        S += jt.r[i] * th[i]
+        S += r[i] * th[i]
     return S
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sort_prefix(a: np.ndarray, m: int) -> None:
     """Insertion sort of a[:m] in place (a dozen breakpoints: no allocation; duplicates are harmless)."""
     for i in range(1, m):
@@ -86,19 +86,20 @@ def _sort_prefix(a: np.ndarray, m: int) -> None:
         a[j + 1] = v
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
                         bps: np.ndarray) -> int:
     """Writes 0 and the tensions [N] where some θ_i(T) changes slope (starts closing, starts opening, reaches its
     upper stop, its lower stop; clipped at 0) into ``bps``, sorted; returns how many."""
+    th0, thmax, f0, gp, gn = jt.th0, jt.thmax, jt.f0, jt.gp, jt.gn
     m = 1
     bps[0] = 0.0
     for i in range(len(E)):
-        s = prev[i] + jt.th0[i]
-        cand = ((E[i] + jt.f0[i] + jt.gp[i] * s) / rc[i],
-                (E[i] - jt.f0[i] - jt.gn[i] * s) / rc[i],
-                (E[i] + B[i] * (jt.thmax[i] - prev[i]) + jt.f0[i] + jt.gp[i] * (jt.thmax[i] + jt.th0[i])) / rc[i],
-                (E[i] - B[i] * prev[i] - jt.f0[i] - jt.gn[i] * jt.th0[i]) / rc[i])
+        s = prev[i] + th0[i]
+        cand = ((E[i] + f0[i] + gp[i] * s) / rc[i],  # starts closing
+                (E[i] - f0[i] - gn[i] * s) / rc[i],  # starts opening
+                (E[i] + B[i] * (thmax[i] - prev[i]) + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i],  # upper stop
+                (E[i] - B[i] * prev[i] - f0[i] - gn[i] * th0[i]) / rc[i])  # lower stop
         for v in cand:
             if math.isfinite(v):
                 bps[m] = max(v, 0.0)
@@ -107,7 +108,7 @@ def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Join
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def solve_tendon(t_d: float, prev: np.ndarray, prev_T: float, E: np.ndarray, B: np.ndarray, jt: Joints,
                  rc: np.ndarray, comp: float, th: np.ndarray, bps: np.ndarray) -> tuple[float, bool]:
     """(T [N], slack) with S(T) = t_d (``take_up``); fills ``th`` with the angles. ``bps``: scratch of 4n + 1.
