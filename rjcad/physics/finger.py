@@ -30,9 +30,8 @@ from numpy.typing import ArrayLike
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
-from rjcad.physics.finger_path import Springs, closure_path
+from rjcad.physics.finger_path import closure_path
 from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_of  # noqa: F401  (re-exported)
-from rjcad.physics.tendon_step import Joints
 from rjcad.units import DEG
 
 __all__ = ["AT_STOP", "CLOSING", "Closure", "FingerModel", "G", "MOVED_RAD", "OPENING", "STICKING", "capstan_factors",
@@ -131,8 +130,8 @@ def _run(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None,
     t = path_times(m, td, t_s)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness  # the tendon's compliance [mm/N]
     c_pull, c_release = capstan_factors(m)
-    return closure_path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), Springs(K, k3, c, km, tr),
-                        Joints(th0, thmax, r, f0, gp, gn), c_pull, c_release, comp, weight_of(m), coupled)
+    return closure_path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), (K, k3, c, km, tr),
+                        (th0, thmax, r, f0, gp, gn), c_pull, c_release, comp, tuple(weight_of(m)), coupled)
 
 
 def path_times(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None) -> np.ndarray | None:

@@ -96,12 +96,16 @@ def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float
 
 
 @njit(cache=True, nogil=True)
-def closure_path(td: np.ndarray, t: np.ndarray, sp: Springs, jt: Joints, c_pull: np.ndarray, c_release: np.ndarray,
-                 comp: float, wt: Weight, coupled: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def closure_path(td: np.ndarray, t: np.ndarray, springs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float],
+                 joints: tuple[np.ndarray, ...], c_pull: np.ndarray, c_release: np.ndarray, comp: float,
+                 weight: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, bool],
+                 coupled: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(θ (steps, n) [rad], actuator tension (steps,) [N], slack (steps,)) along the tendon path ``td`` [mm] at
-    times ``t`` [s] (empty: no rate terms). ``c_pull``, ``c_release``: the capstan factors reaching each joint
-    while pulling and while releasing; ``comp`` = 1/k_t [mm/N]; ``coupled`` False: each joint's own slope of the
-    weight only (a check value)."""
+    times ``t`` [s] (empty: no rate terms). ``springs``, ``joints``, ``weight``: the fields of ``Springs``,
+    ``Joints``, ``Weight`` as plain tuples (a plain tuple's type is found faster at each call); ``c_pull``,
+    ``c_release``: the capstan factors reaching each joint while pulling and while releasing; ``comp`` = 1/k_t
+    [mm/N]; ``coupled`` False: each joint's own slope of the weight only (a check value)."""
+    sp, jt, wt = Springs(*springs), Joints(*joints), Weight(*weight)
     n_steps, n = len(td), len(sp.K)
     theta, tension = np.zeros((n_steps, n)), np.zeros(n_steps)
     slack = np.zeros(n_steps, np.bool_)
