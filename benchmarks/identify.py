@@ -4,9 +4,9 @@ Prints one JSON object. Each figure is the median of --repeats runs after a warm
 paper campaign; 1e5 samples: one run unless --repeats-large). Targets (issue #7): the paper
 campaign (5 × 3000 samples, full selection) in ≤ 10 s; the time grows no worse than linearly
 with samples per experiment (every scaling exponent ≤ 1.05). Issue #18: a 3-joint whole-finger campaign of
-3 experiments × 3000 samples in ≤ 30 s (one hidden effect and a pair), and the compiled finger solver against
-the reference one on the same path (µs per step, same run). The scaling exponent is
-log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
+3 experiments × 3000 samples in ≤ 30 s (one hidden effect and a pair), and the finger solver's speed on one path
+(µs per step: the angles and tension that fits use, and the full closure with joint tensions and states).
+The scaling exponent is log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
 Run: .venv/bin/python benchmarks/identify.py [--sizes 1000,10000,100000] [--repeats 3] [--quick]
 """
 
@@ -41,8 +41,7 @@ def finger(repeats: int, samples: int = 3000,
     from rjcad.identify.campaign import load_campaign as load_any
     from rjcad.identify.finger.bench import write_finger_campaign
     from rjcad.identify.finger.problem import FingerSelector, identify_finger
-    from rjcad.physics.finger import FingerModel, simulate_path
-    from rjcad.physics.finger_fast import simulate_angles
+    from rjcad.physics.finger import FingerModel, simulate_angles, simulate_path
     from rjcad import DEG
 
     out = {"finger_campaign_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
@@ -65,11 +64,10 @@ def finger(repeats: int, samples: int = 3000,
     m = FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3,
                     gamma=(1.0,) * 3)
     td = np.concatenate([np.linspace(0, 25, 1500), np.linspace(25, 0, 1500)])
-    t_ref, _ = median_time(lambda: simulate_path(m, td), repeats)
-    t_fast, _ = median_time(lambda: simulate_angles(m, td), repeats)
-    out["finger_solver_us_per_step"] = {"reference": round(1e6 * t_ref / len(td), 2),
-                                        "compiled": round(1e6 * t_fast / len(td), 3),
-                                        "ratio": round(t_ref / t_fast, 1)}
+    t_angles, _ = median_time(lambda: simulate_angles(m, td), repeats)
+    t_closure, _ = median_time(lambda: simulate_path(m, td), repeats)
+    out["finger_solver_us_per_step"] = {"angles": round(1e6 * t_angles / len(td), 3),
+                                        "closure": round(1e6 * t_closure / len(td), 3)}
     return out
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from _timing import emit, median_time, parse_args, target
 
 from rjcad.paper import FINGER
-from rjcad.physics.finger import FingerModel, simulate_stroke, unbalanced_readings
+from rjcad.physics.finger import FingerModel, simulate_path, simulate_stroke, unbalanced_readings
 from rjcad.physics.inverse import design_finger
 from rjcad.physics.joint import PAPER_JOINT, Setup, motion_direction, simulate
 from rjcad import DEG
@@ -32,13 +32,8 @@ def main() -> None:
     t_finger, c = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
     # the same stroke with each joint's own slope of the weight only (the coupled step's fallback, and the
     # solver before it): the readings that are not equilibria, and the time, in the same run
-    from rjcad.physics import finger as finger_module
-    coupled = finger_module.coupled_step
-    finger_module.coupled_step = lambda *a, **k: None
-    try:
-        t_own, c_own = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
-    finally:
-        finger_module.coupled_step = coupled
+    td, phase = c.tendon_mm, c.phase
+    t_own, c_own = median_time(lambda: simulate_path(m, td, phase, coupled=False), args.repeats)
     n = args.n
     t = np.linspace(0, 100, n)
     th = 0.8 + 0.7 * np.sin(t)

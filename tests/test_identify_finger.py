@@ -1,6 +1,6 @@
 """Whole-finger campaigns (issue #18, part 2): the format, hidden effects found from SYNTHETIC pull/release records
-(`rjcad bench --finger`, simulated from the finger model with the compiled solver checked against the reference
-one in tests/test_finger_fast.py), and what the data cannot separate.
+(`rjcad bench --finger`, simulated from the finger model's compiled solver, checked against closed forms in
+tests/test_finger_closed_forms.py), and what the data cannot separate.
 
 Gates: exactly the hidden effects; shared parameters within 5 %, per-joint ones within 10 %; every measured
 quantity's final RMSE ≤ 1.1× its noise.

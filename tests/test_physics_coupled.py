@@ -1,8 +1,9 @@
 """The finger's step with the joints coupled through the links' weight (rjcad.physics.coupled, used by
-rjcad.physics.finger.path_step): checked against numpy's solve, the constrained minimum of a frictionless step,
+rjcad.physics.finger_path): checked against numpy's solve, the constrained minimum of a frictionless step,
 every stick–slip condition on random steps, and on the fingers where each joint's own slope never settles."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -10,21 +11,22 @@ import pytest
 from rjcad.paper import FINGER
 from rjcad.physics import coupled as cp
 from rjcad.physics import finger as fm
+from rjcad.physics.finger_path import Springs, spring_terms
+from rjcad.physics.tendon_step import Joints
 
 DEG = math.pi / 180
 
 
-def test_solve_linear_is_numpys_solve_and_says_singular():
+def test_gauss_is_numpys_solve_and_says_singular():
     rng = np.random.default_rng(1)
     for k in range(1, 7):
         for _ in range(20):
             A = rng.normal(size=(k, k))
             b = rng.normal(size=k)
-            x = cp.solve_linear(A.tolist(), b.tolist())
+            x = np.zeros(k)
+            assert cp.gauss(A.copy(), b.copy(), x)
             assert np.allclose(x, np.linalg.solve(A, b), rtol=1e-9, atol=1e-9)
-    A = [[1.0, 2.0], [2.0, 4.0]]
-    assert cp.solve_linear(A, [1.0, 2.0]) is None
-    assert A == [[1.0, 2.0], [2.0, 4.0]]  # its arguments are left as they were
+    assert not cp.gauss(np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([1.0, 2.0]), np.zeros(2))
 
 
 def random_step(rng, n=3, friction=True, comp=0.0):
@@ -42,8 +44,17 @@ def random_step(rng, n=3, friction=True, comp=0.0):
     E = H.diagonal() * (prev + th0) * rng.uniform(0.8, 1.2, n)
     t_d = float(r @ prev + rng.normal(0.0, 1.0))
     prev_T = float(rng.uniform(0.0, 5.0))
-    return cp.Step(max(t_d, 0.0), prev.tolist(), prev_T, E.tolist(), H.tolist(), th0.tolist(), thmax.tolist(),
-                   r.tolist(), rc.tolist(), f0.tolist(), gp.tolist(), gn.tolist(), comp, 1e-7)
+    return SimpleNamespace(n=n, t_d=max(t_d, 0.0), prev=prev, prev_T=prev_T, E=E, H=H, th0=th0, thmax=thmax, r=r,
+                           rc=rc, f0=f0, gp=gp, gn=gn, comp=comp, tol=1e-7)
+
+
+def coupled_solve(st, state=None):
+    """``cp.coupled_solve`` on a ``random_step``, every joint first sticking: (θ − prev, T, slack) or None."""
+    state = np.zeros(st.n + 1, np.int64) if state is None else state
+    d = np.zeros(st.n)
+    ok, T = cp.coupled_solve(state, st.t_d, st.tol, st.prev, st.prev_T, st.E, st.H, st.prev + st.th0,
+                             Joints(st.th0, st.thmax, st.r, st.f0, st.gp, st.gn), st.rc, st.comp, d)
+    return (d, T, bool(state[st.n] == 1)) if ok else None
 
 
 def assert_conditions(st, d, T, slack):
@@ -81,8 +92,7 @@ def test_random_steps_meet_every_condition(comp):
     solved = 0
     for _ in range(300):
         st = random_step(rng, n=int(rng.integers(1, 6)), comp=comp)
-        state = [cp.STICK] * st.n + [False]
-        got = cp.coupled_solve(st, state)
+        got = coupled_solve(st)
         if got is None:
             continue
         solved += 1
@@ -97,7 +107,7 @@ def test_frictionless_step_is_the_constrained_minimum():
     checked = 0
     for _ in range(100):
         st = random_step(rng, friction=False)
-        got = cp.coupled_solve(st, [cp.STICK] * st.n + [False])
+        got = coupled_solve(st)
         H, E, rc, r = (np.array(v) for v in (st.H, st.E, st.rc, st.r))
         K = np.block([[H, -rc[:, None]], [r[None, :], np.zeros((1, 1))]])
         x = np.linalg.solve(K, np.concatenate([-E, [st.t_d - r @ np.array(st.prev)]]))
@@ -119,15 +129,14 @@ def bench_finger(gravity):
 
 
 @pytest.mark.parametrize("gravity", [(0.0, -1.0), (1.0, 0.0), (0.6, -0.8)])
-def test_joints_sliding_against_their_weight_settle(gravity, monkeypatch):
+def test_joints_sliding_against_their_weight_settle(gravity):
     """Palm up and sideways, joints 1 and 2 slide together against weights that soften them. Each joint's own slope
     (the fallback alone) hands the whole step to one joint, then the other: hundreds of readings are not
     equilibria. Coupled, every reading is one, the steps where the finger snaps included."""
     m = bench_finger(gravity)
     c = fm.simulate_stroke(m, FINGER.stroke, 500)
     assert fm.unbalanced_readings(m, c) == 0
-    monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
-    own = fm.simulate_stroke(m, FINGER.stroke, 500)
+    own = fm.simulate_path(m, c.tendon_mm, c.phase, coupled=False)
     assert fm.unbalanced_readings(m, own) > 100
 
 
@@ -152,7 +161,7 @@ def random_heavy_finger(rng):
                           tuple(rng.uniform(5, 9, n)), **kw)
 
 
-def test_random_heavy_fingers_balance_at_every_reading(monkeypatch):
+def test_random_heavy_fingers_balance_at_every_reading():
     """40 random fingers pulled to 50–110 % of their full closure and back (401 readings each): a reading that is
     not an equilibrium with the weight at its own angles is one where neither the coupled step nor Newton again
     from each joint's own slope's answer found one within COUPLED_ITERATIONS. With seed 11 none is left; seeds 1,
@@ -167,28 +176,31 @@ def test_random_heavy_fingers_balance_at_every_reading(monkeypatch):
         fingers.append((m, float(np.dot(m.moment_arm, m.rotation) * rng.uniform(0.5, 1.1))))
     bad = [fm.unbalanced_readings(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers]
     assert sum(bad) <= 1, bad
-    monkeypatch.setattr(fm, "coupled_step", lambda *a, **k: None)
-    own = [fm.unbalanced_readings(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5]]
+    own = [fm.unbalanced_readings(m, fm.simulate_path(m, c.tendon_mm, c.phase, coupled=False))
+           for m, c in ((m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5])]
     assert sum(own) > 10 * sum(bad[:5]) + 50, (own, bad[:5])
 
 
-def test_a_joint_the_tendon_holds_where_it_was_does_not_flip_between_sliding_and_sticking(monkeypatch):
+def test_a_joint_the_tendon_holds_where_it_was_does_not_flip_between_sliding_and_sticking():
     """Seed 11's 29th random finger at its first reading: the weight flexes joint 1 from its rest pose, the taut
     tendon (t_d = 0) holds it there, so sliding it moves it by the linear solve's rounding (−1e-17 rad) and asks a
-    negative tension. Counting that rounding as a wrong-way move (MOVE_TOL = 0) sends the joint back to sticking,
+    negative tension. Counting that rounding as a wrong-way move (MOVE_TOL = 0) sent the joint back to sticking,
     then sliding again, until MAX_PIVOTS: no answer. With the tolerance the tendon goes slack and the finger
     settles under its weight, every joint in balance."""
     rng = np.random.default_rng(11)
     for _ in range(29):
         m = random_heavy_finger(rng)
         rng.uniform()
+    K, th0, thmax, r, _, f0, (gp, gn) = m.arrays()
+    k3, c, km, tr = m.rate_arrays()
     z = np.zeros(m.n)
-    got = fm.coupled_step(m, 0.0, z, True, 0.0, math.inf, z)
-    assert got is not None
-    th, T, ti, slack = got[:4]
-    assert slack and T == 0.0 and np.degrees(th[0]) > 30
-    c = fm.Closure(np.zeros(1), ["pull"], th[None, :], np.array([T]), ti[None, :], np.zeros((1, m.n)),
+    E0, B, th = np.zeros(m.n), np.zeros(m.n), np.zeros(m.n)
+    spring_terms(z, z, 0.0, 0.0, 0.0, Springs(K, k3, c, km, tr), Joints(th0, thmax, r, f0, gp, gn), E0, B)
+    c_pull, _ = fm.capstan_factors(m)
+    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
+    ok, T, slack = cp.coupled_step(0.0, z, 0.0, z, E0, B, Joints(th0, thmax, r, f0, gp, gn), r * c_pull, comp,
+                                   fm.weight_of(m), th)
+    assert ok and slack and T == 0.0 and np.degrees(th[0]) > 30
+    c = fm.Closure(np.zeros(1), ["pull"], th[None, :], np.array([T]), (T * c_pull)[None, :], np.zeros((1, m.n)),
                    np.array([slack]))
     assert fm.unbalanced_readings(m, c) == 0
-    monkeypatch.setattr(cp, "MOVE_TOL", 0.0)
-    assert fm.coupled_step(m, 0.0, z, True, 0.0, math.inf, z) is None

@@ -1,44 +1,48 @@
-"""Quasi-static closure of a single-tendon finger with N joints, with stick–slip friction.
+"""Quasi-static closure of a single-tendon finger with N joints, with stick–slip friction: the public entry points.
 
-Per joint i (proximal first): stiffness K_i, preload θ0_i, range [0, θmax_i],
-tendon moment arm r_i, Coulomb band f_i = f0_i + γ_i·(θ_i + θ0_i) (pin friction
-from an external load, and from the tendon's own load as in paper Eq. 4; γ_i = γ⁺_i while the
-joint closes, γ⁻_i while it opens: the paper measured γ⁺ 1.89 and γ⁻ 3.15 N·mm/rad),
-capstan wrap α_i of the tendon before joint i (in the channel that feeds it)
-with coefficient μ_t, and optionally gravity on the links.
+Per joint i (proximal first): stiffness K_i, preload θ0_i, range [0, θmax_i], tendon moment arm r_i, Coulomb band
+f_i = f0_i + γ_i·(θ_i + θ0_i) (pin friction from an external load, and from the tendon's own load as in paper
+Eq. 4; γ_i = γ⁺_i while the joint closes, γ⁻_i while it opens: the paper measured γ⁺ 1.89 and γ⁻ 3.15 N·mm/rad),
+capstan wrap α_i of the tendon before joint i (in the channel that feeds it) with coefficient μ_t, and optionally
+gravity on the links.
 
-Tension reaching joint i: T_i = T·c_i with c_i = exp(−μ_t·Σ_{k≤i} α_k) while
-pulling and exp(+μ_t·Σ α_k) while releasing (T at the actuator).
+Tension reaching joint i: T_i = T·c_i with c_i = exp(−μ_t·Σ_{k≤i} α_k) while pulling and exp(+μ_t·Σ α_k) while
+releasing (T at the actuator). Joint i is in equilibrium when |r_i·T_i − K_i(θ_i + θ0_i) − τg_i| ≤ f_i (stick);
+beyond the band it slips to the band's edge. The tendon ties the joints: Σ r_i·θ_i + T/k_t = t_d (k_t: tendon
+stiffness), or it is slack (T = 0). Rate and wind-up effects (each optional, per joint): viscous damping c_i·θ̇_i, a
+cubic stiffening k3_i·(θ_i + θ0_i)³ and a Maxwell relaxation arm. Where every joint sticks the tension is not
+unique: it stays as close to the previous step's as the tendon allows.
 
-Joint i is in equilibrium when |r_i·T_i − K_i(θ_i + θ0_i) − τg_i| ≤ f_i (stick);
-beyond the band it slips to the band's edge. For a given T every θ_i(T) is a
-non-decreasing, piecewise-linear function, so the tendon constraint
-Σ r_i·θ_i(T) + T/k_t = t_d (k_t: tendon stiffness) is solved exactly on its breakpoints. When even T = 0 leaves
-the finger more closed than t_d allows, the tendon is slack: T = 0.
-Rate and wind-up effects (each optional, per joint): viscous damping c_i·θ̇_i, a cubic stiffening k3_i·(θ_i + θ0_i)³
-and a Maxwell relaxation arm (dτ_M/dt = K_M·θ̇ − τ_M/T_r). Within a step of duration Δt they are linearised about
-the previous angle, so each joint's elastic torque is E_i + B_i·(θ_i − θ_prev,i) and the solve stays exact and
-piecewise linear: B_i = K_i + 3k3_i·s² + c_i/Δt + K_M,i·b, E_i = K_i·s + k3_i·s³ + a·τ_M,i + τg_i (s = θ_prev + θ0,
-a = exp(−Δt/T_r), b = T_r(1 − a)/Δt: the arm's exact update for a constant rate over the step).
-With the links' weight, each reading is an equilibrium of the weight's torque at its own angles: the step is
-solved with the joints coupled through the weight's full slope and re-linearised (Newton; rjcad.physics.coupled),
-with proximal steps where the finger snaps, and each joint's own slope as the fallback (see COUPLED_ITERATIONS).
-Where every joint sticks the tension is not unique (any T on a flat stretch of Σ r·θ(T) meets the tendon
-constraint): it stays as close to the previous step's as that stretch allows.
+The solver is compiled (numba), one loop over the path: ``rjcad.physics.finger_path`` (a step's terms and the
+weight), ``rjcad.physics.tendon_step`` (the exact piecewise-linear tendon solve), ``rjcad.physics.coupled`` (the
+joints coupled through the weight's full slope, Newton) and ``rjcad.physics.gravity`` (the weight's torque).
+tests/test_physics_finger.py and tests/test_finger_closed_forms.py check it against closed forms and root finders.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from rjcad.errors import ParameterError
-from rjcad.physics import coupled as cp
 from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
-from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_terms  # noqa: F401  (re-exported)
+from rjcad.physics.finger_path import closure_path
+from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_of  # noqa: F401  (re-exported)
 from rjcad import DEG
+
+__all__ = ["AT_STOP", "CLOSING", "Closure", "FingerModel", "G", "MOVED_RAD", "OPENING", "STICKING", "capstan_factors",
+           "frictionless_optimum", "gravity_terms", "gravity_torques", "joint_states", "load_finger_model",
+           "model_from_manifest", "model_from_template", "onset_tendon", "path_times", "pulling_steps",
+           "simulate_angles", "simulate_path", "simulate_stroke", "unbalanced_readings", "weight_of"]
+
+#: A joint counts as moved in a step beyond this [rad], and as on a stop within this of it (``joint_states``).
+MOVED_RAD = 1e-12
+#: ``Closure.state`` values: sticking, sliding closed, sliding open, resting on a stop.
+STICKING, CLOSING, OPENING, AT_STOP = 0.0, 1.0, -1.0, 2.0
 
 
 @dataclass
@@ -53,7 +57,7 @@ class Closure:
     state: np.ndarray  # (steps, N): 0 stick, +1 slip closing, −1 slip opening, 2 at a limit
     slack: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "tendon_mm": self.tendon_mm.tolist(),
             "phase": self.phase,
@@ -64,197 +68,6 @@ class Closure:
         }
 
 
-#: The weight's slope enters a step's linearisation down to −this × the joint's own step stiffness B (a weight
-#: that softens a joint more than that tips it over: the step stays a step, the snap takes a few).
-GRAVITY_SOFTENING = 0.9
-#: With gravity, a step is first solved with the joints coupled through the weight's full slope
-#: (rjcad.physics.coupled), re-linearised about its result (Newton) up to COUPLED_ITERATIONS times until no angle
-#: moves by more than GRAVITY_TOL [rad]: each reading is an equilibrium. Once a move is not at most
-#: GRAVITY_CONTRACTION of the one before, each joint's torque gets λ(θ − at) with H + λI's smallest eigenvalue
-#: GRAVITY_MARGIN × min(B) (proximal steps towards a stable equilibrium: where the finger snaps they take most of
-#: the budget). Where that finds none either, the step falls back to each joint's own slope (a diagonal H,
-#: ``step_terms``), re-linearised the same way up to GRAVITY_ITERATIONS times, and the coupled step starts once
-#: more from that answer (which is returned only where that finds no equilibrium either).
-COUPLED_ITERATIONS = 200
-GRAVITY_ITERATIONS = 40
-GRAVITY_TOL = 1e-7
-GRAVITY_CONTRACTION = 0.5
-GRAVITY_MARGIN = 0.5
-
-
-def step_terms(m: FingerModel, prev, tg, dt: float, tau_m, tg_slope=None, at=None):
-    """(E, B, a, b) of a step of ``dt`` s from the angles ``prev``: each joint's elastic torque is E + B·(θ − prev)
-    [N·mm]; the Maxwell arm's torque after the step is a·τ_M + K_M·b·(θ − prev). ``dt`` = inf: no rate terms
-    (a first step, or a rate-independent model).
-
-    ``tg``, ``tg_slope``: the weight's torque and its slope (``gravity_terms``) at the angles ``at`` (default
-    ``prev``); the weight enters as tg + k_g·(θ − at), k_g = max(tg_slope, −GRAVITY_SOFTENING·B). The slope makes
-    the weight implicit in the step: an explicit weight stiffer than the spring flips the joint step to step.
-    """
-    K, th0 = m.arrays()[:2]
-    k3, c, km, tr = m.rate_arrays()
-    s = prev + th0
-    a = 0.0 if math.isinf(dt) else math.exp(-dt / tr)
-    b = 0.0 if math.isinf(dt) else tr * (1.0 - a) / dt
-    E = K * s + k3 * s**3 + a * tau_m + tg
-    B = K + 3.0 * k3 * s**2 + (0.0 if math.isinf(dt) else 1.0 / dt) * c + km * b
-    if tg_slope is not None:
-        kg = np.maximum(tg_slope, -GRAVITY_SOFTENING * B)
-        if at is not None:
-            E = E - kg * (np.asarray(at) - prev)
-        B = B + kg
-    return E, B, a, b
-
-
-def path_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
-    """One step of ``simulate_path``: (θ, T, joint tensions, slack, a, b) at t_d from ``prev``. With gravity the
-    weight is re-linearised about the step's result until it is an equilibrium (see COUPLED_ITERATIONS), starting
-    from ``guess`` (default ``prev``; the path passes the last two readings' extrapolation)."""
-    if m.has_gravity:
-        got = coupled_step(m, t_d, prev, pulling, prev_T, dt, tau_m, guess)
-        if got is not None:
-            return got
-    at, last, w = (prev if guess is None else guess), math.inf, 1.0
-    for _ in range(GRAVITY_ITERATIONS if m.has_gravity else 1):
-        tg, tg_slope = gravity_terms(m, at)
-        E, B, a, b = step_terms(m, prev, tg, dt, tau_m, tg_slope, at)
-        th, T, ti, slack = equilibrium(m, t_d, prev, pulling, None, prev_T, (E, B))
-        moved = float(np.max(np.abs(th - at), initial=0.0))
-        if moved <= GRAVITY_TOL:
-            break
-        if moved > GRAVITY_CONTRACTION * last:
-            w = 0.5
-        last = moved
-        at = at + w * (th - at)
-    if m.has_gravity:  # the joints' own slopes found an answer near an equilibrium: Newton from there again
-        got = coupled_step(m, t_d, prev, pulling, prev_T, dt, tau_m, th)
-        if got is not None:
-            return got
-    return th, T, ti, slack, a, b
-
-
-def coupled_step(m: FingerModel, t_d: float, prev, pulling: bool, prev_T: float, dt: float, tau_m, guess=None):
-    """``path_step`` with the joints coupled through the weight's full slope (rjcad.physics.coupled), or None
-    where no equilibrium was found within COUPLED_ITERATIONS linearisations."""
-    n = m.n
-    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
-    cum = np.cumsum(wrap)
-    c = np.exp(-m.mu_t * cum) if pulling else np.exp(m.mu_t * cum)
-    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    tol = FLAT_MM * max(1.0, abs(t_d))
-    E0, B, a, b = step_terms(m, prev, np.zeros(n), dt, tau_m)  # the spring's part: the weight's is added below
-    E0, B, pl = E0.tolist(), B.tolist(), prev.tolist()
-    consts = (th0.tolist(), thmax.tolist(), r.tolist(), (r * c).tolist(), f0.tolist(), gp.tolist(), gn.tolist())
-    at = pl if guess is None else guess.tolist()
-    state = [cp.UP if x > p + 1e-12 else (cp.DOWN if x < p - 1e-12 else cp.STICK) for x, p in zip(at, pl)] + [False]
-    damped, last = False, math.inf
-    for _ in range(COUPLED_ITERATIONS):
-        tg, slope = weight_terms(m, at)
-        # the weight's torque over the step: tg + G·(θ − at), G_ij = slope_max(i,j)
-        H = [[slope[max(i, j)] for j in range(n)] for i in range(n)]
-        E = [E0[i] + tg[i] + sum(H[i][j] * (pl[j] - at[j]) for j in range(n)) for i in range(n)]
-        for i in range(n):
-            H[i][i] += B[i]
-        if damped:  # proximal: + λ(θ − at), H + λI positive definite
-            lam = GRAVITY_MARGIN * min(B) - float(np.linalg.eigvalsh(np.array(H))[0])
-            if lam > 0:
-                for i in range(n):
-                    H[i][i] += lam
-                    E[i] += lam * (pl[i] - at[i])
-        got = cp.coupled_solve(cp.Step(t_d, pl, prev_T, E, H, *consts, comp, tol), state)
-        if got is None:
-            if damped:
-                return None
-            damped = True
-            continue
-        d, T, slack = got
-        th = [p + x for p, x in zip(pl, d)]
-        moved = max(abs(x - y) for x, y in zip(th, at))
-        if moved <= GRAVITY_TOL and not damped:
-            return np.clip(th, 0.0, thmax), T, T * c, slack, a, b
-        # Newton while its moves contract; proximal steps while they do not (a snap: the joints run to another
-        # equilibrium), back to Newton once they do
-        damped = moved > GRAVITY_CONTRACTION * last
-        last = moved
-        at = th
-    return None
-
-
-def _theta_of_T(T, prev, E, B, th0, thmax, rc, f0, gam):
-    """θ_i(T) for every joint given the previous angles (vectorised over joints; T may be a column of tensions).
-
-    The joint closes once r·c·T passes E + f0 + γ⁺·s, opens below E − f0 − γ⁻·s (s = θ_prev + θ0), and moves
-    along the band's edge with its torque E + B·(θ − θ_prev).
-    """
-    gp, gn = gam
-    s = prev + th0
-    up_T = (E + f0 + gp * s) / rc
-    dn_T = (E - f0 - gn * s) / rc
-    up = (rc * T - E - f0 - gp * th0 + B * prev) / (B + gp)
-    dn = (rc * T - E + f0 + gn * th0 + B * prev) / (B - gn)
-    th = np.where(T >= up_T, np.maximum(up, prev), np.where(T <= dn_T, np.minimum(dn, prev), prev))
-    return np.clip(th, 0.0, thmax)
-
-
-def _breakpoints(prev, E, B, th0, thmax, rc, f0, gam):
-    gp, gn = gam
-    s = prev + th0
-    return np.concatenate([
-        (E + f0 + gp * s) / rc,
-        (E - f0 - gn * s) / rc,
-        (E + B * (thmax - prev) + f0 + gp * (thmax + th0)) / rc,
-        (E - B * prev - f0 - gn * th0) / rc,
-    ])
-
-
-#: Σ r·θ within this of t_d [mm] counts as meeting it: where every joint sticks, S(T) is flat and the tension
-#: anywhere on that flat stretch solves the constraint.
-FLAT_MM = 1e-7
-
-
-def equilibrium(m: FingerModel, t_d: float, prev: np.ndarray, pulling: bool, tg: np.ndarray | None = None,
-                prev_T: float = 0.0, terms=None):
-    """Angles, actuator tension and joint tensions at tendon displacement t_d, from the previous angles.
-
-    ``terms``: (E, B) of the step (``step_terms``), which already hold any weight; without them, the spring
-    alone plus ``tg`` (the weight's torque at ``prev``, held constant over the step). Giving both is an error.
-    Where the tendon constraint holds for a range of tensions (every joint sticking, the tendon inextensible),
-    the tension stays as close to ``prev_T`` as that range allows: nothing moved, so nothing changed.
-    """
-    if terms is not None and tg is not None:
-        raise ValueError("equilibrium: give the weight's torque in `terms` (step_terms) or as `tg`, not both")
-    K, th0, thmax, r, wrap, f0, gam = m.arrays()
-    tg = np.zeros(m.n) if tg is None else tg
-    E, B = terms if terms is not None else step_terms(m, prev, tg, math.inf, np.zeros(m.n))[:2]
-    cum = np.cumsum(wrap)
-    c = np.exp(-m.mu_t * cum) if pulling else np.exp(m.mu_t * cum)
-    rc = r * c
-    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    args = (prev, E, B, th0, thmax, rc, f0, gam)
-    theta0 = _theta_of_T(0.0, *args)
-    if float(r @ theta0) >= t_d:
-        return theta0, 0.0, np.zeros(m.n), True
-    bps = _breakpoints(*args)
-    bps = np.unique(np.clip(bps[np.isfinite(bps)], 0.0, None))
-    grid = np.concatenate([[0.0], bps])
-    S = _theta_of_T(grid[:, None], *args) @ r + comp * grid  # all at once
-    tol = FLAT_MM * max(1.0, abs(t_d))
-    if S[-1] < t_d - tol:
-        if comp == 0.0:  # every joint at its limit: the tendon cannot be pulled further
-            T = float(grid[-1])
-            return _theta_of_T(T, *args), T, T * c, False
-        T = float(grid[-1]) + (t_d - S[-1]) / comp  # only the tendon stretches beyond that
-        return _theta_of_T(T, *args), T, T * c, False
-    k = int(np.searchsorted(S, t_d - tol))  # the first grid tension that meets t_d (to within tol) or passes it
-    if S[k] <= t_d + tol:  # met at grid[k], and on along a flat stretch: keep the previous tension if on it
-        j = k + int(np.searchsorted(S[k:], t_d + tol, side="right")) - 1
-        T = min(max(prev_T, float(grid[k])), float(grid[j]))
-    else:  # passed between grid[k-1] and grid[k]: S is linear there
-        T0, T1, S0, S1 = grid[k - 1], grid[k], S[k - 1], S[k]
-        T = T0 + (t_d - S0) * (T1 - T0) / (S1 - S0)
-    return _theta_of_T(T, *args), float(T), T * c, False
-
-
 def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int = 0) -> Closure:
     """Pull the tendon from 0 to ``stroke`` mm, then release back to 0, in ``steps`` steps each way."""
     up = np.linspace(0.0, stroke, steps + 1)
@@ -263,40 +76,65 @@ def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int =
     return simulate_path(m, td, phase)
 
 
-def simulate_path(m: FingerModel, tendon_mm, phase: list[str] | None = None, t_s=None) -> Closure:
+def simulate_path(m: FingerModel, tendon_mm: ArrayLike, phase: list[str] | None = None,
+                  t_s: ArrayLike | None = None, *, coupled: bool = True) -> Closure:
     """Quasi-static response along a tendon-displacement path [mm] at times ``t_s`` [s] (needed, and only
-    used, when the model has damping or relaxation)."""
-    td = np.asarray(tendon_mm, dtype=float)
-    t = path_times(m, td, t_s)
-    n = m.n
-    thmax = np.asarray(m.rotation, float)
-    theta = np.zeros((len(td), n))
-    T = np.zeros(len(td))
-    Ti = np.zeros((len(td), n))
-    state = np.zeros((len(td), n))
-    slack = np.zeros(len(td), dtype=bool)
-    prev = np.zeros(n)
-    tau_m = np.zeros(n)
-    km = np.asarray(m.relax_stiffness, float)
-    pulling = True
+    used, when the model has damping or relaxation). ``coupled`` False: the weight enters each step through each
+    joint's own slope only (the solver's fallback alone; a check value, readings need not be equilibria)."""
+    td = np.ascontiguousarray(tendon_mm, dtype=float)
+    theta, tension, slack = _run(m, td, t_s, coupled)
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
-    for k, t_d in enumerate(td):
-        if k and td[k] != td[k - 1]:
-            pulling = td[k] > td[k - 1]
-        dt = math.inf if t is None or k == 0 else float(t[k] - t[k - 1])
-        guess = np.clip(2.0 * prev - theta[k - 2], 0.0, thmax) if k >= 2 and m.has_gravity else None
-        th, Tk, tik, sl, a, b = path_step(m, float(t_d), prev, pulling, T[k - 1] if k else 0.0, dt, tau_m, guess)
-        tau_m = a * tau_m + km * b * (th - prev)
-        moved = th - prev
-        st = np.where(moved > 1e-12, 1.0, np.where(moved < -1e-12, -1.0, 0.0))
-        st = np.where((th <= 1e-12) & (st <= 0) | (th >= thmax - 1e-12) & (st >= 0), np.where(st == 0, 2.0, st), st)
-        theta[k], T[k], Ti[k], state[k], slack[k] = th, Tk, tik, st, sl
-        prev = th
-    return Closure(td, list(phase), theta, T, Ti, state, slack)
+    c_pull, c_release = capstan_factors(m)
+    joint_tension = tension[:, None] * np.where(pulling_steps(td)[:, None], c_pull, c_release)
+    return Closure(td, list(phase), theta, tension, joint_tension, joint_states(theta, m.arrays()[2]), slack)
 
 
-def path_times(m: FingerModel, td: np.ndarray, t_s) -> np.ndarray | None:
+def simulate_angles(m: FingerModel, tendon_mm: ArrayLike,
+                    t_s: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """θ (steps, N) [rad] and the actuator tension (steps,) [N] along a tendon path [mm] at times ``t_s`` [s]
+    (needed when the model has damping or relaxation): ``simulate_path``'s ``theta`` and ``tension`` without the
+    rest of its ``Closure`` (what identification calls thousands of times)."""
+    theta, tension, _ = _run(m, np.ascontiguousarray(tendon_mm, dtype=float), t_s)
+    return theta, tension
+
+
+def capstan_factors(m: FingerModel) -> tuple[np.ndarray, np.ndarray]:
+    """(c while pulling, c while releasing): the share of the actuator's tension that reaches each joint,
+    c_i = exp(∓μ_t·Σ_{k≤i} α_k) (capstan: the tendon rubs on its path over the wraps α before joint i)."""
+    cum = np.cumsum(m.arrays()[4])
+    return np.exp(-m.mu_t * cum), np.exp(m.mu_t * cum)
+
+
+def pulling_steps(td: np.ndarray) -> np.ndarray:
+    """Per step, whether the tendon is being pulled: it moved up, or held after moving up (the first step pulls)."""
+    step = np.sign(np.diff(td, prepend=-math.inf))
+    last_move = np.maximum.accumulate(np.where(step != 0, np.arange(len(td)), 0))
+    return step[last_move] > 0
+
+
+def joint_states(theta: np.ndarray, thmax: np.ndarray) -> np.ndarray:
+    """``Closure.state`` of each reading: CLOSING, OPENING or STICKING by the move from the reading before (beyond
+    MOVED_RAD), AT_STOP for a joint that rests on a stop (one it did not leave in that step)."""
+    moved = np.diff(theta, axis=0, prepend=0.0)
+    st = np.where(moved > MOVED_RAD, CLOSING, np.where(moved < -MOVED_RAD, OPENING, STICKING))
+    on_stop = ((theta <= MOVED_RAD) & (st <= 0)) | ((theta >= thmax - MOVED_RAD) & (st >= 0))
+    return np.where(on_stop, np.where(st == STICKING, AT_STOP, st), st)
+
+
+def _run(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None,
+         coupled: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The compiled path (``rjcad.physics.finger_path.closure_path``) on ``m``'s arrays: θ, tension, slack."""
+    K, th0, thmax, r, _, f0, (gp, gn) = m.arrays()
+    k3, c, km, tr = m.rate_arrays()
+    t = path_times(m, td, t_s)
+    comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness  # the tendon's compliance [mm/N]
+    c_pull, c_release = capstan_factors(m)
+    return closure_path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), (K, k3, c, km, tr),
+                        (th0, thmax, r, f0, gp, gn), c_pull, c_release, comp, tuple(weight_of(m)), coupled)
+
+
+def path_times(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None) -> np.ndarray | None:
     """The path's times [s] when the model needs them (strictly increasing, one per step), else None."""
     if not m.rate_dependent:
         return None

@@ -1,19 +1,24 @@
 """The finger model's parameters: one validated, frozen set of per-joint values (re-exported by
-``rjcad.physics.finger``, whose solver reads them through the cached arrays here)."""
+``rjcad.physics.finger``, whose compiled solver reads them through the cached arrays here)."""
 
 from __future__ import annotations
 
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.gravity import G
 
+#: ``FingerModel.arrays()``: (K, θ0, θmax, r, wrap, f0, (γ⁺, γ⁻)).
+ModelArrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                    tuple[np.ndarray, np.ndarray]]
 
-def _frozen(x) -> np.ndarray:
+
+def _frozen(x: Any) -> np.ndarray:
     """A read-only float array of ``x`` (shared by every caller of a model's cached arrays)."""
     a = np.array(x, dtype=float)
     a.flags.writeable = False
@@ -46,7 +51,7 @@ class FingerModel:
     #: y towards the palm) [mm] (default: (link_length/2, 0), the middle of the link)
     link_com: tuple[tuple[float, float], ...] = ()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         n = len(self.stiffness)
         for name in ("gamma_pos", "gamma_neg"):  # gamma is the shorthand for both; all zeros: not given
             if not getattr(self, name):
@@ -109,40 +114,31 @@ class FingerModel:
         """Whether the response depends on time (damping or relaxation): a path then needs its times."""
         return any(self.damping) or any(self.relax_stiffness)
 
-    def rate_arrays(self):
+    def rate_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         """(k3, c, K_M) as arrays and T_r."""
         return self._rate_arrays
 
-    def arrays(self):
+    def arrays(self) -> ModelArrays:
         """(K, θ0, θmax, r, wrap, f0, (γ⁺, γ⁻)) as read-only float arrays (made once per model: a path's
         every step reads them)."""
         return self._arrays
 
-    def link_arrays(self):
+    def link_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as read-only arrays (made once
         per model)."""
         return self._link_arrays
 
-    def link_lists(self):
-        """(link lengths, centre-of-mass x and y in the link frame [mm], weights [N]) as lists of floats, for
-        ``weight_terms`` (made once per model)."""
-        return self._link_lists
-
     @functools.cached_property
-    def _link_lists(self):
-        return tuple(a.tolist() for a in self._link_arrays)
-
-    @functools.cached_property
-    def _link_arrays(self):
+    def _link_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         lx, ly = np.asarray(self.link_com, dtype=float).reshape(-1, 2).T
         return _frozen(self.link_length), _frozen(lx), _frozen(ly), _frozen(np.asarray(self.link_mass) * G)
 
     @functools.cached_property
-    def _rate_arrays(self):
+    def _rate_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         return _frozen(self.cubic), _frozen(self.damping), _frozen(self.relax_stiffness), float(self.relax_time)
 
     @functools.cached_property
-    def _arrays(self):
+    def _arrays(self) -> ModelArrays:
         f = _frozen
         return (f(self.stiffness), f(self.preload), f(self.rotation), f(self.moment_arm), f(self.wrap),
                 f(self.friction), (f(self.gamma_pos), f(self.gamma_neg)))

@@ -4,15 +4,19 @@ centres of mass), a finger template's physics keys, or a file of either (re-expo
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
+from typing import Any
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
 from rjcad import DEG
 
 
-def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
-                        gravity: tuple[float, float] | None = None, gamma_pos=None, gamma_neg=None) -> FingerModel:
+def model_from_manifest(manifest: Any, mu_t: float = 0.0, friction: Sequence[float] | None = None,
+                        gamma: Sequence[float] | None = None, gravity: tuple[float, float] | None = None,
+                        gamma_pos: Sequence[float] | None = None,
+                        gamma_neg: Sequence[float] | None = None) -> FingerModel:
     """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
     preload, range, measured arms and wraps, and each joint's child body's mass."""
     from rjcad.io.manifest import Manifest
@@ -22,7 +26,7 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
     if not joints:
         raise ParameterError("joints", [], "must be a non-empty list of joints, proximal first")
 
-    def num(key: str, default=None) -> tuple[float, ...]:
+    def num(key: str, default: float | None = None) -> tuple[float, ...]:
         out = []
         for i, j in enumerate(joints):
             v = getattr(j, key)
@@ -33,7 +37,7 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
 
     masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
     coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
-    link_com = ()
+    link_com: tuple[tuple[float, float], ...] = ()
     if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
         link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1])
                          for j in joints)
@@ -55,7 +59,7 @@ def model_from_manifest(manifest, mu_t: float = 0.0, friction=None, gamma=None,
     )
 
 
-def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
+def model_from_template(data: dict[str, Any], default_arm: float = 6.0) -> FingerModel:
     """A finger model from a finger template's physics keys; the purely geometric keys are ignored.
 
     Per joint (``[[joint]]`` over ``[defaults]``): stiffness_nmm_per_rad (required), preload_deg (90),
@@ -74,7 +78,7 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
             raise ParameterError(f"joint[{i}]", j, "must be a table")
         merged = {**defaults, **j}
 
-        def num(key, default=None):
+        def num(key: str, default: float | None = None) -> float:
             v = merged.get(key, default)
             if v is None:
                 raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
@@ -90,7 +94,7 @@ def model_from_template(data: dict, default_arm: float = 6.0) -> FingerModel:
     return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
 
 
-def check_template_keys(data: dict, name: str) -> None:
+def check_template_keys(data: dict[str, Any], name: str) -> None:
     """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
     from rjcad.io.config import check_key
     from rjcad.io.templates import FINGER_JOINT_KEYS, FINGER_KEYS

@@ -1,58 +1,83 @@
 """The finger links' weight: its torque about each joint and that torque's slope in the joint's own angle.
 
-Pure numpy over a ``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports these; the model is not
-imported here, since its module imports this one): links are point masses [g] at their centres of mass, lengths
-in mm, torques in N·mm.
+Links are point masses [g] at their centres of mass, lengths in mm, torques in N·mm. ``weight_torque`` is the
+compiled kernel the finger's solver calls at every step; ``gravity_terms`` and ``gravity_torques`` wrap it for a
+``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports them; the model is not imported here, since
+its module imports this one).
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
+from numba import njit
 
 G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
 
 
-def gravity_terms(m, theta) -> tuple[np.ndarray, np.ndarray]:
-    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
-    joint's own angle [N·mm/rad] (``weight_terms`` as arrays)."""
-    if not m.has_gravity:
-        return np.zeros(m.n), np.zeros(m.n)
-    tau, slope = weight_terms(m, np.asarray(theta, dtype=float).tolist())
-    return np.array(tau), np.array(slope)
+class Weight(NamedTuple):
+    """The links' weight as the compiled solver reads it: link lengths [mm], centres of mass (n, 2) in each link's
+    frame [mm], weights [N], gravity's unit direction (gx, gy) in the finger plane, and whether it acts at all."""
+
+    length: np.ndarray
+    com: np.ndarray
+    weight: np.ndarray
+    gx: float
+    gy: float
+    on: bool
 
 
-def weight_terms(m, theta: list) -> tuple[list, list]:
-    """``gravity_terms`` over Python floats (a finger has a few joints: a loop beats small-array numpy).
+def weight_of(m: Any) -> Weight:
+    """The ``Weight`` of a finger model (a zero direction and ``on`` False when no weight acts)."""
+    length, _, _, weight = m.link_arrays()
+    gx, gy = m.gravity if m.gravity is not None else (0.0, 0.0)
+    com = np.ascontiguousarray(m.link_com, dtype=float)
+    return Weight(length, com, weight, float(gx), float(gy), bool(m.has_gravity))
 
-    Links are point masses w_j at their centres of mass p_j (``link_com``, by default their middles); flexion is
-    positive about +Z; g is gravity's direction in the plane. With r_ij = p_j − (joint i):
+
+@njit(cache=True)
+def weight_torque(theta: np.ndarray, wt: Weight, tau: np.ndarray, slope: np.ndarray) -> None:
+    """Fills ``tau`` with the weight's torque about each joint, resisting flexion when positive [N·mm], and
+    ``slope`` with its slope in that joint's own angle [N·mm/rad], at the angles ``theta`` [rad].
+
+    Flexion is positive about +Z; g = (gx, gy). With r_ij = p_j − (joint i), p_j link j's centre of mass:
     τ_i = −Σ_{j≥i} w_j (r_ij × g)_z, and turning joint i turns every r_ij, so ∂τ_i/∂θ_i = Σ_{j≥i} w_j r_ij·g
-    (positive where the links hang below the joint: gravity then stiffens it). The sums over j ≥ i are taken
-    from the tip: Σ w_j r_ij = Σ w_j p_j − W_i·(joint i), W_i = Σ_{j≥i} w_j.
+    (positive where the links hang below the joint: gravity then stiffens it).
     """
-    gx, gy = m.gravity
-    length, lx, ly, w = m.link_lists()
-    n = len(length)
-    xs, ys, cxs, cys = [0.0] * n, [0.0] * n, [0.0] * n, [0.0] * n
-    ang = x = y = 0.0
-    for j in range(n):
-        ang += theta[j]
-        c, s = math.cos(ang), math.sin(ang)
-        xs[j], ys[j] = x, y
-        cxs[j], cys[j] = x + lx[j] * c - ly[j] * s, y + lx[j] * s + ly[j] * c
-        x, y = x + length[j] * c, y + length[j] * s
-    tau, slope = [0.0] * n, [0.0] * n
-    W = mx = my = 0.0
-    for i in range(n - 1, -1, -1):
-        W, mx, my = W + w[i], mx + w[i] * cxs[i], my + w[i] * cys[i]
-        rx, ry = mx - W * xs[i], my - W * ys[i]  # Σ_{j≥i} w_j r_ij
-        tau[i] = ry * gx - rx * gy
-        slope[i] = rx * gx + ry * gy
+    n = len(theta)
+    x = np.zeros(n + 1)  # joint positions along the chain [mm]
+    y = np.zeros(n + 1)
+    c = np.zeros(n)  # each link's absolute direction
+    s = np.zeros(n)
+    ang = 0.0
+    for i in range(n):
+        ang += theta[i]
+        c[i], s[i] = math.cos(ang), math.sin(ang)
+        x[i + 1] = x[i] + wt.length[i] * math.cos(ang)
+        y[i + 1] = y[i] + wt.length[i] * math.sin(ang)
+    for i in range(n):
+        torque = 0.0
+        stiff = 0.0
+        for j in range(i, n):
+            rx = x[j] + wt.com[j, 0] * c[j] - wt.com[j, 1] * s[j] - x[i]
+            ry = y[j] + wt.com[j, 0] * s[j] + wt.com[j, 1] * c[j] - y[i]
+            torque -= wt.weight[j] * (rx * wt.gy - ry * wt.gx)
+            stiff += wt.weight[j] * (rx * wt.gx + ry * wt.gy)
+        tau[i] = torque
+        slope[i] = stiff
+
+
+def gravity_terms(m: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
+    joint's own angle [N·mm/rad] (zeros when no weight acts)."""
+    tau, slope = np.zeros(m.n), np.zeros(m.n)
+    if m.has_gravity:
+        weight_torque(np.ascontiguousarray(theta, dtype=float), weight_of(m), tau, slope)
     return tau, slope
 
 
-def gravity_torques(m, theta: np.ndarray) -> np.ndarray:
+def gravity_torques(m: Any, theta: Any) -> np.ndarray:
     """Torque of the links' weight about each joint, resisting flexion when positive [N·mm] (``gravity_terms``)."""
     return gravity_terms(m, theta)[0]

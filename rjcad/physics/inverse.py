@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -68,7 +69,7 @@ class FingerDesign:
                       f"link_length_mm = {L:g}", ""]
         return "\n".join(lines)
 
-    def report(self) -> dict:
+    def report(self) -> dict[str, Any]:
         return {
             "stiffness_nmm_per_rad": self.stiffness,
             "preload_deg": [math.degrees(p) for p in self.preload],
@@ -83,7 +84,8 @@ class FingerDesign:
 
 # ------------------------------------------------------------------ builder limits
 
-def _buildable(k: float, preload: float, rotation: float, arm: float, material: str, printer: str):
+def _buildable(k: float, preload: float, rotation: float, arm: float, material: str,
+               printer: str) -> RjcadError | None:
     """None if the joint builder accepts this joint, else its error."""
     try:
         JointParams(stiffness=float(k), preload=float(preload), rotation=float(rotation),
@@ -192,7 +194,7 @@ def design_finger(target_deg: list[float], stroke: float, sequence: str = "simul
     rot = np.minimum(ROTATION_MAX, np.maximum(90 * DEG, th + 10 * DEG))
     q = 1.0 / ((1 + x) * th)
     q = q / q.min()  # K_i = k·q_i with k the softest joint's stiffness
-    notes = []
+    notes: list[str] = []
     k = DEFAULT_BASE_STIFFNESS if base_stiffness is None else float(base_stiffness)
     if check_springs:
         k, notes = _printable_scale(k, q, th0, rot, r, material, printer, strict=base_stiffness is not None)
@@ -209,7 +211,8 @@ def design_finger(target_deg: list[float], stroke: float, sequence: str = "simul
                         closure, [float(e) for e in err], [float(o) for o in onset], notes)
 
 
-def _printable_scale(k, q, th0, rot, r, material, printer, strict):
+def _printable_scale(k: float, q: np.ndarray, th0: np.ndarray, rot: np.ndarray, r: float, material: str, printer: str,
+                     strict: bool) -> tuple[float, list[str]]:
     """The softest joint's stiffness k (every joint K_i = k·q_i printable), the requested one if possible."""
     bad = [i for i in range(len(q)) if _buildable(k * q[i], th0[i], rot[i], r, material, printer) is not None]
     if not bad:

@@ -15,9 +15,11 @@ actuator, β⁺ ≥ 1 while pulling, β⁻ ≤ 1 while releasing.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
@@ -42,7 +44,7 @@ class JointModel:
     relaxation_stiffness: float = 0.0
     relaxation_time: float = 1.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for f in fields(self):
             in_range(f.name, getattr(self, f.name), limit="must be finite")
         in_range("pulley_radius", self.pulley_radius, 0.0, lo_open=True, limit="must be > 0 mm")
@@ -53,15 +55,16 @@ class JointModel:
         in_range("viscous", self.viscous, 0.0, limit="must be >= 0")
         in_range("relaxation_stiffness", self.relaxation_stiffness, 0.0, limit="must be >= 0")
 
-    def with_(self, **kw) -> "JointModel":
+    def with_(self, **kw: float) -> "JointModel":
         return replace(self, **kw)
 
-    def to_vector(self, names=None) -> np.ndarray:
+    def to_vector(self, names: Sequence[str] | None = None) -> np.ndarray:
         """The parameters ``names`` (default: all of PARAM_NAMES, in that order) as a float array."""
         return np.array([getattr(self, n) for n in (PARAM_NAMES if names is None else names)], dtype=float)
 
     @classmethod
-    def from_vector(cls, x, names=None, base: "JointModel | None" = None) -> "JointModel":
+    def from_vector(cls, x: ArrayLike, names: Sequence[str] | None = None,
+                    base: "JointModel | None" = None) -> "JointModel":
         """A model whose parameters ``names`` take the values ``x``; the others come from ``base``."""
         names = PARAM_NAMES if names is None else tuple(names)
         x = np.asarray(x, dtype=float).ravel()
@@ -85,7 +88,7 @@ class Setup:
     normal_load: float = 0.0
     routed: bool = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.drive not in ("bar", "tendon"):
             raise ParameterError("drive", self.drive, "must be 'bar' or 'tendon'")
 
@@ -94,7 +97,7 @@ class Setup:
         return "torque_nmm" if self.drive == "bar" else "tendon_force_n"
 
 
-def motion_direction(theta, deadband: float = 0.0, initial: float = 1.0) -> np.ndarray:
+def motion_direction(theta: ArrayLike, deadband: float = 0.0, initial: float = 1.0) -> np.ndarray:
     """Sign of the joint velocity per sample, holding the last sign while |Δθ| ≤ deadband [±1]."""
     theta = np.asarray(theta, dtype=float)
     d = np.diff(theta, prepend=theta[:1])
@@ -107,12 +110,13 @@ def motion_direction(theta, deadband: float = 0.0, initial: float = 1.0) -> np.n
     return out
 
 
-def velocity(theta, t) -> np.ndarray:
+def velocity(theta: ArrayLike, t: ArrayLike) -> np.ndarray:
     """Joint velocity θ̇ by central differences [rad/s]."""
-    return np.gradient(np.asarray(theta, dtype=float), np.asarray(t, dtype=float))
+    v: np.ndarray = np.gradient(np.asarray(theta, dtype=float), np.asarray(t, dtype=float))
+    return v
 
 
-def relaxation_torque(theta, t, k_m: float, t_r: float) -> np.ndarray:
+def relaxation_torque(theta: ArrayLike, t: ArrayLike, k_m: float, t_r: float) -> np.ndarray:
     """Maxwell arm torque τ_M: dτ_M/dt = K_M·θ̇ − τ_M/T_r, exact for piecewise-linear θ(t) [N·mm].
 
     τ_k = a_k·τ_{k−1} + K_M·T_r·(1 − a_k)·Δθ_k/Δt_k, a_k = exp(−Δt_k/T_r); τ_0 = 0.
@@ -151,13 +155,14 @@ def _decaying_sum(d: np.ndarray, s: np.ndarray, span: float = 40.0) -> np.ndarra
     return y
 
 
-def spring_torque(m: JointModel, theta_j) -> np.ndarray:
+def spring_torque(m: JointModel, theta_j: ArrayLike) -> np.ndarray:
     """K·θ + k3·θ³ with θ = θ_j + θ_0 [N·mm]."""
     th = np.asarray(theta_j, dtype=float) + m.preload
     return m.stiffness * th + m.cubic * th**3
 
 
-def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None, velocity_=None) -> np.ndarray:
+def simulate(m: JointModel, setup: Setup, theta_j: ArrayLike, t: ArrayLike | None = None,
+             direction: ArrayLike | None = None, velocity_: ArrayLike | None = None) -> np.ndarray:
     """The measured quantity along a trajectory: torque [N·mm] (bar) or actuator tendon force [N] (tendon).
 
     ``t`` (s) is needed for viscous damping and relaxation; ``direction`` (±1) may be given,
@@ -174,10 +179,11 @@ def simulate(m: JointModel, setup: Setup, theta_j, t=None, direction=None, veloc
             tau = tau + relaxation_torque(theta_j, t, m.relaxation_stiffness, m.relaxation_time)
     if setup.drive == "bar":
         return tau
-    return np.maximum(_tendon_torque(m, setup, theta_j, s, tau), 0.0) / m.pulley_radius
+    force: np.ndarray = np.maximum(_tendon_torque(m, setup, theta_j, s, tau), 0.0) / m.pulley_radius
+    return force
 
 
-def _tendon_torque(m: JointModel, setup: Setup, theta_j, s, tau) -> np.ndarray:
+def _tendon_torque(m: JointModel, setup: Setup, theta_j: np.ndarray, s: np.ndarray, tau: np.ndarray) -> np.ndarray:
     """β_s·(τ + γ_s-term): the torque the tendon must give [N·mm]; negative where it would have to push."""
     th = theta_j + m.preload
     tau = tau + np.where(s > 0, m.gamma_pos * th, -m.gamma_neg * th)
@@ -186,7 +192,7 @@ def _tendon_torque(m: JointModel, setup: Setup, theta_j, s, tau) -> np.ndarray:
     return tau
 
 
-def tendon_slack(m: JointModel, setup: Setup, theta_j, direction=None) -> np.ndarray:
+def tendon_slack(m: JointModel, setup: Setup, theta_j: ArrayLike, direction: ArrayLike | None = None) -> np.ndarray:
     """Where a tendon drive would have to push (required force ≤ 0): the tendon is slack there, the joint is
     held by friction and the measured force is 0 (bool per sample; all False for a bar drive). Quasi-static."""
     theta_j = np.asarray(theta_j, dtype=float)
@@ -197,7 +203,7 @@ def tendon_slack(m: JointModel, setup: Setup, theta_j, direction=None) -> np.nda
     return _tendon_torque(m, setup, theta_j, s, tau) <= 0.0
 
 
-def loop_width(theta_j, y, direction, taut=None) -> float | None:
+def loop_width(theta_j: ArrayLike, y: ArrayLike, direction: ArrayLike, taut: ArrayLike | None = None) -> float | None:
     """Mean vertical width of a hysteresis loop: mean over the angles both branches reach (taut samples only)
     of y_forward(θ) − y_backward(θ), each branch interpolated in θ; None when no angle has both."""
     theta_j, y, d = (np.asarray(a, dtype=float) for a in (theta_j, y, direction))

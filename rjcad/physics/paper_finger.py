@@ -8,7 +8,10 @@ Design: K = 5.2·[1, 1.5, 2] N·mm/rad, preload 90°, range 90°, moment arm r.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -17,7 +20,8 @@ from rjcad.errors import ParameterError
 from rjcad.io.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
 from rjcad.design.params import JointParams
-from rjcad.physics.finger import FingerModel, load_finger_model, onset_tendon, simulate_path, simulate_stroke
+from rjcad.physics.finger import (Closure, FingerModel, load_finger_model, onset_tendon, simulate_angles, simulate_path,
+                                  simulate_stroke)
 from rjcad.physics.uncertainty import parameter_std
 from rjcad.plotting import png_bytes, pyplot
 from rjcad import DEG
@@ -29,12 +33,12 @@ ANGLE_SIGMA_DEG = 2.0  # assumed 1-σ error of the vision-tracked end angles
 PAPER_MU_FN = JOINT.mu_j * JOINT.normal_load  # N·mm: the paper's joint, μ_j under F_n (for scale only)
 
 
-def design_model(arm: float | list[float] = 6.0, **kw) -> FingerModel:
+def design_model(arm: float | list[float] = 6.0, **kw: Any) -> FingerModel:
     arms = tuple(arm) if isinstance(arm, (list, tuple)) else (arm,) * 3
     return FingerModel(K_DESIGN, (90 * DEG,) * 3, (90 * DEG,) * 3, arms, **kw)
 
 
-def end_and_onset(m: FingerModel, steps: int = 200):
+def end_and_onset(m: FingerModel, steps: int = 200) -> tuple[np.ndarray, np.ndarray, Closure]:
     """End angles [deg] and onsets [mm] of the pull 0 → STROKE (the measurement has no release)."""
     c = simulate_path(m, np.linspace(0.0, STROKE, steps + 1))
     return np.degrees(c.theta[steps]), onset_tendon(c), c
@@ -50,7 +54,7 @@ class Explanation:
     onset_mm: list[float]
     rms_deg: float
     n_params: int
-    why: dict[str, str] = None  # per parameter: "" (identified), or why it has no interval
+    why: dict[str, str] | None = None  # per parameter: "" (identified), or why it has no interval
     scale: float = 1.0  # √(χ²/dof) the Jacobian σ was multiplied by (1 when χ²/dof ≤ 1 or dof ≤ 0)
 
     @property
@@ -59,15 +63,13 @@ class Explanation:
         return bool(o[0] < min(o[1], o[2]) and abs(o[1] - o[2]) <= 0.25 * STROKE)
 
 
-def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
+def _fit(name: str, cause: str, names: Sequence[str], starts: Sequence[Sequence[float]], lb: Sequence[float],
+         ub: Sequence[float], build: Callable[[Sequence[float]], FingerModel]) -> Explanation:
     """Bounded least squares from several starts (the stops make the problem non-smooth). The residuals take the
-    end angles of a 120-step pull from the compiled closure (rjcad.physics.finger_fast, the reference's angles to
-    1e-9); what is reported is the reference's, on 200 steps."""
-    from rjcad.physics.finger_fast import simulate_angles
-
+    end angles of a 120-step pull (``simulate_angles``); what is reported is the closure's on 200 steps."""
     path = np.linspace(0.0, STROKE, 121)
 
-    def resid(x):
+    def resid(x: np.ndarray) -> np.ndarray:
         theta, _ = simulate_angles(build(x), path)
         return (np.degrees(theta[-1]) - MEASURED_DEG) / ANGLE_SIGMA_DEG
 
@@ -86,7 +88,7 @@ def _fit(name, cause, names, starts, lb, ub, build) -> Explanation:
                        float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x), dict(zip(names, why)), scale)
 
 
-def _k(scale2, scale3):
+def _k(scale2: float, scale3: float) -> tuple[float, float, float]:
     return (K_DESIGN[0], K_DESIGN[1] * scale2, K_DESIGN[2] * scale3)
 
 
@@ -138,7 +140,7 @@ def model_of(e: Explanation) -> FingerModel:
     return build([e.params[n] for n in names])
 
 
-def baseline(arm: float = 6.0):
+def baseline(arm: float = 6.0) -> tuple[np.ndarray, np.ndarray, Closure]:
     end, onset, closure = end_and_onset(design_model(arm))
     return end, onset, closure
 
@@ -165,7 +167,7 @@ def _fmt_param(e: Explanation, k: str) -> str:
     return f"{k} = {e.params[k]:.3g} (not identified: {why or 'no interval'})"
 
 
-def _plot(c0, best: Explanation, arm_source: str) -> bytes:
+def _plot(c0: Closure, best: Explanation, arm_source: str) -> bytes:
     """PNG of the closure curves: the design model (left) and the best explanation (right) against the measurement."""
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
@@ -184,11 +186,11 @@ def _plot(c0, best: Explanation, arm_source: str) -> bytes:
     return png_bytes(fig, dpi=100)
 
 
-def _f(v) -> str:
+def _f(v: Iterable[float]) -> str:
     return ", ".join(f"{x:.1f}" for x in v)
 
 
-def _design_section(arms, arm_source: str, end0, onset0) -> list[str]:
+def _design_section(arms: Sequence[float], arm_source: str, end0: np.ndarray, onset0: np.ndarray) -> list[str]:
     """The measurement, the design-time model's end angles and why they cannot match (tendon constraint)."""
     sum_meas = math.radians(MEASURED_DEG.sum())
     lines = [
@@ -248,7 +250,7 @@ def _candidates_section(exps: list[Explanation]) -> list[str]:
     return lines
 
 
-def _names(es) -> str:
+def _names(es: Iterable[Explanation]) -> str:
     return ", ".join(f"*{e.name}*" for e in es) or "none"
 
 
@@ -321,7 +323,7 @@ def _friction_verdict(fric: Explanation) -> str:
                f"{int(np.argmax(kth)) + 1}."))
 
 
-def write_doc(out_dir, manifest: str | None = None):
+def write_doc(out_dir: str | Path, manifest: str | None = None) -> list[Explanation]:
     """docs/paper-finger.md and its plot, every number and every verdict computed here; nothing written on error."""
     out = check_writable(out_dir)  # before the fits, not after them
     arms, arm_source = builder_arms(manifest)

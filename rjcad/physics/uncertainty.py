@@ -4,10 +4,14 @@ the paper-finger fits (``rjcad.physics.paper_finger``) and the finger endpoint c
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def parameter_std(jac, x, lb, ub, names) -> tuple[np.ndarray, list[str]]:
+def parameter_std(jac: ArrayLike, x: np.ndarray, lb: np.ndarray, ub: np.ndarray,
+                  names: Sequence[str]) -> tuple[np.ndarray, list[str]]:
     """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones (NaN otherwise), and why not.
 
     Why not: "at its bound" (the fit pushed it onto a bound: the data reject the values inside, and the

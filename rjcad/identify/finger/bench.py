@@ -20,7 +20,7 @@ from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_o
 from rjcad.identify.finger.data import ORIENTATIONS, as_designed, design_from_file
 from rjcad.io.outputs import write_set
 from rjcad.paper import FINGER
-from rjcad.physics.finger_fast import simulate_angles
+from rjcad.physics.finger import simulate_angles
 from rjcad import DEG
 
 DEFAULT_NOISE = {"theta_deg": 0.3, "tendon_force_n": 0.02, "tendon_mm": 0.005}

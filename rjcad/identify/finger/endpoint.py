@@ -31,7 +31,7 @@ from rjcad.identify.catalogue import Param
 from rjcad.identify.finger.catalogue import catalogue, model_of
 from rjcad.identify.finger.data import FingerDesign, finger_design
 from rjcad.identify.result import _r
-from rjcad.physics.finger_fast import simulate_angles
+from rjcad.physics.finger import simulate_angles
 from rjcad.physics.uncertainty import parameter_std
 from rjcad import DEG
 

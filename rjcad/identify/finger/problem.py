@@ -20,7 +20,7 @@ from rjcad.identify.finger.data import FingerCampaign, FingerExperiment
 from rjcad.identify.fit import Problem
 from rjcad.identify.select import Selector
 from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
-from rjcad.physics.finger_fast import simulate_angles
+from rjcad.physics.finger import simulate_angles
 from rjcad import DEG
 
 
