@@ -722,6 +722,20 @@ def long_cases(sh: Shared) -> list[Case]:
     ]
 
 
+PARSE_CLASSES = ("num", "int")
+
+
+def parse_only(case: Case) -> bool:
+    """A case that tests only an option's value: it stops at a usage error (or, where the value may be legal, runs
+    a command that writes no file: spring, simulate), and it has no input file, no output place, no file mode,
+    size limit or mount, nothing to check afterwards. tests/test_fuzz_corpus.py runs these in its own process (the
+    promises are the same); every other case runs as a process of its own."""
+    cls = case.id.split("-")[0]
+    return ((cls in PARSE_CLASSES or case.id == "long-cli-material")
+            and (case.expect == "error" or case.expect == "either" and case.argv[0] in ("spring", "simulate"))
+            and not (case.read_only or case.fsize or case.needs or case.post))
+
+
 def all_cases(sh: Shared) -> list[Case]:
     cases = (option_cases(sh) + toml_cases(sh) + json_cases(sh) + output_cases(sh) + check_cases(sh)
              + sweep_cases(sh) + resume_cases(sh) + identify_cases(sh) + long_cases(sh))
