@@ -91,6 +91,8 @@ def cli_process():
 _SUMMARY = pytest.StashKey[list]()
 #: CAD builds in this process: "joint modules" (rjcad.cad.joint.build_joint), "fingers" (rjcad.cad.finger.build_finger).
 _BUILT: collections.Counter = collections.Counter()
+#: tests/shared_builds.py's counts, summed over the test processes.
+_SHARED: collections.Counter = collections.Counter()
 
 
 @pytest.fixture
@@ -127,6 +129,7 @@ def pytest_sessionfinish(session):
     if out is not None:
         out["rjcad_summary"] = list(session.config.stash.get(_SUMMARY, []))
         out["rjcad_built"] = dict(_BUILT)
+        out["rjcad_shared"] = _shared_stats()
 
 
 @pytest.hookimpl(optionalhook=True)
@@ -135,13 +138,26 @@ def pytest_testnodedown(node, error):
     out = getattr(node, "workeroutput", {})
     node.config.stash.setdefault(_SUMMARY, []).extend(out.get("rjcad_summary", []))
     _BUILT.update(out.get("rjcad_built", {}))
+    _SHARED.update(out.get("rjcad_shared", {}))
+
+
+def _shared_stats() -> dict:
+    """tests/shared_builds.py's counts in this process (none if no test imported it)."""
+    mod = sys.modules.get("shared_builds")
+    return dict(mod.STATS) if mod is not None else {}
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
     lines = config.stash.get(_SUMMARY, [])
+    if getattr(config, "workerinput", None) is None and not hasattr(config, "workeroutput"):
+        _SHARED.update(_shared_stats())  # without pytest-xdist: this process's own
     if _BUILT:
         lines = lines + [f"CAD builds in this run (random and fixed designs; not those in CLI subprocesses or sweep "
                          f"workers): {', '.join(f'{kind} {n}' for kind, n in sorted(_BUILT.items()))}"]
+    if _SHARED:
+        lines = lines + [f"shared joints (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
+                         f"handed out again {_SHARED['reused']}; checked {_SHARED['checked']}, report handed out "
+                         f"again {_SHARED['check reused']}"]
     if lines:
         terminalreporter.write_sep("=", "designs built")
         for line in lines:
@@ -176,7 +192,6 @@ MEASURED_SLOW = {
     "tests/test_finger_fast.py::test_same_as_reference[asymmetric]": 26,
     "tests/test_physics_coupled.py::test_random_heavy_fingers_balance_at_every_reading": 21,
     "tests/test_physics_coupled.py::test_joints_sliding_against_their_weight_settle": 8,
-    "tests/test_identify_finger.py::test_one_effect_fast": 19,
     "tests/test_sweep.py::test_example_sweep_matches_rjcad_spring": 15,
     "tests/test_sweep.py::test_resume_does_not_recompute": 5,
     "tests/test_sweep.py::test_infeasible_rows_carry_the_binding_constraint": 3,

@@ -1,7 +1,7 @@
 """Designs built once per test process and shared by every test that reads them (issue #33).
 
-``joint_build(p)`` is ``rjcad.cad.build.build(p)`` kept by the parameters; ``joint_files(p)`` writes its
-``joint.stl`` and ``joint.json`` once (the bytes ``write_joint`` writes; no STEP, 3MF, GLB or PNG: no check
+``joint_build(p)`` is ``rjcad.cad.build.build(p)`` kept by the parameters; ``joint_files(p)`` writes the
+``joint.stl`` and ``joint.json`` of ``p`` once (from the kept build if there is one, else from a build it drops) (the bytes ``write_joint`` writes; no STEP, 3MF, GLB or PNG: no check
 reads them); ``checked(stl, manifest, slicer=...)`` is ``rjcad.check.run_checks`` kept by the sha256 of the
 bytes it reads and its arguments, so that two tests checking the same joint slice it once. Under pytest-xdist each
 worker keeps its own. What they return is shared: read it, never change it.
@@ -20,8 +20,8 @@ from pathlib import Path
 _BUILDS: dict = {}
 _FILES: dict = {}
 _REPORTS: dict = {}
-#: How many joints this process built here, and how many times a test got one already built.
-STATS = {"built": 0, "reused": 0}
+#: Joints this process built here, times a test got one already built; reports run, times one was handed out again.
+STATS = {"built": 0, "reused": 0, "checked": 0, "check reused": 0}
 
 
 def joint_build(p):
@@ -43,7 +43,14 @@ def joint_files(p) -> Path:
 
     key = repr(p)
     if key not in _FILES:
-        b = joint_build(p)
+        b = _BUILDS.get(key)  # kept only when a test asked joint_build for it: the files are enough here
+        if b is None:
+            from rjcad.cad.build import build
+
+            b = build(p)
+            STATS["built"] += 1
+        else:
+            STATS["reused"] += 1
         d = Path(tempfile.mkdtemp(prefix="rjcad-shared-"))
         atexit.register(shutil.rmtree, d, True)
         (d / "joint.stl").write_bytes(stl_bytes(list(b.meshes.values())))
@@ -62,6 +69,9 @@ def checked(stl, manifest=None, **kwargs):
         digest.update(b"\0")
     digest.update(repr(sorted(kwargs.items())).encode())
     key = digest.hexdigest()
-    if key not in _REPORTS:
+    if key in _REPORTS:
+        STATS["check reused"] += 1
+    else:
+        STATS["checked"] += 1
         _REPORTS[key] = run_checks(str(stl), manifest=None if manifest is None else str(manifest), **kwargs)
     return _REPORTS[key]
