@@ -154,7 +154,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if _BUILT:
         lines = lines + [f"CAD builds in this run (random and fixed designs; not those in CLI subprocesses or sweep "
                          f"workers): {', '.join(f'{kind} {n}' for kind, n in sorted(_BUILT.items()))}"]
-    if _SHARED:
+    if any(_SHARED.values()):
         lines = lines + [f"shared joints (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
                          f"handed out again {_SHARED['reused']}; checked {_SHARED['checked']}, report handed out "
                          f"again {_SHARED['check reused']}"]
@@ -211,6 +211,7 @@ MEASURED_SLOW = {
     "tests/test_spring_verified.py::test_old_default_design_is_refused_by_the_verification": 4,
     "tests/test_spring_verified.py::test_verification_catches_an_optimistic_table": 3,
     "tests/test_life.py::test_selection_frequencies_small_run": 4,
+    "tests/test_life_cli.py::test_doc_regenerates_and_the_committed_doc_is_current": 7,
     "tests/test_life.py::test_table_i_stresses_from_the_rod_model[1]": 3,
     "tests/test_life.py::test_table_i_stresses_from_the_rod_model[4]": 3,
     "tests/test_untrusted.py::test_bad_designs_are_rows_with_their_error": 4,
