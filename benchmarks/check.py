@@ -14,7 +14,7 @@ with `--slicer prusa`.
 Prints one JSON object (medians of --repeats after a warm-up; the big-mesh figures are single runs).
 Targets: watertight + manifold >= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion
 sweep <= 2 s; the overhang check on the default finger <= 1 s (first call on fresh meshes: ray structures
-built inside); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
+built inside; --quick: a one-joint finger); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
 --quick, nor without prusa-slicer); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
 <= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
@@ -45,11 +45,13 @@ from rjcad.materials import get_printer
 
 
 def print_checks(quick: bool, repeats: int) -> dict:
-    """The overhang and slicer checks on the default finger (templates/finger.toml)."""
+    """The overhang and slicer checks on the default finger (templates/finger.toml; --quick: a one-joint finger)."""
     from rjcad.cad.finger import FingerParams
 
     template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
-    meshes = build_finger_model(FingerParams.from_toml(str(template))).meshes
+    fp = (FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]}) if quick else
+          FingerParams.from_toml(str(template)))
+    meshes = build_finger_model(fp).meshes
     names, prn = list(meshes), get_printer("generic-0.4")
 
     def fresh():
