@@ -132,16 +132,23 @@ def make_shared(root: Path, python: str, repo: Path) -> Shared:
     """Build the shared inputs with the real CLI (a joint, a campaign, a finished sweep)."""
     root.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, MPLBACKEND="Agg")
-
-    def rjcad(*args):
-        subprocess.run([python, "-m", "rjcad", *args], cwd=repo, check=True, env=env,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=600)
-
-    rjcad("joint", "--out", str(root / "joint"), "--no-png")
-    rjcad("bench", "--out", str(root / "campaign"), "--samples", "200")
     write(root / "sweep.toml", SWEEP_TOML)
     write(root / "finger1.toml", FINGER_ONE)
-    rjcad("sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0")
+    runs = [["joint", "--out", str(root / "joint"), "--no-png"],
+            ["bench", "--out", str(root / "campaign"), "--samples", "200"],
+            ["sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0"]]
+    procs = [subprocess.Popen([python, "-m", "rjcad", *args], cwd=repo, env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE) for args in runs]  # independent: side by side
+    try:
+        for args, proc in zip(runs, procs):
+            _, err = proc.communicate(timeout=600)
+            if proc.returncode:
+                raise subprocess.CalledProcessError(proc.returncode, ["rjcad", *args], stderr=err)
+    finally:
+        for proc in procs:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
     for p in [root, *root.rglob("*")]:
         p.chmod(0o755 if p.is_dir() else 0o644)
     return Shared(root, root / "joint", root / "finger1.toml", root / "campaign", root / "sweep.toml",
