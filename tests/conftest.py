@@ -192,6 +192,7 @@ MEASURED_SLOW = {
     "tests/test_finger_fast.py::test_same_as_reference[asymmetric]": 26,
     "tests/test_physics_coupled.py::test_random_heavy_fingers_balance_at_every_reading": 21,
     "tests/test_physics_coupled.py::test_joints_sliding_against_their_weight_settle": 8,
+    "tests/test_identify_finger.py::test_cli_bench_and_identify_finger": 10,  # in-process (was 3 processes)
     "tests/test_sweep.py::test_example_sweep_matches_rjcad_spring": 15,
     "tests/test_sweep.py::test_resume_does_not_recompute": 5,
     "tests/test_sweep.py::test_infeasible_rows_carry_the_binding_constraint": 3,
