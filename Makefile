@@ -52,7 +52,8 @@ test-fast: $(VENV)/.installed
 # takes tests queued on the other, so that no long test waits behind short ones (tests/conftest.py deals the
 # longest out first).
 pytest:
-	$(PY) -m pytest -n $(JOBS) --dist worksteal $(PYTEST_ARGS) || { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
+	$(PY) -m pytest -n $(JOBS) --dist worksteal $(PYTEST_ARGS) || \
+	  { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
 
 bench: $(VENV)/.installed
 	@for b in benchmarks/[!_]*.py; do echo "== $$b"; $(PY) $$b || exit 1; done

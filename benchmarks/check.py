@@ -14,9 +14,9 @@ with `--slicer prusa`.
 Prints one JSON object (medians of --repeats after a warm-up; the big-mesh figures are single runs).
 Targets: watertight + manifold >= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion
 sweep <= 2 s; the overhang check on the default finger <= 1 s (first call on fresh meshes: ray structures
-built inside; --quick: a one-joint finger); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
---quick, nor without prusa-slicer); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
-<= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
+built inside; --quick: a one-joint finger); the slicer check on the default finger <= 30 s, PrusaSlicer
+included (one run; not with --quick, nor without prusa-slicer); the whole `rjcad check` on the >= 1.5M-triangle
+mesh <= 60 s and <= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
 """
 

@@ -1,10 +1,11 @@
 """Designs built once per test process and shared by every test that reads them (issue #33).
 
 ``joint_build(p)`` is ``rjcad.cad.build.build(p)`` kept by the parameters; ``joint_files(p)`` writes the
-``joint.stl`` and ``joint.json`` of ``p`` once (from the kept build if there is one, else from a build it drops) (the bytes ``write_joint`` writes; no STEP, 3MF, GLB or PNG: no check
-reads them); ``checked(stl, manifest, slicer=...)`` is ``rjcad.check.run_checks`` kept by the sha256 of the
-bytes it reads and its arguments, so that two tests checking the same joint slice it once. Under pytest-xdist each
-worker keeps its own. What they return is shared: read it, never change it.
+``joint.stl`` and ``joint.json`` of ``p`` once, the bytes ``write_joint`` writes (no STEP, 3MF, GLB or PNG: no
+check reads them), from the kept build if there is one, else from a build it drops; ``checked(stl, manifest,
+slicer=...)`` is ``rjcad.check.run_checks`` kept by the sha256 of the bytes it reads and its arguments, so that
+two tests checking the same joint slice it once (a test-side stand-in for a G-code cache). Under pytest-xdist
+each worker keeps its own. What they return is shared: read it, never change it.
 """
 
 from __future__ import annotations
