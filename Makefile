@@ -1,5 +1,6 @@
 # Quick start:  make demo   (set up, then build the default design into out/)
 #               make test   (set up, then run the whole test suite, slow tests included)
+#               make test-fast   (before every commit: the suite without the slow tests, one real joint build kept)
 PYTHON ?= python3
 VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
@@ -7,7 +8,7 @@ PYTEST_ARGS ?=
 # test processes (pytest-xdist): one per core, at most 4 (each imports CadQuery; the CAD tests are CPU-bound)
 JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 
-.PHONY: demo test pytest lint bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
+.PHONY: demo test test-fast pytest lint bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
 
 # three.js for `rjcad view`'s pages, from the npm registry (pinned; MIT licence kept beside it); not committed.
 THREE_VERSION ?= 0.170.0
@@ -49,9 +50,16 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/ruff format --check rjcad tests benchmarks tools
 	$(VENV)/bin/mypy
 
-# pytest's exit code 5 (nothing collected) is not a failure; every other non-zero is.
+# the fast lane: `-m 'not slow'` (tests/conftest.py marks the slow tests); under 2 minutes on 2 cores
+test-fast: $(VENV)/.installed
+	$(MAKE) --no-print-directory pytest PYTEST_ARGS="-m 'not slow' $(PYTEST_ARGS)"
+
+# pytest's exit code 5 (nothing collected) is not a failure; every other non-zero is. worksteal: an idle worker
+# takes tests queued on the other, so that no long test waits behind short ones (tests/conftest.py deals the
+# longest out first).
 pytest:
-	$(PY) -m pytest -n $(JOBS) $(PYTEST_ARGS) || { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
+	$(PY) -m pytest -n $(JOBS) --dist worksteal $(PYTEST_ARGS) || \
+	  { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
 
 bench: $(VENV)/.installed
 	@for b in benchmarks/[!_]*.py; do echo "== $$b"; $(PY) $$b || exit 1; done

@@ -19,10 +19,10 @@ reports (`finger_vs_slicer`; each `rjcad check` in a fresh process, so no G-code
 Prints one JSON object (medians of --repeats after a warm-up; the big-mesh figures are single runs).
 Targets: watertight + manifold >= 1e6 triangles/s on a >= 1M-triangle mesh; the default joint's motion
 sweep <= 2 s; the overhang check on the default finger <= 1 s (first call on fresh meshes: ray structures
-built inside); the slicer check on the default finger <= 30 s, PrusaSlicer included (one run; not with
---quick, nor without prusa-slicer); the finger's `rjcad check --slicer prusa` <= 1.3 x PrusaSlicer alone and
-without the slicer <= 5 s (not with --quick); the whole `rjcad check` on the >= 1.5M-triangle mesh <= 60 s and
-<= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
+built inside; --quick: a one-joint finger); the slicer check on the default finger <= 30 s, PrusaSlicer
+included (one run; not with --quick, nor without prusa-slicer); the finger's `rjcad check --slicer prusa` <= 1.3 x
+PrusaSlicer alone and without the slicer <= 5 s (not with --quick); the whole `rjcad check` on the >= 1.5M-triangle
+mesh <= 60 s and <= 4 GB peak RSS (not with --quick, which stops at 26 k triangles).
 Run: .venv/bin/python benchmarks/check.py [--repeats 3] [--quick]
 """
 
@@ -94,11 +94,13 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
 
 
 def print_checks(quick: bool, repeats: int) -> dict:
-    """The overhang and slicer checks on the default finger (templates/finger.toml)."""
+    """The overhang and slicer checks on the default finger (templates/finger.toml; --quick: a one-joint finger)."""
     from rjcad.cad.finger import FingerParams
 
     template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
-    meshes = build_finger_model(FingerParams.from_toml(str(template))).meshes
+    fp = (FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]}) if quick else
+          FingerParams.from_toml(str(template)))
+    meshes = build_finger_model(fp).meshes
     names, prn = list(meshes), get_printer("generic-0.4")
 
     def fresh():

@@ -33,9 +33,10 @@ def run(path):
 
 
 def finger(repeats: int, samples: int = 3000,
-           sets=(("moment_arm",), ("viscous",), ("moment_arm", "coulomb_pin"))) -> dict:
+           sets=(("moment_arm",), ("viscous",), ("moment_arm", "coulomb_pin")), quick: bool = False) -> dict:
     """Whole-finger identification (3 joints, 3 experiments × 3000 samples), with the candidate fits in one thread
-    and in two (the last set, same run), and the finger solver's speed."""
+    and in two (the last set, same run), and the finger solver's speed. ``quick``: the last set's own run stands
+    for its default thread count (not run again)."""
     import numpy as np
 
     from rjcad.identify.campaign import load_campaign as load_any
@@ -55,6 +56,9 @@ def finger(repeats: int, samples: int = 3000,
         threads, workers = {}, FingerSelector.workers
         try:
             for w in (1, 2):
+                if quick and w == workers:
+                    threads[str(w)] = t  # the last set, just run with the default thread count
+                    continue
                 FingerSelector.workers = w
                 threads[str(w)], _ = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
         finally:
@@ -104,7 +108,7 @@ def main() -> None:
     out["us_per_sample"] = [round(1e6 * ti / (5 * ni), 2) for ni, ti in zip(s, t)]
     out["scaling_exponent"] = [round(math.log(t[i + 1] / t[i]) / math.log(s[i + 1] / s[i]), 3)
                                for i in range(len(s) - 1)]
-    out.update(finger(args.repeats) if not args.quick else finger(1, 300, (("moment_arm",),)))
+    out.update(finger(args.repeats) if not args.quick else finger(1, 300, (("moment_arm",),), quick=True))
     out["targets"] = {
         "paper_campaign_s": target(out["paper_campaign_s"], at_most=10.0),
         "finger_campaign_worst_s": target(max(out["finger_campaign_s"].values()), at_most=30.0),

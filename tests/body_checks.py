@@ -51,15 +51,15 @@ def vertex_face_gap(a: trimesh.Trimesh, b: trimesh.Trimesh, reach: float) -> flo
     """Smallest distance from a vertex of ``a`` to the surface of ``b``, looked for within ``reach`` (``reach`` if
     nothing is nearer) [mm]. It does not see a vertex inside ``b``: :func:`check_gaps` rules out overlaps first."""
     lo, hi = a.vertices - reach, a.vertices + reach
-    idx, tri = [], []
-    for i in np.flatnonzero(np.all((hi > b.bounds[0]) & (lo < b.bounds[1]), axis=1)):
-        hits = list(b.triangles_tree.intersection((*lo[i], *hi[i])))
-        idx += [i] * len(hits)
-        tri += hits
-    if not idx:
+    idx = np.flatnonzero(np.all((hi > b.bounds[0]) & (lo < b.bounds[1]), axis=1))
+    if not len(idx):
         return reach
-    pts = a.vertices[idx]
-    near = trimesh.triangles.closest_point(b.triangles[tri], pts)
+    # every triangle whose box meets each vertex's box, all vertices in one query (5-10x a query per vertex)
+    tri, counts = b.triangles_tree.intersection_v(lo[idx], hi[idx])
+    if not len(tri):
+        return reach
+    pts = a.vertices[np.repeat(idx, counts.astype(np.int64))]
+    near = trimesh.triangles.closest_point(b.triangles[tri.astype(np.int64)], pts)
     return min(reach, float(np.linalg.norm(near - pts, axis=1).min()))
 
 

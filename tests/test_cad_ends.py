@@ -8,10 +8,10 @@ import math
 import cadquery as cq
 import numpy as np
 import pytest
+from shared_builds import joint_build
 from wound_tools import wind, wound_strip_clearance
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-from rjcad.cad.build import build
 from rjcad.cad.joint import build_joint
 from rjcad.cad.spiral import line_box
 from rjcad.design.params import KEY_ENGAGEMENT, JointParams
@@ -22,14 +22,15 @@ O = cq.Vector(0, 0, 0)
 
 @pytest.fixture(scope="module", params=["clamped", "pinned"])
 def joint(request):
+    """Each end's stacked joint: its solids, from the build this session shares (tests/shared_builds.py)."""
     p = JointParams(layout="stacked", end=request.param)
-    return p, build_joint(p)
+    return p, joint_build(p).solids
 
 
 @pytest.fixture(scope="module")
 def clamped():
     p = JointParams(layout="stacked", end="clamped")
-    return p, build_joint(p)
+    return p, joint_build(p).solids
 
 
 def polar(r, phi, z):
@@ -129,7 +130,7 @@ def test_clamped_key_bears_in_its_socket_at_the_modelled_pose(clamped, top):
 def test_pinned_ring_is_centred_on_its_post():
     """The ring's bore, turned by the preload, is coaxial with the post; printed, ring and post are apart."""
     p = JointParams(layout="stacked", end="pinned")
-    j = build_joint(p)
+    j = joint_build(p).solids
 
     def cylinders(shape, radius):
         out = []
@@ -203,7 +204,7 @@ def test_wound_strip_clears_the_other_parts(end):
     ground block (assembly and range) and from the moving body (turned with the joint, over the range), in
     both spring layers."""
     p = JointParams(layout="stacked", end=end)
-    assert wound_strip_clearance(p, build(p).meshes) >= p.gap_internal - 0.05
+    assert wound_strip_clearance(p, joint_build(p).meshes) >= p.gap_internal - 0.05
 
 
 def test_preload_below_the_sockets_reach_is_refused():

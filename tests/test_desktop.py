@@ -11,6 +11,8 @@ import trimesh
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
+from shared_builds import checked, joint_build, joint_files
+
 from rjcad.design.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
 from rjcad.materials import get_printer
 from rjcad.design.params import JointParams
@@ -87,15 +89,14 @@ def test_the_arm_plane_stays_above_the_roof_cone_everywhere(p):
             assert plane - L.roof_top(max(r, L.R_bore)) >= (L.c + FACET_MARGIN) / math.cos(CONE_ANGLE) - 1e-9
 
 
-def test_the_desktop_joint_passes_every_check_with_supports_off(p, tmp_path):
-    """Built and checked as a user would: watertight, manifold, clearance, motion, min_feature, overhang, and
-    (where PrusaSlicer is installed, as in CI) the supports-off slice read back layer by layer."""
-    from rjcad.cad.build import write_joint
-    from rjcad.check import run_checks
-
-    b = write_joint(p, tmp_path, png=False)
+def test_the_desktop_joint_passes_every_check_with_supports_off(p):
+    """Built and checked as a user would (the joint.stl and joint.json that `rjcad joint` writes; the build and the
+    report shared with the other tests of this design): watertight, manifold, clearance, motion, min_feature,
+    overhang, and (where PrusaSlicer is installed, as in CI) the supports-off slice read back layer by layer."""
+    b = joint_build(p)
+    out = joint_files(p)
     slicer = "prusa" if shutil.which("prusa-slicer") else None
-    rep = run_checks(str(tmp_path / "joint.stl"), manifest=str(tmp_path / "joint.json"), slicer=slicer)
+    rep = checked(out / "joint.stl", out / "joint.json", slicer=slicer)
     failed = {c.name: c.detail for c in rep.checks if c.passed is False}
     assert not failed, failed
     names = {c.name for c in rep.checks if c.passed}
@@ -117,7 +118,7 @@ def test_the_desktop_joint_passes_every_check_with_supports_off(p, tmp_path):
     # moment arm and wrap (a joint is a finger with one joint)
     from rjcad.physics.finger import load_finger_model, simulate_stroke
 
-    model = load_finger_model(str(tmp_path / "joint.json"))
+    model = load_finger_model(str(out / "joint.json"))
     assert model.stiffness == pytest.approx([m["joint_stiffness_nmm_per_rad"]]) and m["spring"]["springs"] == 1
     assert model.stiffness[0] == pytest.approx(p.stiffness, rel=0.005)
     assert model.moment_arm == pytest.approx([m["tendon_moment_arm_mm"]])
@@ -169,12 +170,8 @@ def test_random_desktop_designs_pass_every_check_with_supports_off(data):
     """Issue #15's acceptance: 20 random valid designs (stiffness, rotation, preload, material, link length) in
     the desktop layout pass overhang, the supports-off slice (PrusaSlicer) and every other check: watertight,
     manifold, bodies, clearance, motion over the full range, min_feature, bed."""
-    import tempfile
-
     from hypothesis import assume
 
-    from rjcad.cad.build import write_joint
-    from rjcad.check import run_checks
     from rjcad.errors import InfeasibleDesign, ParameterError
 
     try:
@@ -182,9 +179,8 @@ def test_random_desktop_designs_pass_every_check_with_supports_off(data):
     except (InfeasibleDesign, ParameterError):
         assume(False)
     slicer = "prusa" if shutil.which("prusa-slicer") else None
-    with tempfile.TemporaryDirectory() as out:
-        write_joint(p, out, png=False)
-        rep = run_checks(f"{out}/joint.stl", manifest=f"{out}/joint.json", slicer=slicer)
+    out = joint_files(p)  # the joint.stl and joint.json that write_joint writes, built once per session
+    rep = checked(out / "joint.stl", out / "joint.json", slicer=slicer)
     failed = {c.name: c.detail for c in rep.checks if c.passed is False}
     assert not failed, (p, failed)
     passed = {c.name for c in rep.checks if c.passed}

@@ -74,3 +74,28 @@ def test_real_tests_get_the_right_verdict():
     assert conftest.function_slow_reason(reason) is None
     assert conftest.function_slow_reason(test_one_real_joint_builds)  # slow by its code, kept by its mark
 
+
+
+def test_measured_and_longest_lists_name_real_tests(root):
+    """Every node id in conftest's MEASURED_SLOW and LONGEST names a test function that exists (a renamed test
+    would silently drop out of the list)."""
+    for key in [*conftest.MEASURED_SLOW, *conftest.LONGEST]:
+        path, name = key.split("::")
+        assert f"def {name.split('[')[0]}(" in (root / path).read_text(), key
+
+
+def test_the_longest_tests_are_dealt_round_the_workers():
+    """Worker k's first tests are the k-th, (k+n)-th, ... longest; every test once; the others in their order."""
+    class Item:
+        def __init__(self, nodeid):
+            self.nodeid = nodeid
+
+    longest = sorted(conftest.LONGEST, key=lambda k: -conftest.LONGEST[k])
+    items = [Item(f"tests/test_a.py::test_{i}") for i in range(40)] + [Item(k) for k in reversed(longest)]
+    dealt = conftest.deal_longest(items, 2)
+    assert sorted(map(id, dealt)) == sorted(map(id, items))
+    half = len(items) // 2
+    assert [it.nodeid for it in dealt[:len(longest[0::2])]] == longest[0::2]
+    assert [it.nodeid for it in dealt[half:half + len(longest[1::2])]] == longest[1::2]
+    short = [it.nodeid for it in dealt if it.nodeid.startswith("tests/test_a.py")]
+    assert short == [f"tests/test_a.py::test_{i}" for i in range(40)]

@@ -1,22 +1,30 @@
 """The fuzz corpus (tests/fuzz/): every abusive case keeps the CLI's promise.
 
 One line on stderr and exit code 2 for every user error, no traceback, no warning, no partial output,
-an earlier run untouched, no lost or duplicated sweep row, no process left behind. The cases are
-run as real processes by tests/fuzz/runner.py (a warm interpreter forked per case, two at a time);
-the verdict on each is collected and every broken promise is listed in one failure.
+an earlier run untouched, no lost or duplicated sweep row, no process left behind. The cases that test
+only an option's value (``corpus.parse_only``, about half) run here, through ``rjcad.cli.main`` in this
+process, while the others run as real processes in tests/fuzz/runner.py (a warm interpreter forked per
+case, two at a time: signals, files, processes, read-only dirs, full disks); both get the same verdict,
+and every broken promise is listed in one failure.
 """
 
 from __future__ import annotations
 
 import collections
 import hashlib
+import io
 import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
+import traceback
+import warnings
 from pathlib import Path
 
 import pytest
@@ -25,7 +33,7 @@ from fuzz import corpus
 
 RUNNER = Path(__file__).resolve().parent / "fuzz" / "runner.py"
 ROOT = Path(__file__).resolve().parents[1]
-MIN_CASES = 300
+MIN_CASES = 780  # the corpus only grows
 NO_CAPS = 97  # runner.NO_CAPS
 NOISE = re.compile(r"Traceback|Warning:|warnings\.warn|^\s+warn\(", re.M)
 
@@ -77,6 +85,87 @@ def verdict(case: corpus.Case, res: dict, err: str, out: str, before: dict, afte
     return problems
 
 
+def _children() -> set[int]:
+    """The processes whose parent is this one (Linux /proc)."""
+    me, kids = os.getpid(), set()
+    for pid in os.listdir("/proc"):
+        if pid.isdigit():
+            try:
+                with open(f"/proc/{pid}/stat", "rb") as fh:
+                    ppid = int(fh.read().rsplit(b")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            if ppid == me:
+                kids.add(int(pid))
+    return kids
+
+
+class _TimedOut(BaseException):
+    """The in-process case ran past its timeout."""
+
+
+def _on_alarm(signum, frame):
+    raise _TimedOut()
+
+
+def run_in_process(case: corpus.Case, d: Path, out_file: Path, err_file: Path) -> dict:
+    """Run one parse-only case through ``rjcad.cli.main`` here, in ``d``, as the runner's child runs it: its
+    stdout and stderr (Python's streams and file descriptors 1 and 2) into ``out_file``/``err_file``, a warning
+    that a fresh interpreter would print written there, an uncaught exception's traceback too. Returns the
+    runner's result: ``code`` (None past the timeout), ``seconds``, ``stray`` (a child process left)."""
+    from rjcad.cli import main
+
+    before, cwd, streams = _children(), os.getcwd(), (sys.stdout, sys.stderr)
+    fds = [os.dup(1), os.dup(2)]
+    timer = threading.current_thread() is threading.main_thread()  # signals reach the main thread only
+    old_alarm = signal.signal(signal.SIGALRM, _on_alarm) if timer else None
+    t0 = time.monotonic()
+    with open(out_file, "wb") as out, open(err_file, "wb") as err:
+        py_out, py_err = io.StringIO(), io.StringIO()
+        try:
+            for stream in streams:
+                stream.flush()
+            os.dup2(out.fileno(), 1)
+            os.dup2(err.fileno(), 2)
+            sys.stdout, sys.stderr = py_out, py_err
+            os.chdir(d)
+            if timer:
+                signal.setitimer(signal.ITIMER_REAL, case.timeout)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")  # Python's default filters: what a fresh `python -m rjcad` prints
+                for quiet in (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning):
+                    warnings.simplefilter("ignore", quiet)
+                try:
+                    main(list(case.argv))
+                    code = 0
+                except SystemExit as e:
+                    code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+                    if isinstance(e.code, str):
+                        sys.stderr.write(e.code + "\n")
+                except _TimedOut:
+                    code = None
+                except BaseException:  # what an uncaught exception does to `python -m rjcad`
+                    traceback.print_exc()
+                    code = 1
+            if timer:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+            for w in caught:
+                sys.stderr.write(warnings.formatwarning(w.message, w.category, w.filename, w.lineno))
+        finally:
+            if timer:
+                signal.setitimer(signal.ITIMER_REAL, 0)
+                signal.signal(signal.SIGALRM, old_alarm)
+            os.chdir(cwd)
+            sys.stdout, sys.stderr = streams
+            os.dup2(fds[0], 1)
+            os.dup2(fds[1], 2)
+            for fd in fds:
+                os.close(fd)
+            out.write(py_out.getvalue().encode("utf-8", "backslashreplace"))
+            err.write(py_err.getvalue().encode("utf-8", "backslashreplace"))
+    return {"code": code, "seconds": round(time.monotonic() - t0, 3), "stray": bool(_children() - before)}
+
+
 @pytest.fixture(scope="module")
 def corpus_run():
     """Build the shared inputs and every case's directory, run them all, collect the verdicts."""
@@ -89,22 +178,36 @@ def corpus_run():
         results_dir = corpus.open_dir(base / "_results")
         corpus.open_dir(base / "_mpl")
         cases = [c for c in corpus.all_cases(shared) if c.needs != "mount" or mountable]
-        jobs, before = [], {}
+        jobs, before, here = [], {}, []
         for c in cases:
             d = corpus.open_dir(base / c.id)
             c.setup(d)
             if c.needs == "mount":
                 mounts.append(d / "fulldisk")
             before[c.id] = snapshot(d)
+            if corpus.parse_only(c):
+                here.append(c)
+                continue
             jobs.append({"id": c.id, "argv": c.argv, "cwd": str(d), "timeout": c.timeout, "read_only": c.read_only,
                          "fsize": c.fsize, "out": str(results_dir / f"{c.id}.out"),
                          "err": str(results_dir / f"{c.id}.err")})
         (base / "cases.json").write_text(json.dumps(jobs))
         env = dict(os.environ, MPLBACKEND="Agg", MPLCONFIGDIR=str(base / "_mpl"),
                    PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-        subprocess.run([sys.executable, str(RUNNER), str(base / "cases.json"), str(base / "results.json"),
-                        "--jobs", "2"], check=True, cwd=ROOT, env=env, timeout=1500)
-        results = json.loads((base / "results.json").read_text())
+        runner = subprocess.Popen([sys.executable, str(RUNNER), str(base / "cases.json"), str(base / "results.json"),
+                                   "--jobs", "2"], cwd=ROOT, env=env)
+        try:  # the parse-only cases here, while the runner runs the others
+            with pytest.MonkeyPatch.context() as mp:
+                mp.setenv("MPLBACKEND", "Agg")
+                mp.setenv("MPLCONFIGDIR", str(base / "_mpl"))
+                results = {c.id: run_in_process(c, base / c.id, results_dir / f"{c.id}.out",
+                                                results_dir / f"{c.id}.err") for c in here}
+            assert runner.wait(timeout=1500) == 0
+        finally:
+            if runner.poll() is None:
+                runner.kill()
+                runner.wait()
+        results.update(json.loads((base / "results.json").read_text()))
         verdicts, skipped = {}, []
         for c in cases:
             d = base / c.id
@@ -120,7 +223,7 @@ def corpus_run():
                 except AssertionError as e:
                     problems.append(f"files: {e}")
             verdicts[c.id] = (problems, results[c.id])
-        yield cases, verdicts, mountable, skipped
+        yield cases, verdicts, mountable, skipped, len(here)
     finally:
         for m in mounts:
             subprocess.run(["umount", str(m)], capture_output=True)
@@ -128,10 +231,11 @@ def corpus_run():
 
 
 def test_every_case_keeps_the_promise(corpus_run):
-    cases, verdicts, mountable, skipped = corpus_run
+    cases, verdicts, mountable, skipped, here = corpus_run
     per_class = collections.Counter(c.id.split("-")[0] for c in cases)
     slowest = sorted(verdicts.items(), key=lambda kv: -(kv[1][1]["seconds"] or 0))[:3]
-    print(f"\nfuzz corpus: {len(cases)} cases ({dict(per_class)}); full-disk cases "
+    print(f"\nfuzz corpus: {len(cases)} cases ({dict(per_class)}; {here} parse-only in this process, "
+          f"{len(cases) - here} as processes); full-disk cases "
           f"{'run' if mountable else 'skipped (cannot mount a tmpfs)'}; read-only cases "
           f"{f'skipped: {len(skipped)} (cannot drop CAP_DAC_OVERRIDE)' if skipped else 'run'}; slowest "
           + ", ".join(f"{k} {v[1]['seconds']:.1f} s" for k, v in slowest))

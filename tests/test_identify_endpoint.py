@@ -29,7 +29,7 @@ def _campaign(d, finger, endpoints):
 
 
 @pytest.mark.slow
-def test_paper_endpoint_names_the_families_it_cannot_tell_apart(tmp_path, cli_process):
+def test_paper_endpoint_names_the_families_it_cannot_tell_apart(tmp_path, cli):
     """The paper's 65/50/50° at 25 mm with the paper's design: per-joint moment arms explain it with the fewest
     parameters, and the same arms as the endpoint fit of rjcad.physics.paper_finger (reference solver, its own
     parametrisation); the softer distal springs with a common arm (paper-finger.md's family) explain it as well and
@@ -54,9 +54,9 @@ def test_paper_endpoint_names_the_families_it_cannot_tell_apart(tmp_path, cli_pr
     assert js["gain"] > 10 and js["experiments"][0]["rmse_design"]["theta2_deg"] == pytest.approx(40.0, abs=0.5)
     md = render_markdown(js)
     assert "## What the endpoints cannot decide" in md and "| endpoint 1 | 25 | 65.0, 50.0, 50.0 |" in md
-    r = cli_process("identify", str(path), "--json", str(tmp_path / "r.json"))
-    assert r.returncode == 0, r.stderr
-    assert "explains it as well: spring_calibration, moment_arm" in r.stdout
+    r = cli("identify", str(path), "--json", str(tmp_path / "r.json"))
+    assert r.code == 0, r.err
+    assert "explains it as well: spring_calibration, moment_arm" in r.out
     assert json.loads((tmp_path / "r.json").read_text())["kind"] == "finger-endpoint"
 
 

@@ -8,6 +8,7 @@ quantity's final RMSE ≤ 1.1× its noise.
 
 from __future__ import annotations
 
+import copy
 import json
 
 import numpy as np
@@ -20,11 +21,17 @@ from rjcad.identify.finger.problem import identify_finger
 from rjcad.identify.finger.result import render_markdown, to_json
 
 
+#: (effects, seed, options) → (truth, result): a campaign that two tests identify is identified once per process.
+_IDENTIFIED: dict = {}
+
+
 def _identify(tmp_path, effects, seed=3, **kw):
-    out = tmp_path / ("c_" + "_".join(effects or ["none"]))
-    truth = write_finger_campaign(out, effects, seed=seed, **kw)
-    js = to_json(identify_finger(load_campaign(out / "campaign.toml")))
-    return truth, js
+    key = (tuple(effects), seed, tuple(sorted(kw.items())))
+    if key not in _IDENTIFIED:
+        out = tmp_path / ("c_" + "_".join(effects or ["none"]))
+        truth = write_finger_campaign(out, effects, seed=seed, **kw)
+        _IDENTIFIED[key] = truth, to_json(identify_finger(load_campaign(out / "campaign.toml")))
+    return copy.deepcopy(_IDENTIFIED[key])
 
 
 def _check(truth, js):
@@ -140,19 +147,19 @@ def test_bad_finger_campaigns(tmp_path):
             load_campaign(d / "campaign.toml")
 
 
-def test_cli_bench_and_identify_finger(tmp_path, cli_process):
-    r = cli_process("bench", "--finger", "--effects", "capstan_along_finger", "--samples", "600", "--seed", "4",
-                    "--out", str(tmp_path / "c"))
-    assert r.returncode == 0, r.stderr
+def test_cli_bench_and_identify_finger(tmp_path, cli):
+    r = cli("bench", "--finger", "--effects", "capstan_along_finger", "--samples", "600", "--seed", "4",
+            "--out", str(tmp_path / "c"))
+    assert r.code == 0, r.err
     assert "SYNTHETIC" in (tmp_path / "c" / "README.md").read_text()
-    r = cli_process("identify", str(tmp_path / "c" / "campaign.toml"), "--json", str(tmp_path / "r.json"),
-                    "--report", str(tmp_path / "rep"))
-    assert r.returncode == 0, r.stderr
+    r = cli("identify", str(tmp_path / "c" / "campaign.toml"), "--json", str(tmp_path / "r.json"),
+            "--report", str(tmp_path / "rep"))
+    assert r.code == 0, r.err
     js = json.loads((tmp_path / "r.json").read_text())
-    assert js["effects"] == ["capstan_along_finger"] and "joint 1:" in r.stdout
+    assert js["effects"] == ["capstan_along_finger"] and "joint 1:" in r.out
     assert (tmp_path / "rep" / "report.md").read_text().startswith("# Identification report: whole finger")
-    bad = cli_process("bench", "--finger", "--effects", "creep", "--out", str(tmp_path / "d"))
-    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and not (tmp_path / "d").exists()
+    bad = cli("bench", "--finger", "--effects", "creep", "--out", str(tmp_path / "d"))
+    assert bad.code == 2 and bad.err.count("\n") == 1 and not (tmp_path / "d").exists()
 
 
 @pytest.mark.slow

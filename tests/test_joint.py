@@ -6,6 +6,7 @@ import math
 
 import pytest
 from mesh_tools import load_bodies, manifold, reimport_step, rotate_about, sweep_collisions
+from shared_builds import checked
 
 from rjcad.cli import main
 
@@ -241,11 +242,9 @@ def test_default_joint_passes_every_check_with_supports_off(default_joint):
     generic-0.4 are shown in test_check_print."""
     import shutil
 
-    from rjcad.check import run_checks
-
     out, _, _ = default_joint
     slicer = "prusa" if shutil.which("prusa-slicer") else None
-    rep = run_checks(out / "joint.stl", manifest=out / "joint.json", slicer=slicer)
+    rep = checked(out / "joint.stl", out / "joint.json", slicer=slicer)  # one slice per session of these bytes
     failed = {c.name: c.detail for c in rep.checks if c.passed is False}
     assert not failed, failed
     ran = {c.name for c in rep.checks if c.passed is True}

@@ -7,10 +7,10 @@ import pytest
 
 from rjcad import life
 
-def test_life_json_keys(tmp_path, cli_process):
-    r = cli_process("life", "--json", "--plot", str(tmp_path / "life.png"))
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
+def test_life_json_keys(tmp_path, cli):
+    r = cli("life", "--json", "--plot", str(tmp_path / "life.png"))
+    assert r.code == 0, r.err
+    d = json.loads(r.out)
     assert set(d["baseline"]) >= {"params", "loo_rmse_log10"}
     assert set(d["extended"]) >= {"effects", "params", "loo_rmse_log10"}
     assert d["extended"]["effects"] == ["pin_backlash"]
@@ -22,16 +22,16 @@ def test_life_json_keys(tmp_path, cli_process):
     assert (tmp_path / "life.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_life_text_shows_both_models_rows_and_choice(cli_process):
-    r = cli_process("life")
-    assert r.returncode == 0, r.stderr
-    assert "stress-only law" in r.stdout and "chosen: pin_backlash" in r.stdout and "gain" in r.stdout
-    assert len(re.findall(r"^\s+row \d", r.stdout, flags=re.M)) == 7
+def test_life_text_shows_both_models_rows_and_choice(cli):
+    r = cli("life")
+    assert r.code == 0, r.err
+    assert "stress-only law" in r.out and "chosen: pin_backlash" in r.out and "gain" in r.out
+    assert len(re.findall(r"^\s+row \d", r.out, flags=re.M)) == 7
 
 
-def test_doc_regenerates_and_the_committed_doc_is_current(tmp_path, cli_process, root):
-    r = cli_process("life", "--doc", str(tmp_path), "--sims", "10")
-    assert r.returncode == 0, r.stderr
+def test_doc_regenerates_and_the_committed_doc_is_current(tmp_path, cli, root):
+    r = cli("life", "--doc", str(tmp_path), "--sims", "10")
+    assert r.code == 0, r.err
     new = (tmp_path / "life.md").read_text()
     assert "![life](life.png)" in new and (tmp_path / "life.png").stat().st_size > 10_000
     committed = (root / "docs" / "life.md").read_text()
@@ -49,15 +49,15 @@ def test_doc_regenerates_and_the_committed_doc_is_current(tmp_path, cli_process,
     assert f"a gain of {gain:.2f}x" in committed
 
 
-def test_spring_cli_reports_life_and_min_cycles_errors(cli_process):
-    r = cli_process("spring", "--stiffness", "5.2", "--json")
-    assert r.returncode == 0, r.stderr
-    d = json.loads(r.stdout)
+def test_spring_cli_reports_life_and_min_cycles_errors(cli):
+    r = cli("spring", "--stiffness", "5.2", "--json")
+    assert r.code == 0, r.err
+    d = json.loads(r.out)
     assert d["backlash_mm"] == 0.25 and d["predicted_cycles_interval"][0] < d["predicted_cycles"]
-    r = cli_process("spring", "--stiffness", "5.2", "--min-cycles", "1e5", "--backlash", "0.75", "--json")
-    assert r.returncode == 2 and r.stdout == ""
-    assert len(r.stderr.strip().splitlines()) == 1 and "--min-cycles" in r.stderr and "backlash" in r.stderr
-    r = cli_process("spring", "--stiffness", "5.2", "--min-cycles", "0")
-    assert r.returncode == 2 and "min_cycles" in r.stderr and ">= 1" in r.stderr
-    r = cli_process("spring", "--stiffness", "5.2", "--backlash", "3")
-    assert r.returncode == 2 and "backlash" in r.stderr and "1.5 mm" in r.stderr
+    r = cli("spring", "--stiffness", "5.2", "--min-cycles", "1e5", "--backlash", "0.75", "--json")
+    assert r.code == 2 and r.out == ""
+    assert len(r.err.strip().splitlines()) == 1 and "--min-cycles" in r.err and "backlash" in r.err
+    r = cli("spring", "--stiffness", "5.2", "--min-cycles", "0")
+    assert r.code == 2 and "min_cycles" in r.err and ">= 1" in r.err
+    r = cli("spring", "--stiffness", "5.2", "--backlash", "3")
+    assert r.code == 2 and "backlash" in r.err and "1.5 mm" in r.err

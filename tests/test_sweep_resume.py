@@ -6,8 +6,10 @@ not a results.csv is refused in one line. A stopped build-mode sweep leaves no p
 
 from __future__ import annotations
 
+import copy
 import io
 import json
+import shutil
 import signal
 import subprocess
 import sys
@@ -24,12 +26,22 @@ SPEC = {"params": {"stiffness_nmm_per_rad": {"range": [2, 12], "steps": 6}, "rot
         "fixed": {"preload_deg": 90}}
 
 
-@pytest.fixture
-def first(tmp_path):
-    """A finished analytic sweep of 24 designs: its directory, rows and results.csv bytes."""
+@pytest.fixture(scope="module")
+def first_once(tmp_path_factory):
+    """The analytic sweep of 24 designs, run once for the module (plots and all: 3-5 s)."""
+    d = tmp_path_factory.mktemp("first")
     spec = sw.SweepSpec.from_dict(SPEC)
-    res = sw.run_sweep(spec, tmp_path, stream=io.StringIO())
-    return spec, res.rows, (tmp_path / "results.csv").read_bytes()
+    res = sw.run_sweep(spec, d, stream=io.StringIO())
+    return d, spec, res.rows
+
+
+@pytest.fixture
+def first(first_once, tmp_path):
+    """A finished analytic sweep of 24 designs: its directory (a copy in ``tmp_path``, files and mtimes), rows
+    and results.csv bytes."""
+    d, spec, rows = first_once
+    shutil.copytree(d, tmp_path, dirs_exist_ok=True)
+    return spec, copy.deepcopy(rows), (tmp_path / "results.csv").read_bytes()
 
 
 def resume(spec, out: Path, monkeypatch) -> tuple[sw.SweepResult, list[str]]:

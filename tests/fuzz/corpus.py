@@ -132,16 +132,23 @@ def make_shared(root: Path, python: str, repo: Path) -> Shared:
     """Build the shared inputs with the real CLI (a joint, a campaign, a finished sweep)."""
     root.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, MPLBACKEND="Agg")
-
-    def rjcad(*args):
-        subprocess.run([python, "-m", "rjcad", *args], cwd=repo, check=True, env=env,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=600)
-
-    rjcad("joint", "--out", str(root / "joint"), "--no-png")
-    rjcad("bench", "--out", str(root / "campaign"), "--samples", "200")
     write(root / "sweep.toml", SWEEP_TOML)
     write(root / "finger1.toml", FINGER_ONE)
-    rjcad("sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0")
+    runs = [["joint", "--out", str(root / "joint"), "--no-png"],
+            ["bench", "--out", str(root / "campaign"), "--samples", "200"],
+            ["sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0"]]
+    procs = [subprocess.Popen([python, "-m", "rjcad", *args], cwd=repo, env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.PIPE) for args in runs]  # independent: side by side
+    try:
+        for args, proc in zip(runs, procs):
+            _, err = proc.communicate(timeout=600)
+            if proc.returncode:
+                raise subprocess.CalledProcessError(proc.returncode, ["rjcad", *args], stderr=err)
+    finally:
+        for proc in procs:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
     for p in [root, *root.rglob("*")]:
         p.chmod(0o755 if p.is_dir() else 0o644)
     return Shared(root, root / "joint", root / "finger1.toml", root / "campaign", root / "sweep.toml",
@@ -720,6 +727,20 @@ def long_cases(sh: Shared) -> list[Case]:
              mention=("c.toml",)),
         Case("long-path", ["check", "a" * 5000 + ".stl"], mention=("aaaa", "file name")),
     ]
+
+
+PARSE_CLASSES = ("num", "int")
+
+
+def parse_only(case: Case) -> bool:
+    """A case that tests only an option's value: it stops at a usage error (or, where the value may be legal, runs
+    a command that writes no file: spring, simulate), and it has no input file, no output place, no file mode,
+    size limit or mount, nothing to check afterwards. tests/test_fuzz_corpus.py runs these in its own process (the
+    promises are the same); every other case runs as a process of its own."""
+    cls = case.id.split("-")[0]
+    return ((cls in PARSE_CLASSES or case.id == "long-cli-material")
+            and (case.expect == "error" or case.expect == "either" and case.argv[0] in ("spring", "simulate"))
+            and not (case.read_only or case.fsize or case.needs or case.post))
 
 
 def all_cases(sh: Shared) -> list[Case]:
