@@ -39,9 +39,13 @@ class CadProcessError(RuntimeError):
 def usable() -> bool:
     """True if a forked CAD process would help and is safe: fork is available (Linux), this process has one
     thread and no CadQuery yet, and ``RJCAD_CAD_PROCESS`` is not 0."""
-    return (os.environ.get(ENV, "1") != "0" and sys.platform.startswith("linux")
-            and "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
-            and "cadquery" not in sys.modules)
+    return (
+        os.environ.get(ENV, "1") != "0"
+        and sys.platform.startswith("linux")
+        and "fork" in multiprocessing.get_all_start_methods()
+        and threading.active_count() == 1
+        and "cadquery" not in sys.modules
+    )
 
 
 class CadProcess:
@@ -88,8 +92,9 @@ class CadProcess:
             kind, value = self._conn.recv()
         except (EOFError, OSError):  # closed, or reset by a child that died
             self._proc.join(5)
-            raise CadProcessError(f"the CAD process ended without an answer (exit code {self._proc.exitcode})") \
-                from None
+            raise CadProcessError(
+                f"the CAD process ended without an answer (exit code {self._proc.exitcode})"
+            ) from None
         if kind == "error":
             exc, text = value
             exc.add_note(f"in the CAD process:\n{text}")
@@ -131,7 +136,7 @@ def _serve(conn, parent_end) -> None:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     try:
         from rjcad.cad.measure import LocalJoint  # CadQuery: the reason for this process
-    except BaseException as e:  # noqa: BLE001 (said to the parent when it asks for the joint)
+    except BaseException as e:
         LocalJoint, failure = None, e
     try:
         p = conn.recv()
@@ -145,7 +150,7 @@ def _serve(conn, parent_end) -> None:
         pass
     except (BrokenPipeError, ConnectionResetError):  # the parent stopped listening: nobody to tell
         pass
-    except BaseException as e:  # noqa: BLE001 (every failure is the parent's to report)
+    except BaseException as e:
         try:
             conn.send(("error", (_picklable(e), traceback.format_exc())))
         except OSError:
@@ -160,6 +165,6 @@ def _picklable(e: BaseException) -> BaseException:
         back = pickle.loads(pickle.dumps(e))
         if type(back) is type(e) and str(back) == str(e):
             return e
-    except Exception:  # noqa: BLE001
+    except Exception:
         pass
     return RuntimeError(f"{type(e).__name__}: {e}")
