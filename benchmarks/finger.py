@@ -29,7 +29,10 @@ def main() -> None:
     build_finger(FingerParams.from_dict(template(1)))  # warm-up (the first build pays for OCC's start-up)
     cad, full = {}, {}
     for n in range(1, args.max_n + 1):
-        fresh = lambda: FingerParams.from_dict(template(n))  # noqa: E731  (no spring design cached across runs)
+
+        def fresh(n: int = n) -> FingerParams:  # a new object per run: no spring design cached across runs
+            return FingerParams.from_dict(template(n))
+
         cad[n], _ = median_time(build_finger, args.repeats, warmup=0, setup=fresh)
         full[n], _ = median_time(build_finger_model, args.repeats, warmup=0, setup=fresh)
     ratio = {n: cad[n] / (n * cad[1]) for n in cad}

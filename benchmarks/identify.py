@@ -54,7 +54,7 @@ def finger(
         for effects in sets:
             d = Path(tmp) / "_".join(effects)
             write_finger_campaign(d, list(effects), seed=1, samples=samples)
-            t, ident = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
+            t, ident = median_time(lambda d=d: identify_finger(load_any(d / "campaign.toml")), repeats)
             out["finger_campaign_s"]["+".join(effects)] = round(t, 3)
             out["finger_campaign_found"]["+".join(effects)] = ident.effects
         threads, workers = {}, FingerSelector.workers
@@ -111,7 +111,7 @@ def main() -> None:
                 d, PAPER_PRESET["effects"], PAPER_PRESET["params"], design=PAPER_PRESET["design"], seed=1, samples=n
             )
             reps = args.repeats_large if n >= 100_000 else args.repeats
-            t, ident = median_time(lambda: run(d / "campaign.toml"), reps, warmup=0)
+            t, ident = median_time(lambda d=d: run(d / "campaign.toml"), reps, warmup=0)
             out["samples_per_experiment"].append(n)
             out["seconds"].append(round(t, 3))
             out["effects_found"].append(ident.effects)

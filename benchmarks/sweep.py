@@ -59,7 +59,7 @@ def main() -> None:
     walls = {}
     for workers in (1, 2):
 
-        def run():
+        def run(workers: int = workers) -> None:
             with tempfile.TemporaryDirectory() as d:
                 sw.run_sweep(build_spec, d, build=True, workers=workers, stream=io.StringIO())
 

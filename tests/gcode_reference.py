@@ -15,6 +15,8 @@ w = A_road / h + h·(1 − π/4), A_road = ΔE·π·d²/4 / L (the rounded-recta
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import math
 import re
 from dataclasses import dataclass
@@ -92,7 +94,7 @@ def _arc(st: _State, w: dict[str, float], clockwise: bool) -> list[tuple[float, 
         sweep -= 2 * math.pi
     if not clockwise and sweep <= 0:
         sweep += 2 * math.pi
-    n = max(1, int(math.ceil(abs(sweep) * r / ARC_CHORD_MM)))
+    n = max(1, math.ceil(abs(sweep) * r / ARC_CHORD_MM))
     pts = [(cx + r * math.cos(a0 + sweep * k / n), cy + r * math.sin(a0 + sweep * k / n)) for k in range(1, n)]
     return pts + [(x1, y1)]
 
@@ -140,10 +142,8 @@ class _Reader:
             if m:
                 self.set_object(self.object_index(m.group(1).strip()))
         elif text.startswith("; filament_diameter ="):
-            try:
+            with contextlib.suppress(ValueError):
                 self.filament = float(text.split("=", 1)[1].split(",")[0])
-            except ValueError:
-                pass
 
     def m486(self, code: str) -> None:
         """M486 labels: ``S<id>`` starts object id (−1: none), ``A"name"`` names the object of ``S`` or the current one."""
@@ -196,8 +196,8 @@ class _Reader:
             self.rows.append((x0, y0, x, y, pos["Z"], st.width, st.height, de, st.obj, kind, st.path))
             return
         pts = [(x0, y0)] + points
-        total = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
-        for a, b in zip(pts[:-1], pts[1:]):
+        total = sum(math.dist(a, b) for a, b in itertools.pairwise(pts))
+        for a, b in itertools.pairwise(pts):
             self.rows.append(
                 (
                     a[0],

@@ -31,14 +31,7 @@ from rjcad.cad.joint import (
 )
 from rjcad.cad.parts import CHANNEL_ROOF
 from rjcad.design.finger_lengths import CHANNEL_RUNS, channel_shift
-from rjcad.design.finger_params import (  # noqa: F401 (re-exported: the design, validated without CadQuery)
-    DEFAULT_FINGER,
-    GLOBAL_KEYS,
-    JOINT_KEYS,
-    MAX_JOINTS,
-    PAPER_FINGER,
-    FingerParams,
-)
+from rjcad.design.finger_params import DEFAULT_FINGER, GLOBAL_KEYS, JOINT_KEYS, MAX_JOINTS, PAPER_FINGER, FingerParams  # noqa: F401 (re-exported: the design, validated without CadQuery)
 from rjcad.design.params import JointParams
 
 M3_CLEARANCE_DIAMETER = 3.4

@@ -20,6 +20,7 @@ pipe closes.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import pickle
@@ -80,10 +81,8 @@ class CadProcess:
         if self._asked:
             raise RuntimeError("a CAD process builds one joint")
         self._asked = True
-        try:
+        with contextlib.suppress(OSError):  # the child is gone: say so where its answer is read
             self._conn.send(p)
-        except OSError:  # the child is gone: say so where its answer is read
-            pass
         return RemoteJoint(self, p)
 
     def _receive(self):
@@ -151,10 +150,8 @@ def _serve(conn, parent_end) -> None:
     except (BrokenPipeError, ConnectionResetError):  # the parent stopped listening: nobody to tell
         pass
     except BaseException as e:
-        try:
+        with contextlib.suppress(OSError):
             conn.send(("error", (_picklable(e), traceback.format_exc())))
-        except OSError:
-            pass
     finally:
         conn.close()
 

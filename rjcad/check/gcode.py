@@ -19,6 +19,8 @@ last absolute value plus a running sum of the relative ones.
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import math
 import re
 from dataclasses import dataclass, field
@@ -88,7 +90,7 @@ def _arc(x0: float, y0: float, rel: bool, w: dict[str, float], clockwise: bool) 
         sweep -= 2 * math.pi
     if not clockwise and sweep <= 0:
         sweep += 2 * math.pi
-    n = max(1, int(math.ceil(abs(sweep) * r / ARC_CHORD_MM)))
+    n = max(1, math.ceil(abs(sweep) * r / ARC_CHORD_MM))
     pts = [(cx + r * math.cos(a0 + sweep * k / n), cy + r * math.sin(a0 + sweep * k / n)) for k in range(1, n)]
     return pts + [(x1, y1)]
 
@@ -139,10 +141,8 @@ class _Events:
                     self.objects.append(name)
                 self.set_object(i, self.obj_ids[name])
         elif text.startswith("; filament_diameter ="):
-            try:
+            with contextlib.suppress(ValueError):
                 self.filament = float(text.split("=", 1)[1].split(",")[0])
-            except ValueError:
-                pass
 
     def m486(self, i: int, code: str) -> None:
         """M486 labels: ``S<id>`` starts object id (−1: none); ``A"name"`` names the object of ``S`` or the current
@@ -360,8 +360,8 @@ def _split_arcs(cols: dict, rows: np.ndarray, ev: _Events, rel_xyz: np.ndarray) 
     for k, pts in enumerate(pieces):
         if pts is None:
             continue
-        total = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
-        for m, (a, b) in enumerate(zip(pts[:-1], pts[1:])):
+        total = sum(math.dist(a, b) for a, b in itertools.pairwise(pts))
+        for m, (a, b) in enumerate(itertools.pairwise(pts)):
             j = at[k] + m
             out["x0"][j], out["y0"][j], out["x1"][j], out["y1"][j] = a[0], a[1], b[0], b[1]
             out["de"][j] = cols["de"][k] * math.dist(a, b) / total

@@ -339,7 +339,7 @@ def _classify(k, name, b: _Body, scene, face_body, names, cell, lip) -> tuple[di
         idx = bad[b.region[bad] == r]
         w = idx[np.argmax(b.reach[idx])]
         under = (
-            ("nothing: the bed is %.2f mm below" % b.z[w])
+            (f"nothing: the bed is {b.z[w]:.2f} mm below")
             if hit[w] < 0
             else (f"{'its own body' if hit[w] == k else names[hit[w]]} {dist[w]:.2f} mm below")
         )

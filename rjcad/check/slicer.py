@@ -95,7 +95,7 @@ class Slicing:
             return
         ini = Path(d, "check.ini")
         ini.write_text(config)
-        self.log = open(Path(d, "log.txt"), "w+")
+        self.log = open(Path(d, "log.txt"), "w+")  # noqa: SIM115  (open while the slicer runs; wait() closes it)
         self.proc = subprocess.Popen(
             [
                 exe,

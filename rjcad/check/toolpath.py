@@ -254,7 +254,7 @@ def analyse(tp: Toolpaths, names: list[str], min_gap: float) -> Analysis:
     order = np.lexsort((np.arange(len(lay)), lay))
     bounds = np.searchsorted(lay[order], np.arange(len(z_layers) + 1))
     a = Analysis(layers=len(z_layers))
-    history: deque = deque(maxlen=int(math.ceil(OPEN_BELOW_MM / 0.05)) + 2)
+    history: deque = deque(maxlen=math.ceil(OPEN_BELOW_MM / 0.05) + 2)
     for L, z in enumerate(z_layers):
         idx = order[bounds[L] : bounds[L + 1]]
         idx = idx[tp.obj[idx] >= 0]
