@@ -354,77 +354,81 @@ class Selector:
     # -- the selection -----------------------------------------------------------------------
     def run(self) -> Identification:
         design = self.prob.fit((), [], [], [])
-        current = design
+        ho_design = self.heldout([], {})
         accepted: list[str] = []
-        ho_cur = self.heldout([], {})
-        ho_design = ho_cur
         steps: list[Step] = []
         cands: list[Candidate] = []
+        current, ho_cur = self._forward(design, ho_design, accepted, steps, cands)
+        current, ho_cur = self.backward(accepted, current, ho_cur, steps, design)
+        return self._finish(design, ho_design, current, ho_cur, accepted, steps, cands)
+
+    def _forward(self, design, ho_cur, accepted: list[str], steps: list[Step], cands: list[Candidate]):
+        """Forward selection: at each step the candidate with the best ΔBIC that passes every gate is added
+        (``accepted``, ``steps`` and ``cands`` grow in place); (the last fit, its held-out error)."""
+        current = design
         step_no = 0
         while True:
             step_no += 1
             start = {n: current.values[n] for n in current.names}
-            tried, jobs, of = [], [], []
-            for eff in self.catalogue:
-                if eff.id in accepted:
-                    continue
-                effs = accepted + [eff.id]
-                bad = {n: r for n, r in self.check_identifiable(effs, start).items() if n in eff.param_names}
-                if not self.free_names([eff.id], {**self.frozen, **bad}):
-                    cands.append(
-                        Candidate(
-                            eff.id,
-                            None,
-                            "not identifiable from this campaign: " + "; ".join(f"{n}: {r}" for n, r in bad.items()),
-                            step_no,
-                            "not_identifiable",
-                        )
-                    )
-                    continue
-                jobs.append((effs, bad))
-                of.append(eff)
-            for eff, (_, bad), fr in zip(of, jobs, self._fit_candidates(jobs, start)):
-                tried.append((fr.bic - current.bic, eff, fr, bad))
+            jobs, of = self._identifiable_candidates(accepted, start, step_no, cands)
+            tried = [
+                (fr.bic - current.bic, eff, fr, bad)
+                for eff, (_, bad), fr in zip(of, jobs, self._fit_candidates(jobs, start))
+            ]
             tried.sort(key=lambda x: x[0])
-            chosen = None
-            for d, eff, fr, bad in tried:
-                if chosen is not None or d >= -BIC_GATE:
-                    why = "not needed" if chosen is not None else f"ΔBIC {d:+.1f} ≥ −{BIC_GATE:g}"
-                    cands.append(Candidate(eff.id, d, why, step_no, "not_needed" if chosen is not None else "bic"))
-                    continue
-                rel = self.relevance(fr.values, current.values)
-                if rel <= RELEVANCE:
-                    cands.append(
-                        Candidate(
-                            eff.id,
-                            d,
-                            f"changes the prediction by only {100 * rel:.2f}% of the measured range",
-                            step_no,
-                            "relevance",
-                        )
-                    )
-                    continue
-                with self._freezing(bad):
-                    ho = self.heldout(accepted + [eff.id], {n: fr.values[n] for n in fr.names})
-                if ho is not None and ho_cur is not None and ho >= ho_cur:
-                    cands.append(
-                        Candidate(
-                            eff.id, d, f"held-out error does not improve ({ho:.3g} ≥ {ho_cur:.3g})", step_no, "heldout"
-                        )
-                    )
-                    continue
-                chosen = (d, eff, fr, ho, rel, bad)
-                cands.append(Candidate(eff.id, d, "accepted", step_no, "accepted"))
+            chosen = self._choose(tried, current, ho_cur, accepted, step_no, cands)
             if chosen is None:
-                break
+                return current, ho_cur
             d, eff, fr, ho, rel, bad = chosen
             accepted.append(eff.id)
             self.frozen.update(bad)
             current, ho_cur = fr, ho
             steps.append(Step(eff.id, eff.cause, "added", d, ho, rel, fr.rmse(), _gain(design.rmse(), fr.rmse())))
 
-        current, ho_cur = self.backward(accepted, current, ho_cur, steps, design)
+    def _identifiable_candidates(self, accepted: list[str], start, step_no: int, cands: list[Candidate]):
+        """The fits to try at this step, ([(effects, parameters held)], [effect]); the effects this campaign
+        cannot identify go to ``cands``."""
+        jobs, of = [], []
+        for eff in self.catalogue:
+            if eff.id in accepted:
+                continue
+            effs = accepted + [eff.id]
+            bad = {n: r for n, r in self.check_identifiable(effs, start).items() if n in eff.param_names}
+            if not self.free_names([eff.id], {**self.frozen, **bad}):
+                why = "not identifiable from this campaign: " + "; ".join(f"{n}: {r}" for n, r in bad.items())
+                cands.append(Candidate(eff.id, None, why, step_no, "not_identifiable"))
+                continue
+            jobs.append((effs, bad))
+            of.append(eff)
+        return jobs, of
 
+    def _choose(self, tried, current, ho_cur, accepted: list[str], step_no: int, cands: list[Candidate]):
+        """The first of the ΔBIC-sorted ``tried`` that passes the BIC gate, relevance and the held-out error, as
+        (ΔBIC, effect, fit, held-out error, relevance, held parameters), or None; every verdict goes to ``cands``."""
+        chosen = None
+        for d, eff, fr, bad in tried:
+            if chosen is not None or d >= -BIC_GATE:
+                why = "not needed" if chosen is not None else f"ΔBIC {d:+.1f} ≥ −{BIC_GATE:g}"
+                cands.append(Candidate(eff.id, d, why, step_no, "not_needed" if chosen is not None else "bic"))
+                continue
+            rel = self.relevance(fr.values, current.values)
+            if rel <= RELEVANCE:
+                why = f"changes the prediction by only {100 * rel:.2f}% of the measured range"
+                cands.append(Candidate(eff.id, d, why, step_no, "relevance"))
+                continue
+            with self._freezing(bad):
+                ho = self.heldout(accepted + [eff.id], {n: fr.values[n] for n in fr.names})
+            if ho is not None and ho_cur is not None and ho >= ho_cur:
+                why = f"held-out error does not improve ({ho:.3g} ≥ {ho_cur:.3g})"
+                cands.append(Candidate(eff.id, d, why, step_no, "heldout"))
+                continue
+            chosen = (d, eff, fr, ho, rel, bad)
+            cands.append(Candidate(eff.id, d, "accepted", step_no, "accepted"))
+        return chosen
+
+    def _finish(self, design, ho_design, current, ho_cur, accepted, steps, cands) -> Identification:
+        """The identification: the simplest set the data cannot tell from the selected one, the viscous
+        correction, the final identifiability and the notes."""
         current, not_ident = self.final_identifiability(accepted, current)
         best, ambiguous = rival_sets(self, accepted, current, cands)
         notes = []
