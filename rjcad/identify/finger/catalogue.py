@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -28,6 +29,14 @@ class FingerEffect(Effect):
         self.id, self.name, self.cause, self.params, self.needs, self.needs_text = (
             id, name, cause, params, needs, needs_text)
         self.also = also  # further start points (overrides of the typical sizes): the fit has local minima
+
+    # The parameters are built for the finger (``catalogue``): their neutral and typical values need no design
+    # object, and the finger's callers pass None.
+    def neutral(self, design: dict[str, Any] | None) -> dict:
+        return {p.name: p.neutral for p in self.params}
+
+    def typical(self, design: dict[str, Any] | None) -> dict:
+        return {p.name: p.typical for p in self.params}
 
     def starts(self, design):
         t = self.typical(design)
