@@ -13,8 +13,9 @@ import time
 from typing import Any, Callable
 
 
-def timed_runs(fn: Callable, repeats: int, *, warmup: int = 1,
-               setup: Callable | None = None) -> list[tuple[float, Any]]:
+def timed_runs(
+    fn: Callable, repeats: int, *, warmup: int = 1, setup: Callable | None = None
+) -> list[tuple[float, Any]]:
     """(seconds, result) of ``repeats`` timed calls of ``fn``, after ``warmup`` untimed ones.
 
     ``setup``, if given, runs untimed before every call and its result is ``fn``'s argument

@@ -41,12 +41,11 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-
 from _timing import emit, median_of, median_time, parse_args, target
 
 from rjcad import check as chk
-from rjcad.check.copies import simplified
 from rjcad.cad.build import build_finger_model, write_finger, write_joint
+from rjcad.check.copies import simplified
 from rjcad.design.params import JointParams
 from rjcad.materials import get_printer
 
@@ -63,8 +62,14 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
     PrusaSlicer alone slicing the same bodies with the check's settings, and `rjcad check` without the slicer; run
     in turn ``repeats`` times (no warm-up: each `rjcad check` is a fresh process), medians and their ratio, and
     the median of each round's ratio. Not with --quick, nor without prusa-slicer."""
-    keys = ("finger_check_slicer_s", "finger_prusaslicer_alone_s", "finger_check_no_slicer_s",
-            "finger_check_gcode_read_s", "finger_check_over_slicer", "finger_check_over_slicer_paired")
+    keys = (
+        "finger_check_slicer_s",
+        "finger_prusaslicer_alone_s",
+        "finger_check_no_slicer_s",
+        "finger_check_gcode_read_s",
+        "finger_check_over_slicer",
+        "finger_check_over_slicer_paired",
+    )
     if quick or not shutil.which("prusa-slicer"):
         return dict.fromkeys(keys)
     from rjcad.cad.finger import FingerParams
@@ -86,11 +91,19 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
             whole, rep = _finger_check(cmd + ["--slicer", "prusa"])
             plain, _ = _finger_check(cmd)
             read = re.search(r"G-code read in ([\d.]+) s", rep["checks"][-1]["detail"])
-            rows.append({"whole": whole, "alone": alone, "plain": plain, "read": float(read.group(1)) if read else 0.0,
-                         "ratio": whole / alone})
+            rows.append(
+                {
+                    "whole": whole,
+                    "alone": alone,
+                    "plain": plain,
+                    "read": float(read.group(1)) if read else 0.0,
+                    "ratio": whole / alone,
+                }
+            )
     med = median_of(rows)
-    return dict(zip(keys, (med["whole"], med["alone"], med["plain"], med["read"], med["whole"] / med["alone"],
-                           med["ratio"])))
+    return dict(
+        zip(keys, (med["whole"], med["alone"], med["plain"], med["read"], med["whole"] / med["alone"], med["ratio"]))
+    )
 
 
 def print_checks(quick: bool, repeats: int) -> dict:
@@ -98,8 +111,11 @@ def print_checks(quick: bool, repeats: int) -> dict:
     from rjcad.cad.finger import FingerParams
 
     template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
-    fp = (FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]}) if quick else
-          FingerParams.from_toml(str(template)))
+    fp = (
+        FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]})
+        if quick
+        else FingerParams.from_toml(str(template))
+    )
     meshes = build_finger_model(fp).meshes
     names, prn = list(meshes), get_printer("generic-0.4")
 
@@ -107,14 +123,26 @@ def print_checks(quick: bool, repeats: int) -> dict:
         return [m.copy() for m in meshes.values()]
 
     t_over, over = median_time(lambda b: chk.check_overhang(b, names, prn), repeats, setup=fresh)
-    out = {"finger_triangles": int(sum(len(m.faces) for m in meshes.values())), "finger_overhang_s": t_over,
-           "finger_overhang_failing_mm2": over.value, "finger_overhang_passed": over.passed, "finger_slicer_s": None, "finger_prusaslicer_s": None,
-           "finger_gcode_read_s": None}
+    out = {
+        "finger_triangles": int(sum(len(m.faces) for m in meshes.values())),
+        "finger_overhang_s": t_over,
+        "finger_overhang_failing_mm2": over.value,
+        "finger_overhang_passed": over.passed,
+        "finger_slicer_s": None,
+        "finger_prusaslicer_s": None,
+        "finger_gcode_read_s": None,
+    }
     if not quick and shutil.which("prusa-slicer"):
         t_slice, res = median_time(lambda: chk.check_slicer(list(meshes.values()), names, prn, "prusa"), 1, warmup=0)
         m = re.search(r"sliced in ([\d.]+) s, G-code read in ([\d.]+) s", res.detail)
-        out.update({"finger_slicer_passed": res.passed, "finger_slicer_s": t_slice, "finger_prusaslicer_s": float(m.group(1)) if m else None,
-                    "finger_gcode_read_s": float(m.group(2)) if m else None})
+        out.update(
+            {
+                "finger_slicer_passed": res.passed,
+                "finger_slicer_s": t_slice,
+                "finger_prusaslicer_s": float(m.group(1)) if m else None,
+                "finger_gcode_read_s": float(m.group(2)) if m else None,
+            }
+        )
     return out
 
 
@@ -169,20 +197,36 @@ def time_checks(stl: Path, manifest: Path) -> tuple[dict[str, float], dict[str, 
 #: Runs a command and prints its peak RSS [kB], CPU seconds and exit code. A child forked from this small process
 #: measures only itself: Linux keeps the RSS high-water mark across exec, so a child of the benchmark would
 #: inherit the benchmark's size.
-LAUNCH = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL, "
-          "stderr=subprocess.DEVNULL); _, s, u = os.wait4(p.pid, 0); "
-          "print(u.ru_maxrss, u.ru_utime + u.ru_stime, os.waitstatus_to_exitcode(s))")
+LAUNCH = (
+    "import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL, "
+    "stderr=subprocess.DEVNULL); _, s, u = os.wait4(p.pid, 0); "
+    "print(u.ru_maxrss, u.ru_utime + u.ru_stime, os.waitstatus_to_exitcode(s))"
+)
 
 
 def whole_check(stl: Path, manifest: Path) -> dict:
     """Wall and CPU seconds, peak RSS [GB] and exit code of `rjcad check STL --manifest M --json` in its own process."""
-    cmd = [sys.executable, "-c", LAUNCH, sys.executable, "-m", "rjcad", "check", str(stl), "--manifest",
-           str(manifest), "--json"]
-    secs, out = median_time(lambda: subprocess.run(cmd, capture_output=True, text=True, check=True).stdout, 1,
-                            warmup=0)
+    cmd = [
+        sys.executable,
+        "-c",
+        LAUNCH,
+        sys.executable,
+        "-m",
+        "rjcad",
+        "check",
+        str(stl),
+        "--manifest",
+        str(manifest),
+        "--json",
+    ]
+    secs, out = median_time(lambda: subprocess.run(cmd, capture_output=True, text=True, check=True).stdout, 1, warmup=0)
     rss_kb, cpu, code = out.split()
-    return {"big_check_s": secs, "big_check_cpu_s": float(cpu), "big_check_peak_rss_gb": int(rss_kb) / 2 ** 20,
-            "big_check_exit_code": int(code)}
+    return {
+        "big_check_s": secs,
+        "big_check_cpu_s": float(cpu),
+        "big_check_peak_rss_gb": int(rss_kb) / 2**20,
+        "big_check_exit_code": int(code),
+    }
 
 
 def scaling(d: Path, quick: bool) -> dict:
@@ -201,11 +245,17 @@ def scaling(d: Path, quick: bool) -> dict:
         rows.append(time_checks(stl, manifest))
     whole = whole_check(stl, manifest)
     names = list(rows[0][0])
-    exponent = {k: float(np.polyfit(np.log(sizes), np.log([max(cpu[k], 1e-6) for _, cpu in rows]), 1)[0])
-                for k in names}
-    return {"check_triangles": sizes, "check_seconds": {k: [w[k] for w, _ in rows] for k in names},
-            "check_cpu_seconds": {k: [c[k] for _, c in rows] for k in names}, "check_scaling_exponent": exponent,
-            "big_mesh_triangles": sizes[-1], **whole}
+    exponent = {
+        k: float(np.polyfit(np.log(sizes), np.log([max(cpu[k], 1e-6) for _, cpu in rows]), 1)[0]) for k in names
+    }
+    return {
+        "check_triangles": sizes,
+        "check_seconds": {k: [w[k] for w, _ in rows] for k in names},
+        "check_cpu_seconds": {k: [c[k] for _, c in rows] for k in names},
+        "check_scaling_exponent": exponent,
+        "big_mesh_triangles": sizes[-1],
+        **whole,
+    }
 
 
 def main() -> None:

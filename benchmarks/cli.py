@@ -56,8 +56,11 @@ def process_times(argv: list[str], repeats: int, env: dict | None = None) -> dic
     the median CPU seconds (a check on the wall times when other work shares the machine)."""
     runs = timed_runs(lambda: run(argv, env), repeats, warmup=1 if repeats > 1 else 0)  # --quick: no warm-up
     times = [t for t, _ in runs]
-    return {"median_s": statistics.median(times), "runs_s": times,
-            "median_cpu_s": statistics.median(cpu for _, cpu in runs)}
+    return {
+        "median_s": statistics.median(times),
+        "runs_s": times,
+        "median_cpu_s": statistics.median(cpu for _, cpu in runs),
+    }
 
 
 def process_times_in_turn(commands: dict[str, tuple[list[str], dict | None]], repeats: int) -> dict[str, dict]:
@@ -65,15 +68,20 @@ def process_times_in_turn(commands: dict[str, tuple[list[str], dict | None]], re
     slow spell of a shared machine hits each alike: each command's times, and per round the ratio of each
     command's time to the first's (``ratios_to_first``)."""
     warmup = 1 if repeats > 1 else 0
-    rounds = [{name: timed_runs(lambda a=argv, e=env: run(a, e), 1, warmup=0)[0] for name, (argv, env) in
-               commands.items()} for _ in range(warmup + repeats)][warmup:]
+    rounds = [
+        {name: timed_runs(lambda a=argv, e=env: run(a, e), 1, warmup=0)[0] for name, (argv, env) in commands.items()}
+        for _ in range(warmup + repeats)
+    ][warmup:]
     first = next(iter(commands))
     out = {}
     for name in commands:
         times = [r[name][0] for r in rounds]
-        out[name] = {"median_s": statistics.median(times), "runs_s": times,
-                     "median_cpu_s": statistics.median(r[name][1] for r in rounds),
-                     "ratios_to_first": [r[name][0] / r[first][0] for r in rounds]}
+        out[name] = {
+            "median_s": statistics.median(times),
+            "runs_s": times,
+            "median_cpu_s": statistics.median(r[name][1] for r in rounds),
+            "ratios_to_first": [r[name][0] / r[first][0] for r in rounds],
+        }
     return out
 
 
@@ -106,9 +114,11 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         run(rjcad("joint", "--out", f"{tmp}/j0"))  # the joint `check` reads
         scad = shutil.which("openscad") if not args.no_openscad else None
-        turn = {"joint": (rjcad("joint", "--out", f"{tmp}/joint"), None),
-                "joint_one_process": (rjcad("joint", "--out", f"{tmp}/joint1"), {"RJCAD_CAD_PROCESS": "0"}),
-                "joint_usual_exit": (rjcad("joint", "--out", f"{tmp}/joint2"), {"RJCAD_QUICK_EXIT": "0"})}
+        turn = {
+            "joint": (rjcad("joint", "--out", f"{tmp}/joint"), None),
+            "joint_one_process": (rjcad("joint", "--out", f"{tmp}/joint1"), {"RJCAD_CAD_PROCESS": "0"}),
+            "joint_usual_exit": (rjcad("joint", "--out", f"{tmp}/joint2"), {"RJCAD_QUICK_EXIT": "0"}),
+        }
         if scad:
             turn["openscad"] = ([scad, "-o", f"{tmp}/knuckle.stl", str(SCAD)], None)
         out = {
@@ -119,33 +129,38 @@ def main() -> None:
             "check": process_times(rjcad("check", f"{tmp}/j0/joint.3mf", "--manifest", f"{tmp}/j0/joint.json"), n),
         }
         out.setdefault("openscad", None)
-        out["openscad_version"] = (subprocess.run([scad, "--version"], capture_output=True, text=True).stderr.strip()
-                                   if scad else None)
+        out["openscad_version"] = (
+            subprocess.run([scad, "--version"], capture_output=True, text=True).stderr.strip() if scad else None
+        )
     build_s = in_process_build_stl_step(n)
     osc = out["openscad"]["median_s"] if out["openscad"] else None
     ratio = osc / out["joint"]["median_s"] if osc else None
     out["saved_by_cad_process_s"] = saved(out["joint"], out["joint_one_process"])
     out["saved_by_quick_exit_s"] = saved(out["joint"], out["joint_usual_exit"])
-    out.update({
-        "in_process_build_stl_step_s": build_s,
-        "ratio_openscad_over_rjcad_joint": ratio,
-        "ratio_openscad_over_rjcad_joint_paired": (statistics.median(out["openscad"]["ratios_to_first"])
-                                                   if osc else None),
-        "ratio_joint_over_joint_one_process": out["joint"]["median_s"] / out["joint_one_process"]["median_s"],
-        "ratio_openscad_over_rjcad_joint_cpu": (out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"]
-                                                if osc else None),
-        "load_average_1min": os.getloadavg()[0],
-        "cpus": os.cpu_count(),
-        "ratio_openscad_over_in_process_build_stl_step": osc / build_s if osc else None,
-        "repeats": n,
-        "targets": {
-            "ratio_openscad_over_rjcad_joint": target(ratio, at_least=2.0),
-            "saved_by_cad_process_s": target(out["saved_by_cad_process_s"], at_least=0.3),
-            "saved_by_quick_exit_s": target(out["saved_by_quick_exit_s"], at_least=0.3),
-            "spring_s": target(out["spring"]["median_s"], at_most=1.0),
-            "in_process_build_stl_step_s": target(build_s, at_most=0.5),
-        },
-    })
+    out.update(
+        {
+            "in_process_build_stl_step_s": build_s,
+            "ratio_openscad_over_rjcad_joint": ratio,
+            "ratio_openscad_over_rjcad_joint_paired": (
+                statistics.median(out["openscad"]["ratios_to_first"]) if osc else None
+            ),
+            "ratio_joint_over_joint_one_process": out["joint"]["median_s"] / out["joint_one_process"]["median_s"],
+            "ratio_openscad_over_rjcad_joint_cpu": (
+                out["openscad"]["median_cpu_s"] / out["joint"]["median_cpu_s"] if osc else None
+            ),
+            "load_average_1min": os.getloadavg()[0],
+            "cpus": os.cpu_count(),
+            "ratio_openscad_over_in_process_build_stl_step": osc / build_s if osc else None,
+            "repeats": n,
+            "targets": {
+                "ratio_openscad_over_rjcad_joint": target(ratio, at_least=2.0),
+                "saved_by_cad_process_s": target(out["saved_by_cad_process_s"], at_least=0.3),
+                "saved_by_quick_exit_s": target(out["saved_by_quick_exit_s"], at_least=0.3),
+                "spring_s": target(out["spring"]["median_s"], at_most=1.0),
+                "in_process_build_stl_step_s": target(build_s, at_most=0.5),
+            },
+        }
+    )
     emit(out)
 
 

@@ -32,18 +32,22 @@ def run(path):
     return identify(camp)
 
 
-def finger(repeats: int, samples: int = 3000,
-           sets=(("moment_arm",), ("viscous",), ("moment_arm", "coulomb_pin")), quick: bool = False) -> dict:
+def finger(
+    repeats: int,
+    samples: int = 3000,
+    sets=(("moment_arm",), ("viscous",), ("moment_arm", "coulomb_pin")),
+    quick: bool = False,
+) -> dict:
     """Whole-finger identification (3 joints, 3 experiments × 3000 samples), with the candidate fits in one thread
     and in two (the last set, same run), and the finger solver's speed. ``quick``: the last set's own run stands
     for its default thread count (not run again)."""
     import numpy as np
 
+    from rjcad import DEG
     from rjcad.identify.campaign import load_campaign as load_any
     from rjcad.identify.finger.bench import write_finger_campaign
     from rjcad.identify.finger.problem import FingerSelector, identify_finger
     from rjcad.physics.finger import FingerModel, simulate_angles, simulate_path
-    from rjcad import DEG
 
     out = {"finger_campaign_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
     with tempfile.TemporaryDirectory() as tmp:
@@ -63,15 +67,21 @@ def finger(repeats: int, samples: int = 3000,
                 threads[str(w)], _ = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
         finally:
             FingerSelector.workers = workers
-        out["finger_campaign_threads_s"] = {"set": "+".join(effects), **{k: round(v, 3) for k, v in threads.items()},
-                                            "ratio_1_over_2": round(threads["1"] / threads["2"], 2)}
-    m = FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3,
-                    gamma=(1.0,) * 3)
+        out["finger_campaign_threads_s"] = {
+            "set": "+".join(effects),
+            **{k: round(v, 3) for k, v in threads.items()},
+            "ratio_1_over_2": round(threads["1"] / threads["2"], 2),
+        }
+    m = FingerModel(
+        (5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3, gamma=(1.0,) * 3
+    )
     td = np.concatenate([np.linspace(0, 25, 1500), np.linspace(25, 0, 1500)])
     t_angles, _ = median_time(lambda: simulate_angles(m, td), repeats)
     t_closure, _ = median_time(lambda: simulate_path(m, td), repeats)
-    out["finger_solver_us_per_step"] = {"angles": round(1e6 * t_angles / len(td), 3),
-                                        "closure": round(1e6 * t_closure / len(td), 3)}
+    out["finger_solver_us_per_step"] = {
+        "angles": round(1e6 * t_angles / len(td), 3),
+        "closure": round(1e6 * t_closure / len(td), 3),
+    }
     return out
 
 
@@ -97,8 +107,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for n in sizes:
             d = Path(tmp) / f"n{n}"
-            write_campaign(d, PAPER_PRESET["effects"], PAPER_PRESET["params"], design=PAPER_PRESET["design"],
-                           seed=1, samples=n)
+            write_campaign(
+                d, PAPER_PRESET["effects"], PAPER_PRESET["params"], design=PAPER_PRESET["design"], seed=1, samples=n
+            )
             reps = args.repeats_large if n >= 100_000 else args.repeats
             t, ident = median_time(lambda: run(d / "campaign.toml"), reps, warmup=0)
             out["samples_per_experiment"].append(n)
@@ -106,8 +117,9 @@ def main() -> None:
             out["effects_found"].append(ident.effects)
     s, t = out["samples_per_experiment"], out["seconds"]
     out["us_per_sample"] = [round(1e6 * ti / (5 * ni), 2) for ni, ti in zip(s, t)]
-    out["scaling_exponent"] = [round(math.log(t[i + 1] / t[i]) / math.log(s[i + 1] / s[i]), 3)
-                               for i in range(len(s) - 1)]
+    out["scaling_exponent"] = [
+        round(math.log(t[i + 1] / t[i]) / math.log(s[i + 1] / s[i]), 3) for i in range(len(s) - 1)
+    ]
     out.update(finger(args.repeats) if not args.quick else finger(1, 300, (("moment_arm",),), quick=True))
     out["targets"] = {
         "paper_campaign_s": target(out["paper_campaign_s"], at_most=10.0),

@@ -39,8 +39,9 @@ def main() -> None:
     # a fresh JointParams per run: the spring design is not cached across runs
     runs = timed_runs(one_run, args.repeats, setup=JointParams)
     med = median_of([{"total_s": t, **r} for t, r in runs])
-    stacked = median_of([{"total_s": t, **r} for t, r in
-                         timed_runs(one_run, args.repeats, setup=lambda: JointParams(layout="stacked"))])
+    stacked = median_of(
+        [{"total_s": t, **r} for t, r in timed_runs(one_run, args.repeats, setup=lambda: JointParams(layout="stacked"))]
+    )
     out = {
         "layout": JointParams().layout,
         "median_total_s": med["total_s"],

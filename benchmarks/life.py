@@ -13,7 +13,6 @@ import subprocess
 import sys
 
 import numpy as np
-
 from _timing import emit, median_time, parse_args, target
 
 from rjcad import life
@@ -48,32 +47,44 @@ def main() -> None:
     K = rng.uniform(0.5, 10, n)
     rot = rng.uniform(0.5, 2.5, n)
     windup = rot + rng.uniform(0, 2.0, n)
-    kw = dict(material=get_material("absplus-p430"), printer=get_printer("generic-0.4"), allowed_stress=20.0,
-              outer_radius_max=60.0, rotation=rot)
+    kw = dict(
+        material=get_material("absplus-p430"),
+        printer=get_printer("generic-0.4"),
+        allowed_stress=20.0,
+        outer_radius_max=60.0,
+        rotation=rot,
+    )
     t_batch, _ = median_time(lambda: optimise_arrays(K, windup, **kw), args.repeats)
     t_batch_life, _ = median_time(lambda: optimise_arrays(K, windup, min_cycles=1e5, **kw), args.repeats)
 
     # 3. The whole critique (3 laws × 2 variants, leave-one-out, profile intervals) and the CLI.
     few = max(3, args.repeats // 2)
     t_crit, _ = median_time(lambda: life.critique(), few)
-    t_cli, _ = median_time(lambda: subprocess.run([sys.executable, "-m", "rjcad", "spring", "--stiffness", "5.2",
-                                                   "--min-cycles", "1e5", "--json"], check=True, capture_output=True),
-                           few)
+    t_cli, _ = median_time(
+        lambda: subprocess.run(
+            [sys.executable, "-m", "rjcad", "spring", "--stiffness", "5.2", "--min-cycles", "1e5", "--json"],
+            check=True,
+            capture_output=True,
+        ),
+        few,
+    )
 
-    emit({
-        "design_model_cold_fit_ms": cold_fit * 1e3,
-        "optimiser_ms_per_design_plain": t_plain * 1e3,
-        "optimiser_ms_per_design_min_cycles": t_life * 1e3,
-        "min_cycles_vs_plain_ratio": t_life / t_plain,
-        "batched_designs_per_s_plain": n / t_batch,
-        "batched_designs_per_s_min_cycles": n / t_batch_life,
-        "batched_min_cycles_vs_plain_ratio": t_batch_life / t_batch,
-        "critique_table_i_ms": t_crit * 1e3,
-        "cli_spring_min_cycles_json_ms": t_cli * 1e3,
-        "n": n,
-        "repeats": args.repeats,
-        "targets": {"optimiser_ms_per_design_min_cycles": target(t_life * 1e3, at_most=50.0)},
-    })
+    emit(
+        {
+            "design_model_cold_fit_ms": cold_fit * 1e3,
+            "optimiser_ms_per_design_plain": t_plain * 1e3,
+            "optimiser_ms_per_design_min_cycles": t_life * 1e3,
+            "min_cycles_vs_plain_ratio": t_life / t_plain,
+            "batched_designs_per_s_plain": n / t_batch,
+            "batched_designs_per_s_min_cycles": n / t_batch_life,
+            "batched_min_cycles_vs_plain_ratio": t_batch_life / t_batch,
+            "critique_table_i_ms": t_crit * 1e3,
+            "cli_spring_min_cycles_json_ms": t_cli * 1e3,
+            "n": n,
+            "repeats": args.repeats,
+            "targets": {"optimiser_ms_per_design_min_cycles": target(t_life * 1e3, at_most=50.0)},
+        }
+    )
 
 
 if __name__ == "__main__":

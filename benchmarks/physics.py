@@ -10,14 +10,13 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
-
 from _timing import emit, median_time, parse_args, target
 
+from rjcad import DEG
 from rjcad.paper import FINGER
 from rjcad.physics.finger import FingerModel, simulate_path, simulate_stroke, unbalanced_readings
 from rjcad.physics.inverse import design_finger
 from rjcad.physics.joint import PAPER_JOINT, Setup, motion_direction, simulate
-from rjcad import DEG
 
 
 def main() -> None:
@@ -27,8 +26,18 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     args = parse_args(ap, quick={"n": 2000, "steps": 20, "repeats": 1})
     # the paper's finger, full model: capstan, pin friction with the tendon-induced part, gravity on the links
-    m = FingerModel(FINGER.designed_stiffness, (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0),
-                    mu_t=0.2, friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8), gravity=(0.0, -1.0))
+    m = FingerModel(
+        FINGER.designed_stiffness,
+        (90 * DEG,) * 3,
+        (90 * DEG,) * 3,
+        (6.0,) * 3,
+        wrap=(0.45, 0, 0),
+        mu_t=0.2,
+        friction=(2.0,) * 3,
+        gamma=(1.0,) * 3,
+        link_mass=(17.6, 14.4, 9.8),
+        gravity=(0.0, -1.0),
+    )
     t_finger, c = median_time(lambda: simulate_stroke(m, FINGER.stroke, steps=args.steps), args.repeats)
     # the same stroke with each joint's own slope of the weight only (the coupled step's fallback, and the
     # solver before it): the readings that are not equilibria, and the time, in the same run
@@ -58,7 +67,9 @@ def main() -> None:
     t_full = median_time(lambda: simulate(full, setup, th, tt), args.repeats)[0]
     target_deg = list(FINGER.measured_end_deg)
     t_design = median_time(lambda: design_finger(target_deg, FINGER.stroke, "proximal-first"), args.repeats)[0]
-    out = {**mujoco_stroke(args), "finger_steps": len(c.tendon_mm),
+    out = {
+        **mujoco_stroke(args),
+        "finger_steps": len(c.tendon_mm),
         "finger_1000_step_stroke_s": t_finger * 1000 / len(c.tendon_mm),
         "finger_own_slope_only_1000_step_stroke_s": t_own * 1000 / len(c.tendon_mm),
         "finger_coupled_speedup": t_own / t_finger,
@@ -84,19 +95,23 @@ def main() -> None:
 def mujoco_stroke(args) -> dict:
     """The default finger (templates/finger.toml: capsule links, no meshes, no gravity) pulled 0 → 25 mm and
     released in MuJoCo (rjcad.mjcf.simulate), and by the built-in solver, in ``args.steps`` steps each way."""
+    from rjcad.io.templates import DEFAULT_FINGER
     from rjcad.mjcf.model import spec_from_model
     from rjcad.mjcf.simulate import load, run_stroke
     from rjcad.mjcf.spec import to_xml
     from rjcad.physics.finger import model_from_template
-    from rjcad.io.templates import DEFAULT_FINGER
 
     m = model_from_template(DEFAULT_FINGER)
     model = load(to_xml(spec_from_model(m)))
     t_mj, c_mj = median_time(lambda: run_stroke(model, FINGER.stroke, args.steps), max(1, min(args.repeats, 3)))
     t_rj, c_rj = median_time(lambda: simulate_stroke(m, FINGER.stroke, args.steps), args.repeats)
-    return {"mujoco_default_finger_stroke_s": t_mj, "rjcad_default_finger_stroke_s": t_rj,
-            "mujoco_over_rjcad": t_mj / t_rj, "mujoco_steps": len(c_mj.tendon_mm),
-            "mujoco_vs_rjcad_max_deg": float(np.degrees(np.abs(c_mj.theta - c_rj.theta)).max())}
+    return {
+        "mujoco_default_finger_stroke_s": t_mj,
+        "rjcad_default_finger_stroke_s": t_rj,
+        "mujoco_over_rjcad": t_mj / t_rj,
+        "mujoco_steps": len(c_mj.tendon_mm),
+        "mujoco_vs_rjcad_max_deg": float(np.degrees(np.abs(c_mj.theta - c_rj.theta)).max()),
+    }
 
 
 if __name__ == "__main__":

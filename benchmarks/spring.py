@@ -21,7 +21,6 @@ import statistics
 from functools import partial
 
 import numpy as np
-
 from _timing import emit, median_time, parse_args, target
 
 from rjcad import spring as sp
@@ -29,7 +28,8 @@ from rjcad.errors import InfeasibleDesign
 from rjcad.materials import get_material, get_printer
 from rjcad.spring import factors as fx
 from rjcad.spring import optimise as opt
-from rjcad.spring import rod, surrogate as sg, verify
+from rjcad.spring import rod, verify
+from rjcad.spring import surrogate as sg
 
 OLD_DEFAULT = dict(r_in=3.0, pitch=1.1434137451636173, turns=5.620157989891363, b=7.6, t=0.8, E=2200.0)
 
@@ -49,9 +49,12 @@ def surrogate_rate(n: int, repeats: int) -> float:
     s = fx.JOINT_SENSE
 
     def lookups():
-        return (sg.gap_ratio_min(theta, rho, turns, sense=s, margin=fx.use_margin("clamped")),
-                sg.stress_factor(rho, turns, theta, sense=s), sg.stiffness_ratio(rho, turns),
-                sg.torque_ratio(theta, rho, turns, sense=s))
+        return (
+            sg.gap_ratio_min(theta, rho, turns, sense=s, margin=fx.use_margin("clamped")),
+            sg.stress_factor(rho, turns, theta, sense=s),
+            sg.stiffness_ratio(rho, turns),
+            sg.torque_ratio(theta, rho, turns, sense=s),
+        )
 
     return n / median_time(lookups, repeats)[0]
 
@@ -65,9 +68,19 @@ def gap_errors(n_designs: int, seed: int = 14) -> dict:
         t = rng.uniform(0.4, min(3.0, r_in / 3.0))
         p = rng.uniform(t + 0.25, min(4.0, r_in / 0.71))
         n, theta = rng.uniform(1.0, 12.0), rng.uniform(0.2, 2 * math.pi)
-        res = rod.spiral_windup(r_in, p, n, 2 * t, t, 2200.0, end="clamped", sense=fx.JOINT_SENSE, theta_max=theta,
-                                steps=max(2, math.ceil(theta / math.radians(3.75))),
-                                per_turn=max(80, math.ceil(2 * math.pi * (r_in + p * n) / p)))
+        res = rod.spiral_windup(
+            r_in,
+            p,
+            n,
+            2 * t,
+            t,
+            2200.0,
+            end="clamped",
+            sense=fx.JOINT_SENSE,
+            theta_max=theta,
+            steps=max(2, math.ceil(theta / math.radians(3.75))),
+            per_turn=max(80, math.ceil(2 * math.pi * (r_in + p * n) / p)),
+        )
         rod_gap = float(res.coil_gap.min())
         if (rod_gap + t) / p < 0.1:  # every printable spring touches there: the table holds 0
             continue
@@ -75,11 +88,16 @@ def gap_errors(n_designs: int, seed: int = 14) -> dict:
         if np.isfinite(ours):
             rows.append((ours - rod_gap, dict(r_in=r_in, t=t, pitch=p, turns=n, theta_deg=math.degrees(theta))))
     worst = max(rows, key=lambda r: r[0])
-    return {"designs": n_designs, "compared": len(rows), "worst_optimistic_mm": worst[0],
-            "worst_optimistic_design": {k: round(v, 3) for k, v in worst[1].items()},
-            "worst_conservative_mm": min(r[0] for r in rows),
-            "median_abs_mm": statistics.median(abs(r[0]) for r in rows),
-            "optimistic_count": sum(r[0] > 0 for r in rows), "margins_used": fx.use_margin("clamped")}
+    return {
+        "designs": n_designs,
+        "compared": len(rows),
+        "worst_optimistic_mm": worst[0],
+        "worst_optimistic_design": {k: round(v, 3) for k, v in worst[1].items()},
+        "worst_conservative_mm": min(r[0] for r in rows),
+        "median_abs_mm": statistics.median(abs(r[0]) for r in rows),
+        "optimistic_count": sum(r[0] > 0 for r in rows),
+        "margins_used": fx.use_margin("clamped"),
+    }
 
 
 def vector_model(n: int, repeats: int, rng) -> dict:
@@ -88,16 +106,22 @@ def vector_model(n: int, repeats: int, rng) -> dict:
 
     def full_model():
         turns = sp.turns_for_length(L, r_in, p)
-        return fx.cycle_stresses(E, b, t, L, r_in, p, turns, theta / 2, theta / 2, "clamped"), \
-            fx.coil_gap(theta, r_in, p, turns, t, "clamped")
+        return fx.cycle_stresses(E, b, t, L, r_in, p, turns, theta / 2, theta / 2, "clamped"), fx.coil_gap(
+            theta, r_in, p, turns, t, "clamped"
+        )
 
     t_plain = median_time(lambda: E * b * t**3 / L, repeats)[0]
     t_stiff = median_time(lambda: sp.stiffness(E, b, t, L, "clamped"), repeats)[0]
     t_full = median_time(full_model, repeats)[0]
-    return {"vector_designs": n, "numpy_plain_a_b3_over_c_per_s": n / t_plain, "stiffness_evals_per_s": n / t_stiff,
-            "stiffness_vs_numpy_ceiling": t_plain / t_stiff, "full_model_evals_per_s": n / t_full,
-            "full_model_vs_numpy_ceiling": t_plain / t_full,
-            "full_model_note": "exact-length turns + rod-model K, peak and amplitude stress + coil gap (surrogate)"}
+    return {
+        "vector_designs": n,
+        "numpy_plain_a_b3_over_c_per_s": n / t_plain,
+        "stiffness_evals_per_s": n / t_stiff,
+        "stiffness_vs_numpy_ceiling": t_plain / t_stiff,
+        "full_model_evals_per_s": n / t_full,
+        "full_model_vs_numpy_ceiling": t_plain / t_full,
+        "full_model_note": "exact-length turns + rod-model K, peak and amplitude stress + coil gap (surrogate)",
+    }
 
 
 def main() -> None:
@@ -109,20 +133,43 @@ def main() -> None:
     args = parse_args(ap, quick={"n": 2000, "designs": 4, "random": 3, "repeats": 2})
     rng = np.random.default_rng(0)
 
-    rod_s = median_time(lambda: verify.rod_check.__wrapped__(
-        OLD_DEFAULT["r_in"], OLD_DEFAULT["pitch"], OLD_DEFAULT["turns"], OLD_DEFAULT["b"], OLD_DEFAULT["t"],
-        OLD_DEFAULT["E"], "clamped", fx.JOINT_SENSE, math.pi / 2, math.pi / 2), args.repeats)[0]
+    rod_s = median_time(
+        lambda: verify.rod_check.__wrapped__(
+            OLD_DEFAULT["r_in"],
+            OLD_DEFAULT["pitch"],
+            OLD_DEFAULT["turns"],
+            OLD_DEFAULT["b"],
+            OLD_DEFAULT["t"],
+            OLD_DEFAULT["E"],
+            "clamped",
+            fx.JOINT_SENSE,
+            math.pi / 2,
+            math.pi / 2,
+        ),
+        args.repeats,
+    )[0]
     paper = sp.SpringRequirement(5.2, math.radians(90), math.radians(90))
     per_paper = median_time(partial(cold_design, paper), args.repeats)[0]
-    reqs = [sp.SpringRequirement(float(k), math.radians(float(r)), math.radians(float(p)), outer_radius_max=60.0)
-            for k, r, p in zip(rng.uniform(1, 15, args.random), rng.uniform(30, 150, args.random),
-                               rng.uniform(0, 120, args.random))]
+    reqs = [
+        sp.SpringRequirement(float(k), math.radians(float(r)), math.radians(float(p)), outer_radius_max=60.0)
+        for k, r, p in zip(
+            rng.uniform(1, 15, args.random), rng.uniform(30, 150, args.random), rng.uniform(0, 120, args.random)
+        )
+    ]
     per_random = [median_time(partial(cold_design, req), 1, warmup=0)[0] for req in reqs]
     surrogate = surrogate_rate(args.n, args.repeats)
     m = min(args.n, 5000)
     K, rot = rng.uniform(1, 6, m), rng.uniform(0.5, 2.5, m)
-    batch = partial(opt.optimise_arrays, K, rot + np.pi / 2, rotation=rot, material=get_material("absplus-p430"),
-                    printer=get_printer("generic-0.4"), allowed_stress=31 / 1.5, outer_radius_max=60.0)
+    batch = partial(
+        opt.optimise_arrays,
+        K,
+        rot + np.pi / 2,
+        rotation=rot,
+        material=get_material("absplus-p430"),
+        printer=get_printer("generic-0.4"),
+        allowed_stress=31 / 1.5,
+        outer_radius_max=60.0,
+    )
     t_batch = median_time(batch, max(2, args.repeats // 3))[0]
     out = {
         "rod_default_180deg_s": rod_s,
@@ -136,9 +183,11 @@ def main() -> None:
         "batched_optimiser_designs_per_s": m / t_batch,
         "batched_optimiser_note": "surrogate search only (the sweep's analytic mode): no rod-model verification",
         "repeats": args.repeats,
-        "targets": {"rod_default_180deg_s": target(rod_s, at_most=0.3),
-                    "optimiser_median_s_per_design_verified_paper_joint": target(per_paper, at_most=0.5),
-                    "surrogate_designs_per_s": target(surrogate, at_least=1e4)},
+        "targets": {
+            "rod_default_180deg_s": target(rod_s, at_most=0.3),
+            "optimiser_median_s_per_design_verified_paper_joint": target(per_paper, at_most=0.5),
+            "surrogate_designs_per_s": target(surrogate, at_least=1e4),
+        },
     }
     emit(out)
 

@@ -24,31 +24,45 @@ def main() -> None:
     ap.add_argument("--build-n", type=int, default=12)
     ap.add_argument("--repeats", type=int, default=1)
     args = parse_args(ap, quick={"analytic_n": 500, "build_n": 1})
-    spec = sw.SweepSpec.from_dict({
-        "sweep": {"mode": "lhs", "samples": args.analytic_n, "seed": 7},
-        "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}, "rotation_deg": {"range": [60, 120]},
-                   "material": {"values": ["absplus-p430", "pla", "petg"]}},
-    })
+    spec = sw.SweepSpec.from_dict(
+        {
+            "sweep": {"mode": "lhs", "samples": args.analytic_n, "seed": 7},
+            "params": {
+                "stiffness_nmm_per_rad": {"range": [2, 12]},
+                "rotation_deg": {"range": [60, 120]},
+                "material": {"values": ["absplus-p430", "pla", "petg"]},
+            },
+        }
+    )
     points = spec.points()
-    sw.analytic_rows(points[:min(1000, max(1, len(points) // 10))])  # warm-up on a slice: the full run is the figure
+    sw.analytic_rows(points[: min(1000, max(1, len(points) // 10))])  # warm-up on a slice: the full run is the figure
     t_rows, _ = median_time(lambda: sw.analytic_rows(points), 1 if args.quick else 3, warmup=0)
     with tempfile.TemporaryDirectory() as d:
         t_full, _ = median_time(lambda: sw.run_sweep(spec, d, stream=io.StringIO()), 1, warmup=0)
-    build_spec = sw.SweepSpec.from_dict({
-        "sweep": {"mode": "lhs", "samples": args.build_n, "seed": 11},
-        "params": {"stiffness_nmm_per_rad": {"range": [3, 8]}, "rotation_deg": {"range": [70, 100]}},
-    })
+    build_spec = sw.SweepSpec.from_dict(
+        {
+            "sweep": {"mode": "lhs", "samples": args.build_n, "seed": 11},
+            "params": {"stiffness_nmm_per_rad": {"range": [3, 8]}, "rotation_deg": {"range": [70, 100]}},
+        }
+    )
     # warm-up: start the fork server (it imports CadQuery once, ~2 s) so that both timings are warm (--quick:
     # a smoke run, the one-worker run starts it)
     if not args.quick:
         with tempfile.TemporaryDirectory() as d:
-            sw.run_sweep(sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2]}}}), d,
-                         build=True, workers=2, stream=io.StringIO())
+            sw.run_sweep(
+                sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2]}}}),
+                d,
+                build=True,
+                workers=2,
+                stream=io.StringIO(),
+            )
     walls = {}
     for workers in (1, 2):
+
         def run():
             with tempfile.TemporaryDirectory() as d:
                 sw.run_sweep(build_spec, d, build=True, workers=workers, stream=io.StringIO())
+
         walls[workers], _ = median_time(run, args.repeats, warmup=0)  # warm: the fork server above
     out = {
         "analytic_designs": args.analytic_n,
@@ -59,7 +73,7 @@ def main() -> None:
         "build_wall_s_2_workers": walls[2],
         "parallel_efficiency_2_workers": walls[1] / (2 * walls[2]),
         "note": "N worker processes forked from a server that imported CadQuery once in a warm-up run "
-                "(about 2 s, excluded from both timings); designs are built and checked in the workers",
+        "(about 2 s, excluded from both timings); designs are built and checked in the workers",
     }
     out["targets"] = {
         "analytic_designs_per_s": target(out["analytic_designs_per_s"], at_least=1e4),

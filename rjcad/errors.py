@@ -20,7 +20,7 @@ class _Short(reprlib.Repr):
         bits = abs(x).bit_length()
         if bits <= 200:
             return repr(x)
-        digits = int((bits - 1) * math.log10(2)) + 1   # Python refuses to print more than 4300 digits
+        digits = int((bits - 1) * math.log10(2)) + 1  # Python refuses to print more than 4300 digits
         return f"<an integer of {digits + (abs(x) >= 10**digits)} digits>"
 
 
@@ -32,7 +32,7 @@ def quote(value: Any, limit: int = QUOTE_CHARS, repr_: bool = True) -> str:
     characters + "…"; a float as ``%g``; containers shortened (few items, shallow)."""
     if isinstance(value, float):
         return f"{value:g}"
-    text = value[:4 * limit] if isinstance(value, str) and not repr_ else _SHORT.repr(value)
+    text = value[: 4 * limit] if isinstance(value, str) and not repr_ else _SHORT.repr(value)
     text = " ".join(text.split())
     return text if len(text) <= limit else text[:limit] + "…"
 
@@ -42,7 +42,7 @@ def _name(parameter: str, limit: int = 4 * QUOTE_CHARS) -> str:
     name built as "file: experiment 2: key" keeps the key whole however long the path."""
     text, head = str(parameter), limit // 4
     if len(text) > limit:
-        text = text[:head] + "…" + text[-(limit - head):]
+        text = text[:head] + "…" + text[-(limit - head) :]
     return " ".join(text.split())
 
 
@@ -61,8 +61,7 @@ class ParameterError(RjcadError, ValueError):
         self.value = value
         self.limit = limit
         self.unit = unit
-        super().__init__(f"{_name(parameter)} = {quote(value)}"
-                         f"{' ' + unit if unit else ''} is invalid: {limit}")
+        super().__init__(f"{_name(parameter)} = {quote(value)}{' ' + unit if unit else ''} is invalid: {limit}")
 
 
 class InfeasibleDesign(RjcadError):

@@ -66,9 +66,16 @@ class Printer:
     def check_gap(self, name: str, gap: object) -> float:
         """``gap`` [mm] if this printer prints it between bodies side by side (>= ``min_gap_mm``), else
         ParameterError naming ``name``."""
-        return in_range(name, gap, self.min_gap_mm, unit="mm", tol=1e-12, not_a_number="must be a number",
-                        limit=f"must be >= {self.min_gap_mm:g} mm on {self.key}: the smallest gap it prints "
-                              "side by side (its min_gap_mm)")
+        return in_range(
+            name,
+            gap,
+            self.min_gap_mm,
+            unit="mm",
+            tol=1e-12,
+            not_a_number="must be a number",
+            limit=f"must be >= {self.min_gap_mm:g} mm on {self.key}: the smallest gap it prints "
+            "side by side (its min_gap_mm)",
+        )
 
     @property
     def bed_length(self) -> float:
@@ -87,9 +94,11 @@ class Printer:
 
 
 #: Where the desktop clearances come from.
-DESKTOP_CLEARANCE_SOURCE = ("desktop print-in-place practice for a 0.4 mm nozzle and 0.2 mm layers (issue #15): "
-                            "PLA 0.35 mm, ABS 0.40 mm, PETG 0.45 mm (it strings and sticks to itself); PA12 and "
-                            "Ultem taken as PETG")
+DESKTOP_CLEARANCE_SOURCE = (
+    "desktop print-in-place practice for a 0.4 mm nozzle and 0.2 mm layers (issue #15): "
+    "PLA 0.35 mm, ABS 0.40 mm, PETG 0.45 mm (it strings and sticks to itself); PA12 and "
+    "Ultem taken as PETG"
+)
 
 MATERIALS: dict[str, Material] = {
     m.key: m
@@ -128,8 +137,7 @@ MATERIALS: dict[str, Material] = {
             2100.0,
             44.0,
             1.27,
-            "typical PETG filament datasheets: E 2,000-3,000 MPa, XY yield 44-56 MPa; "
-            "lower values taken",
+            "typical PETG filament datasheets: E 2,000-3,000 MPa, XY yield 44-56 MPa; lower values taken",
             desktop_clearance_mm=0.45,
         ),
         Material(
@@ -147,8 +155,7 @@ MATERIALS: dict[str, Material] = {
             2400.0,
             69.0,
             1.34,
-            "Stratasys ULTEM 9085 resin datasheet: E about 2,200-2,400 MPa, "
-            "tensile strength 69-72 MPa",
+            "Stratasys ULTEM 9085 resin datasheet: E about 2,200-2,400 MPa, tensile strength 69-72 MPa",
             desktop_clearance_mm=0.45,
         ),
     )

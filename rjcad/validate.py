@@ -11,8 +11,15 @@ def _fmt(x: float, deg: bool) -> str:
     return f"{math.degrees(x):g}" if deg else f"{x:g}"
 
 
-def default_limit(lo: float | None, hi: float | None, unit: str = "", *, deg: bool = False,
-                  lo_open: bool = False, hi_open: bool = False) -> str:
+def default_limit(
+    lo: float | None,
+    hi: float | None,
+    unit: str = "",
+    *,
+    deg: bool = False,
+    lo_open: bool = False,
+    hi_open: bool = False,
+) -> str:
     """'must be in [lo, hi] unit', 'must be > lo unit', 'must be <= hi unit' … (bounds shown in deg if ``deg``)."""
     if lo is not None and hi is not None:
         text = f"must be in {'(' if lo_open else '['}{_fmt(lo, deg)}, {_fmt(hi, deg)}{')' if hi_open else ']'}"
@@ -25,9 +32,20 @@ def default_limit(lo: float | None, hi: float | None, unit: str = "", *, deg: bo
     return f"{text} {unit}".strip()
 
 
-def in_range(name: str, value, lo: float | None = None, hi: float | None = None, *, unit: str = "",
-             limit: str | None = None, lo_open: bool = False, hi_open: bool = False, deg: bool = False,
-             tol: float = 0.0, not_a_number: str | None = None) -> float:
+def in_range(
+    name: str,
+    value,
+    lo: float | None = None,
+    hi: float | None = None,
+    *,
+    unit: str = "",
+    limit: str | None = None,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    deg: bool = False,
+    tol: float = 0.0,
+    not_a_number: str | None = None,
+) -> float:
     """``float(value)`` if it is a finite number with lo ≤ value ≤ hi (strict at an open end), within ``tol``.
 
     Otherwise ParameterError naming ``name`` with ``limit`` (default: the range in words).

@@ -57,8 +57,7 @@ def tendon_owner(path_mm: list[list[float]], joints: list[dict]) -> list[str]:
     """The body each rest tendon point moves with: the parent of the first joint whose axis is beyond it
     along the finger (+X), else the last child."""
     xs = [j["axis_point_mm"][0] for j in joints]
-    return [next((joints[i]["parent"] for i, x in enumerate(xs) if p[0] < x), joints[-1]["child"])
-            for p in path_mm]
+    return [next((joints[i]["parent"] for i, x in enumerate(xs) if p[0] < x), joints[-1]["child"]) for p in path_mm]
 
 
 def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
@@ -69,8 +68,9 @@ def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
     man = Manifest.read(str(path)).to_json()
     glb = path.with_suffix(".glb")
     if not glb.is_file():
-        raise ViewerError(f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild "
-                          "to get it)")
+        raise ViewerError(
+            f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild to get it)"
+        )
     return man, glb.read_bytes()
 
 
@@ -81,8 +81,10 @@ def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t
 
     c = simulate_stroke(model_from_manifest(man, mu_t=mu_t), stroke, steps=steps)
     pull = slice(0, steps + 1)
-    joints = [{"parent": j["parent"], "child": j["child"], "axis_point_mm": j["axis_point_mm"],
-               "axis_dir": j["axis_dir"]} for j in man["joints"]]
+    joints = [
+        {"parent": j["parent"], "child": j["child"], "axis_point_mm": j["axis_point_mm"], "axis_dir": j["axis_dir"]}
+        for j in man["joints"]
+    ]
     tendon = man.get("tendon_path_mm") or []
     return {
         "title": title,
@@ -92,7 +94,9 @@ def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t
         "tendon_mm": tendon,
         "tendon_owner": tendon_owner(tendon, joints) if tendon else [],
         "closure": {
-            "stroke_mm": stroke, "steps": steps, "mu_t": mu_t,
+            "stroke_mm": stroke,
+            "steps": steps,
+            "mu_t": mu_t,
             "tendon_mm": c.tendon_mm[pull].tolist(),
             "theta_deg": [[math.degrees(v) for v in row] for row in c.theta[pull].tolist()],
             "tension_n": c.tension[pull].tolist(),
@@ -107,8 +111,11 @@ def viewer_html(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu
     template = (importlib.resources.files("rjcad") / "data" / TEMPLATE).read_text(encoding="utf-8")
     three_url = "data:text/javascript;base64," + base64.b64encode(three.encode("utf-8")).decode("ascii")
     # "</" cannot end the script element inside JSON: written "<\/". One pass: no value is scanned again.
-    values = {"THREE_URL": three_url, "TITLE": _html_text(title),
-              "DATA": json.dumps(data, separators=(",", ":")).replace("</", "<\\/")}
+    values = {
+        "THREE_URL": three_url,
+        "TITLE": _html_text(title),
+        "DATA": json.dumps(data, separators=(",", ":")).replace("</", "<\\/"),
+    }
     return re.sub(r"@@([A-Z_]+)@@", lambda m: values[m.group(1)], template)
 
 

@@ -21,8 +21,12 @@ GAP_ALLOWANCE = 0.02
 
 def solid(mesh: trimesh.Trimesh) -> m3.Manifold:
     """manifold3d solid of a merged-vertex mesh, double precision; it must be a valid manifold."""
-    man = m3.Manifold(m3.Mesh64(vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float64),
-                                tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64)))
+    man = m3.Manifold(
+        m3.Mesh64(
+            vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float64),
+            tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64),
+        )
+    )
     assert man.status() == m3.Error.NoError, man.status()
     return man
 

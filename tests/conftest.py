@@ -37,6 +37,7 @@ TESTS = Path(__file__).resolve().parent
 
 # ---------------------------------------------------------------- fixtures
 
+
 @pytest.fixture(scope="session")
 def root() -> Path:
     """The repository's root directory."""
@@ -80,8 +81,9 @@ def cli_process():
     """Run `python -m rjcad ARGS…` in a subprocess from the repository root: a text ``CompletedProcess``."""
 
     def run(*args, timeout: float = 300) -> subprocess.CompletedProcess:
-        return subprocess.run([sys.executable, "-m", "rjcad", *_argv(args)], capture_output=True, text=True,
-                              timeout=timeout, cwd=ROOT)
+        return subprocess.run(
+            [sys.executable, "-m", "rjcad", *_argv(args)], capture_output=True, text=True, timeout=timeout, cwd=ROOT
+        )
 
     return run
 
@@ -152,12 +154,16 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
     if getattr(config, "workerinput", None) is None and not hasattr(config, "workeroutput"):
         _SHARED.update(_shared_stats())  # without pytest-xdist: this process's own
     if _BUILT:
-        lines = lines + [f"CAD builds in this run (random and fixed designs; not those in CLI subprocesses or sweep "
-                         f"workers): {', '.join(f'{kind} {n}' for kind, n in sorted(_BUILT.items()))}"]
+        lines = lines + [
+            f"CAD builds in this run (random and fixed designs; not those in CLI subprocesses or sweep "
+            f"workers): {', '.join(f'{kind} {n}' for kind, n in sorted(_BUILT.items()))}"
+        ]
     if any(_SHARED.values()):
-        lines = lines + [f"shared joints (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
-                         f"handed out again {_SHARED['reused']}; checked {_SHARED['checked']}, report handed out "
-                         f"again {_SHARED['check reused']}"]
+        lines = lines + [
+            f"shared joints (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
+            f"handed out again {_SHARED['reused']}; checked {_SHARED['checked']}, report handed out "
+            f"again {_SHARED['check reused']}"
+        ]
     if lines:
         terminalreporter.write_sep("=", "designs built")
         for line in lines:
@@ -198,8 +204,10 @@ MEASURED_SLOW = {
     "tests/test_sweep.py::test_infeasible_rows_carry_the_binding_constraint": 3,
     "tests/test_spring_surrogate.py::test_random_designs_within_the_margin": 15,
     # each hidden effect of the catalogue found (3-4 s each under -n 2); coulomb_pin and viscous stay in the fast lane
-    **{f"tests/test_identify.py::test_hidden_effect_is_found_named_and_measured[{e}]": 3
-       for e in ("spring_calibration", "tendon_pin_friction", "capstan_path", "stiffening", "relaxation")},
+    **{
+        f"tests/test_identify.py::test_hidden_effect_is_found_named_and_measured[{e}]": 3
+        for e in ("spring_calibration", "tendon_pin_friction", "capstan_path", "stiffening", "relaxation")
+    },
     "tests/test_identify.py::test_hidden_combinations[effects1]": 3,
     "tests/test_identify.py::test_hidden_combinations[effects2]": 6,
     "tests/test_identify.py::test_hidden_combinations[effects3]": 5,
@@ -225,8 +233,9 @@ MEASURED_SLOW = {
 
 
 def pytest_configure(config):
-    config.addinivalue_line("markers", "fast_lane: builds CAD but stays in `-m 'not slow'` on purpose "
-                                       "(say why in the docstring)")
+    config.addinivalue_line(
+        "markers", "fast_lane: builds CAD but stays in `-m 'not slow'` on purpose (say why in the docstring)"
+    )
 
 
 def pytest_collection_modifyitems(config, items):

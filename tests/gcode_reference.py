@@ -198,8 +198,21 @@ class _Reader:
         pts = [(x0, y0)] + points
         total = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
         for a, b in zip(pts[:-1], pts[1:]):
-            self.rows.append((a[0], a[1], b[0], b[1], pos["Z"], st.width, st.height,
-                              de * math.dist(a, b) / total, st.obj, kind, st.path))
+            self.rows.append(
+                (
+                    a[0],
+                    a[1],
+                    b[0],
+                    b[1],
+                    pos["Z"],
+                    st.width,
+                    st.height,
+                    de * math.dist(a, b) / total,
+                    st.obj,
+                    kind,
+                    st.path,
+                )
+            )
 
     def line(self, raw: str) -> None:
         if raw.startswith("G1 "):  # the bulk of a file: a plain move without a comment
@@ -250,11 +263,23 @@ def parse_gcode(text: str) -> Toolpaths:
     below = np.searchsorted(layers, np.round(z, 4)) - 1
     h_guess = np.where(below >= 0, np.round(z, 4) - layers[np.maximum(below, 0)], np.round(z, 4))
     height = np.where(np.isnan(height), h_guess, height)
-    area = de * math.pi * rd.filament ** 2 / 4 / np.maximum(length, 1e-9)
+    area = de * math.pi * rd.filament**2 / 4 / np.maximum(length, 1e-9)
     from_e = area / np.maximum(height, 1e-9) + height * (1 - math.pi / 4)
     width = np.where(np.isnan(width), from_e, width)
-    return Toolpaths(x0, y0, x1, y1, z, width, height, cols[:, 8].astype(int), cols[:, 9].astype(int),
-                     cols[:, 10].astype(int), rd.objects, rd.kinds)
+    return Toolpaths(
+        x0,
+        y0,
+        x1,
+        y1,
+        z,
+        width,
+        height,
+        cols[:, 8].astype(int),
+        cols[:, 9].astype(int),
+        cols[:, 10].astype(int),
+        rd.objects,
+        rd.kinds,
+    )
 
 
 def assert_same(a: Toolpaths, b: Toolpaths) -> None:

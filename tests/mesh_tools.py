@@ -6,7 +6,9 @@ import manifold3d as m3
 import numpy as np
 import trimesh
 
-from rjcad.check.mesh_checks import to_manifold as manifold  # the tests' name for it: float64, like the builder and check
+from rjcad.check.mesh_checks import (
+    to_manifold as manifold,  # the tests' name for it: float64, like the builder and check
+)
 
 
 def box(lo, hi) -> trimesh.Trimesh:
@@ -50,8 +52,7 @@ def rotate_about(man: m3.Manifold, point, direction, angle_rad: float) -> m3.Man
     return man.transform(R[:3, :4])
 
 
-def sweep_collisions(ground: m3.Manifold, moving: m3.Manifold, point, direction, lo: float, hi: float,
-                     step: float):
+def sweep_collisions(ground: m3.Manifold, moving: m3.Manifold, point, direction, lo: float, hi: float, step: float):
     """(angle, intersection volume, gap) for poses lo..hi every ≤ step rad."""
     n = max(1, math.ceil((hi - lo) / step))
     out = []

@@ -62,8 +62,13 @@ def brute_force(req, margin=0.0, p_points=120, r_points=3):
         gap = P * sg.gap_ratio_min(theta, rho, np.maximum(n, 1.0), end=end, sense=SENSE, margin=use) - t
         r_out = R + P * n + t / 2.0
         with np.errstate(invalid="ignore"):
-            ok = ((sigma <= allow * (1 - margin)) & (gap >= g_min * (1 + margin)) & (n >= req.min_turns * (1 + margin))
-                  & (r_out <= req.outer_radius_max * (1 - margin)) & (n <= 20.0))
+            ok = (
+                (sigma <= allow * (1 - margin))
+                & (gap >= g_min * (1 + margin))
+                & (n >= req.min_turns * (1 + margin))
+                & (r_out <= req.outer_radius_max * (1 - margin))
+                & (n <= 20.0)
+            )
         if ok.any():
             best = min(best, float(r_out[ok].min()))
     return best

@@ -89,7 +89,7 @@ def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
         stack.append(m)
         for n in sorted(graph.get(m, ())):
             if state.get(n) == 1:
-                return stack[stack.index(n):] + [n]
+                return stack[stack.index(n) :] + [n]
             if n not in state:
                 found = visit(n)
                 if found:
@@ -125,6 +125,7 @@ def rjcad_dir(root) -> Path:
 
 # ---------------------------------------------------------------- the walker itself, on made-up packages
 
+
 def write_package(tmp_path: Path, files: dict[str, str]) -> Path:
     for rel, text in files.items():
         p = tmp_path / rel
@@ -134,14 +135,17 @@ def write_package(tmp_path: Path, files: dict[str, str]) -> Path:
 
 
 def test_walker_sees_relative_nested_and_dotted_imports(tmp_path):
-    pkg = write_package(tmp_path, {
-        "pkg/__init__.py": "",
-        "pkg/a.py": "def f():\n    from .sub import deep\n",
-        "pkg/b.py": "import pkg.sub.deep\n",
-        "pkg/c.py": "from . import a\nfrom .sub.deep import X\n",
-        "pkg/sub/__init__.py": "from pkg.sub.deep import X\n",
-        "pkg/sub/deep.py": "from .. import c\nX = 1\n",
-    })
+    pkg = write_package(
+        tmp_path,
+        {
+            "pkg/__init__.py": "",
+            "pkg/a.py": "def f():\n    from .sub import deep\n",
+            "pkg/b.py": "import pkg.sub.deep\n",
+            "pkg/c.py": "from . import a\nfrom .sub.deep import X\n",
+            "pkg/sub/__init__.py": "from pkg.sub.deep import X\n",
+            "pkg/sub/deep.py": "from .. import c\nX = 1\n",
+        },
+    )
     g = import_graph(pkg)
     assert g["pkg.a"] == {"pkg.sub", "pkg.sub.deep"}  # inside a function; runs pkg/sub/__init__ on the way
     assert g["pkg.b"] == {"pkg.sub", "pkg.sub.deep"}  # `import a.b.c` runs a.b's __init__ (pkg: an ancestor)
@@ -154,12 +158,15 @@ def test_walker_sees_relative_nested_and_dotted_imports(tmp_path):
 
 
 def test_a_re_exporting_init_is_not_a_cycle_but_importing_from_it_is(tmp_path):
-    pkg = write_package(tmp_path, {
-        "pkg/__init__.py": "",
-        "pkg/life/__init__.py": "from pkg.life.table import T\nfrom pkg.life.fit import F\n",
-        "pkg/life/table.py": "T = 1\n",
-        "pkg/life/fit.py": "from pkg.life.table import T\nF = 2\n",
-    })
+    pkg = write_package(
+        tmp_path,
+        {
+            "pkg/__init__.py": "",
+            "pkg/life/__init__.py": "from pkg.life.table import T\nfrom pkg.life.fit import F\n",
+            "pkg/life/table.py": "T = 1\n",
+            "pkg/life/fit.py": "from pkg.life.table import T\nF = 2\n",
+        },
+    )
     assert find_cycle(import_graph(pkg)) is None
     (pkg / "life" / "fit.py").write_text("from pkg.life import T\nF = 2\n")
     assert find_cycle(import_graph(pkg)) == ["pkg.life", "pkg.life.fit", "pkg.life"]
@@ -174,14 +181,18 @@ def test_the_walker_reads_rjcad(rjcad_dir):
 
 # ---------------------------------------------------------------- the rules (#13)
 
+
 def test_no_import_cycle_in_rjcad(rjcad_dir):
     cycle = find_cycle(import_graph(rjcad_dir))
     assert cycle is None, "import cycle: " + " -> ".join(cycle)
 
 
 def test_no_module_over_500_lines(rjcad_dir):
-    big = [f"{p.relative_to(rjcad_dir.parent)} ({n} lines)" for p in sorted(rjcad_dir.rglob("*.py"))
-           if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES]
+    big = [
+        f"{p.relative_to(rjcad_dir.parent)} ({n} lines)"
+        for p in sorted(rjcad_dir.rglob("*.py"))
+        if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES
+    ]
     assert not big, big
 
 

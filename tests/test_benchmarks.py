@@ -13,57 +13,177 @@ import pytest
 
 #: benchmark → (keys its JSON must hold, the targets it must report)
 BENCHMARKS = {
-    "check": ({"solid_mesh_triangles", "watertight_manifold_s", "watertight_manifold_tri_per_s", "joint_triangles",
-               "joint_motion_sweep_s", "joint_motion_poses", "joint_clearance_s", "joint_min_feature_s", "repeats",
-               "finger_triangles", "finger_overhang_s", "finger_slicer_s", "check_triangles", "check_seconds",
-               "check_cpu_seconds", "check_scaling_exponent", "big_mesh_triangles", "big_check_s", "big_check_cpu_s",
-               "big_check_peak_rss_gb"},
-              {"watertight_manifold_tri_per_s", "joint_motion_sweep_s", "finger_overhang_s", "finger_slicer_s",
-               "big_check_s", "big_check_peak_rss_gb"}),
-    "cli": ({"import_cli", "joint", "joint_one_process", "ratio_joint_over_joint_one_process", "finger", "spring",
-             "check", "openscad", "openscad_version",
-             "in_process_build_stl_step_s", "ratio_openscad_over_rjcad_joint",
-             "ratio_openscad_over_in_process_build_stl_step", "repeats"},
-            {"ratio_openscad_over_rjcad_joint", "spring_s", "in_process_build_stl_step_s"}),
-    "finger": ({"median_build_s", "median_build_tessellate_measure_s", "ratio_time_n_over_n_time_1",
-                "ratio_full_n_over_n_full_1", "repeats"},
-               {"worst_ratio_time_n_over_n_time_1"}),
-    "identify": ({"paper_campaign_s", "paper_campaign_load_s", "paper_campaign_effects", "samples_per_experiment",
-                  "seconds", "effects_found", "us_per_sample", "scaling_exponent", "finger_campaign_s",
-                  "finger_campaign_found", "finger_solver_us_per_step", "finger_samples", "finger_campaign_threads_s"},
-                 {"paper_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"}),
-    "joint": ({"median_total_s", "median_cad_build_s", "median_tessellate_s", "median_measure_s",
-               "median_stl_3mf_export_s", "median_step_export_s", "median_png_s", "png_share_of_total", "triangles",
-               "stl_bytes", "stl_mb", "repeats"},
-              {"median_total_s"}),
-    "life": ({"design_model_cold_fit_ms", "optimiser_ms_per_design_plain", "optimiser_ms_per_design_min_cycles",
-              "min_cycles_vs_plain_ratio", "batched_designs_per_s_plain", "batched_designs_per_s_min_cycles",
-              "batched_min_cycles_vs_plain_ratio", "critique_table_i_ms", "cli_spring_min_cycles_json_ms", "n",
-              "repeats"},
-             {"optimiser_ms_per_design_min_cycles"}),
-    "physics": ({"finger_steps", "finger_1000_step_stroke_s", "joint_samples_per_s",
-                 "joint_given_direction_samples_per_s", "joint_numpy_ceiling_samples_per_s", "joint_vs_numpy_ceiling",
-                 "joint_all_effects_nonuniform_t_samples_per_s", "inverse_design_s", "n", "repeats",
-                 "mujoco_default_finger_stroke_s", "rjcad_default_finger_stroke_s", "mujoco_over_rjcad",
-                 "mujoco_steps", "mujoco_vs_rjcad_max_deg"},
-                {"finger_1000_step_stroke_s", "joint_samples_per_s", "mujoco_default_finger_stroke_s"}),
-    "spring": ({"optimiser_median_ms_per_design_paper_joint", "optimiser_median_ms_per_design_random",
-                "optimiser_max_ms_per_design_random", "vector_designs", "numpy_plain_a_b3_over_c_per_s",
-                "stiffness_evals_per_s", "stiffness_vs_numpy_ceiling", "full_model_evals_per_s",
-                "full_model_vs_numpy_ceiling", "batched_optimiser_designs_per_s", "repeats"},
-               {"rod_default_180deg_s", "optimiser_median_s_per_design_verified_paper_joint",
-                "surrogate_designs_per_s"}),
-    "sweep": ({"analytic_designs", "analytic_designs_per_s", "analytic_designs_per_s_with_csv_and_plots",
-               "build_designs", "build_wall_s_1_worker", "build_wall_s_2_workers", "parallel_efficiency_2_workers"},
-              {"analytic_designs_per_s", "parallel_efficiency_2_workers"}),
+    "check": (
+        {
+            "solid_mesh_triangles",
+            "watertight_manifold_s",
+            "watertight_manifold_tri_per_s",
+            "joint_triangles",
+            "joint_motion_sweep_s",
+            "joint_motion_poses",
+            "joint_clearance_s",
+            "joint_min_feature_s",
+            "repeats",
+            "finger_triangles",
+            "finger_overhang_s",
+            "finger_slicer_s",
+            "check_triangles",
+            "check_seconds",
+            "check_cpu_seconds",
+            "check_scaling_exponent",
+            "big_mesh_triangles",
+            "big_check_s",
+            "big_check_cpu_s",
+            "big_check_peak_rss_gb",
+        },
+        {
+            "watertight_manifold_tri_per_s",
+            "joint_motion_sweep_s",
+            "finger_overhang_s",
+            "finger_slicer_s",
+            "big_check_s",
+            "big_check_peak_rss_gb",
+        },
+    ),
+    "cli": (
+        {
+            "import_cli",
+            "joint",
+            "joint_one_process",
+            "ratio_joint_over_joint_one_process",
+            "finger",
+            "spring",
+            "check",
+            "openscad",
+            "openscad_version",
+            "in_process_build_stl_step_s",
+            "ratio_openscad_over_rjcad_joint",
+            "ratio_openscad_over_in_process_build_stl_step",
+            "repeats",
+        },
+        {"ratio_openscad_over_rjcad_joint", "spring_s", "in_process_build_stl_step_s"},
+    ),
+    "finger": (
+        {
+            "median_build_s",
+            "median_build_tessellate_measure_s",
+            "ratio_time_n_over_n_time_1",
+            "ratio_full_n_over_n_full_1",
+            "repeats",
+        },
+        {"worst_ratio_time_n_over_n_time_1"},
+    ),
+    "identify": (
+        {
+            "paper_campaign_s",
+            "paper_campaign_load_s",
+            "paper_campaign_effects",
+            "samples_per_experiment",
+            "seconds",
+            "effects_found",
+            "us_per_sample",
+            "scaling_exponent",
+            "finger_campaign_s",
+            "finger_campaign_found",
+            "finger_solver_us_per_step",
+            "finger_samples",
+            "finger_campaign_threads_s",
+        },
+        {"paper_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"},
+    ),
+    "joint": (
+        {
+            "median_total_s",
+            "median_cad_build_s",
+            "median_tessellate_s",
+            "median_measure_s",
+            "median_stl_3mf_export_s",
+            "median_step_export_s",
+            "median_png_s",
+            "png_share_of_total",
+            "triangles",
+            "stl_bytes",
+            "stl_mb",
+            "repeats",
+        },
+        {"median_total_s"},
+    ),
+    "life": (
+        {
+            "design_model_cold_fit_ms",
+            "optimiser_ms_per_design_plain",
+            "optimiser_ms_per_design_min_cycles",
+            "min_cycles_vs_plain_ratio",
+            "batched_designs_per_s_plain",
+            "batched_designs_per_s_min_cycles",
+            "batched_min_cycles_vs_plain_ratio",
+            "critique_table_i_ms",
+            "cli_spring_min_cycles_json_ms",
+            "n",
+            "repeats",
+        },
+        {"optimiser_ms_per_design_min_cycles"},
+    ),
+    "physics": (
+        {
+            "finger_steps",
+            "finger_1000_step_stroke_s",
+            "joint_samples_per_s",
+            "joint_given_direction_samples_per_s",
+            "joint_numpy_ceiling_samples_per_s",
+            "joint_vs_numpy_ceiling",
+            "joint_all_effects_nonuniform_t_samples_per_s",
+            "inverse_design_s",
+            "n",
+            "repeats",
+            "mujoco_default_finger_stroke_s",
+            "rjcad_default_finger_stroke_s",
+            "mujoco_over_rjcad",
+            "mujoco_steps",
+            "mujoco_vs_rjcad_max_deg",
+        },
+        {"finger_1000_step_stroke_s", "joint_samples_per_s", "mujoco_default_finger_stroke_s"},
+    ),
+    "spring": (
+        {
+            "optimiser_median_ms_per_design_paper_joint",
+            "optimiser_median_ms_per_design_random",
+            "optimiser_max_ms_per_design_random",
+            "vector_designs",
+            "numpy_plain_a_b3_over_c_per_s",
+            "stiffness_evals_per_s",
+            "stiffness_vs_numpy_ceiling",
+            "full_model_evals_per_s",
+            "full_model_vs_numpy_ceiling",
+            "batched_optimiser_designs_per_s",
+            "repeats",
+        },
+        {"rod_default_180deg_s", "optimiser_median_s_per_design_verified_paper_joint", "surrogate_designs_per_s"},
+    ),
+    "sweep": (
+        {
+            "analytic_designs",
+            "analytic_designs_per_s",
+            "analytic_designs_per_s_with_csv_and_plots",
+            "build_designs",
+            "build_wall_s_1_worker",
+            "build_wall_s_2_workers",
+            "parallel_efficiency_2_workers",
+        },
+        {"analytic_designs_per_s", "parallel_efficiency_2_workers"},
+    ),
 }
 
 NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 
 
 def quick_run(root, name) -> dict:
-    r = subprocess.run([sys.executable, str(root / "benchmarks" / f"{name}.py"), "--quick"],
-                       capture_output=True, text=True, timeout=900)
+    r = subprocess.run(
+        [sys.executable, str(root / "benchmarks" / f"{name}.py"), "--quick"],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
 
@@ -110,8 +230,18 @@ def check_check(d):
     assert d["targets"]["finger_slicer_s"]["value"] is None  # quick: no slicing
     sizes = d["check_triangles"]
     assert sizes == sorted(sizes) and sizes[-1] == d["big_mesh_triangles"] and sizes[-1] > sizes[0]
-    checks = {"load", "watertight", "manifold", "bodies", "simplify", "clearance", "motion", "min_feature", "bed",
-              "overhang"}
+    checks = {
+        "load",
+        "watertight",
+        "manifold",
+        "bodies",
+        "simplify",
+        "clearance",
+        "motion",
+        "min_feature",
+        "bed",
+        "overhang",
+    }
     assert set(d["check_seconds"]) == set(d["check_cpu_seconds"]) == set(d["check_scaling_exponent"]) == checks
     assert all(len(v) == len(sizes) and min(v) > 0 for v in d["check_seconds"].values())
     assert all(len(v) == len(sizes) and min(v) >= 0 for v in d["check_cpu_seconds"].values())
@@ -125,8 +255,13 @@ def check_cli(d):
     assert d["openscad"] is None and d["targets"]["ratio_openscad_over_rjcad_joint"]["value"] is None  # quick
 
 
-EXTRA = {"cli": check_cli, "identify": check_identify, "physics": check_physics, "finger": check_finger,
-         "check": check_check}
+EXTRA = {
+    "cli": check_cli,
+    "identify": check_identify,
+    "physics": check_physics,
+    "finger": check_finger,
+    "check": check_check,
+}
 
 
 @pytest.mark.parametrize("name", sorted(BENCHMARKS))
@@ -148,4 +283,3 @@ def test_benchmark_reports_its_keys_and_targets(root, name):
             met = t["value"] <= t["target"] if t["goal"] == "at most" else t["value"] >= t["target"]
             assert t["met"] is met, tname
     EXTRA.get(name, lambda _: None)(d)
-

@@ -8,9 +8,9 @@ import math
 import cadquery as cq
 import numpy as np
 import pytest
+from OCP.BRepAdaptor import BRepAdaptor_Surface
 from shared_builds import joint_build
 from wound_tools import wind, wound_strip_clearance
-from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from rjcad.cad.joint import build_joint
 from rjcad.cad.spiral import line_box
@@ -166,8 +166,9 @@ def test_seating_motion_is_free(joint):
         for a in np.linspace(0.0, math.degrees(p.preload), 13):
             assert lifted.rotate(O, Z, a).distance(socket) > 0.01, (top, a)
         # without the push, the socket (or post) blocks the way
-        blocked = [key.rotate(O, Z, a).intersect(socket).Volume() > 1e-3
-                   for a in np.linspace(0.0, math.degrees(p.preload), 13)]
+        blocked = [
+            key.rotate(O, Z, a).intersect(socket).Volume() > 1e-3 for a in np.linspace(0.0, math.degrees(p.preload), 13)
+        ]
         assert any(blocked)
         zs = socket.BoundingBox()
         if top:

@@ -12,7 +12,6 @@ import sys
 import time
 
 import pytest
-
 from conftest import ROOT
 
 #: ``rjcad ARGS`` through the program's entry; at exit (entry runs the atexit handlers) it records whether
@@ -29,8 +28,15 @@ entry()
 
 
 def _program(tmp_path, *args, env=None, **kw):
-    return subprocess.run([sys.executable, "-c", PROGRAM, str(tmp_path / "record.json"), *args], cwd=ROOT,
-                          capture_output=True, text=True, timeout=300, env={**os.environ, **(env or {})}, **kw)
+    return subprocess.run(
+        [sys.executable, "-c", PROGRAM, str(tmp_path / "record.json"), *args],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ, **(env or {})},
+        **kw,
+    )
 
 
 def _step_body(data: bytes) -> bytes:
@@ -46,14 +52,18 @@ def test_the_cad_process_writes_the_files_of_a_build_in_one_process(tmp_path, la
     forked = _program(tmp_path, "--debug", "joint", "--layout", layout, "--out", str(tmp_path / "forked"))
     assert forked.returncode == 0, forked.stderr
     assert json.loads((tmp_path / "record.json").read_text()) == {"cadquery_here": False}  # built in the child
-    alone = _program(tmp_path, "joint", "--layout", layout, "--out", str(tmp_path / "alone"),
-                     env={"RJCAD_CAD_PROCESS": "0"})
+    alone = _program(
+        tmp_path, "joint", "--layout", layout, "--out", str(tmp_path / "alone"), env={"RJCAD_CAD_PROCESS": "0"}
+    )
     assert alone.returncode == 0, alone.stderr
     assert json.loads((tmp_path / "record.json").read_text()) == {"cadquery_here": True}
     assert forked.stdout.replace("forked", "alone") == alone.stdout
     names = sorted(p.name for p in (tmp_path / "alone").iterdir())
-    assert names == sorted(p.name for p in (tmp_path / "forked").iterdir()) == [
-        "joint.3mf", "joint.glb", "joint.json", "joint.png", "joint.step", "joint.stl"]
+    assert (
+        names
+        == sorted(p.name for p in (tmp_path / "forked").iterdir())
+        == ["joint.3mf", "joint.glb", "joint.json", "joint.png", "joint.step", "joint.stl"]
+    )
     for name in names:
         a, b = (tmp_path / "alone" / name).read_bytes(), (tmp_path / "forked" / name).read_bytes()
         if name.endswith(".step"):
@@ -81,8 +91,9 @@ with process.CadProcess() as cad:
 
 
 def _run_cad(body: str):
-    return subprocess.run([sys.executable, "-c", _ASK.format(body=body)], cwd=ROOT, capture_output=True,
-                          text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-c", _ASK.format(body=body)], cwd=ROOT, capture_output=True, text=True, timeout=300
+    )
 
 
 @pytest.mark.slow
@@ -122,7 +133,7 @@ def _session_processes(sid: int) -> list[int]:
                 stat = open(f"/proc/{d}/stat").read()
             except OSError:
                 continue
-            fields = stat[stat.rindex(")") + 2:].split()
+            fields = stat[stat.rindex(")") + 2 :].split()
             if int(fields[3]) == sid and fields[0] != "Z":
                 pids.append(int(d))
     return pids
@@ -134,9 +145,15 @@ def test_an_interrupted_joint_leaves_no_files_and_no_process(tmp_path, sig, code
     """Ctrl-C (SIGINT to the whole group, as a terminal sends it) or SIGTERM to the program alone, while the CAD
     process imports CadQuery: the program exits with its code, writes nothing, and ends its child."""
     out = tmp_path / "j"
-    p = subprocess.Popen([sys.executable, "-m", "rjcad", "joint", "--out", str(out)], cwd=ROOT,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    p = subprocess.Popen(
+        [sys.executable, "-m", "rjcad", "joint", "--out", str(out)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     deadline = time.monotonic() + 60
     while len(_session_processes(p.pid)) < 2 and time.monotonic() < deadline:  # the CAD process has started
         time.sleep(0.02)

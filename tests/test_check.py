@@ -7,10 +7,9 @@ import shutil
 import numpy as np
 import pytest
 import trimesh
+from mesh_tools import box, cyl, difference, union
 
 from rjcad.check import BadInput, run_checks
-
-from mesh_tools import box, cyl, difference, union
 
 
 def hinge(obstacle=False):
@@ -25,11 +24,15 @@ def hinge(obstacle=False):
 
 
 def manifest_for(bodies, rotation=90.0, joint=True):
-    man = {"bodies": [{"name": n, "volume_mm3": float(m.volume)} for n, m in bodies.items()],
-           "clearance_mm": 0.25, "printer": "generic-0.4"}
+    man = {
+        "bodies": [{"name": n, "volume_mm3": float(m.volume)} for n, m in bodies.items()],
+        "clearance_mm": 0.25,
+        "printer": "generic-0.4",
+    }
     if joint:
-        man.update({"moving_body": "moving", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1],
-                    "rotation_deg": rotation})
+        man.update(
+            {"moving_body": "moving", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1], "rotation_deg": rotation}
+        )
     return man
 
 
@@ -172,8 +175,17 @@ def test_cli_exit_codes_and_json(tmp_path, cli):
     assert code == 0, out
     d = json.loads(out)
     assert d["passed"] is True
-    assert {c["name"] for c in d["checks"]} == {"watertight", "manifold", "bodies", "clearance", "motion",
-                                                  "min_feature", "bed", "overhang", "slicer"}
+    assert {c["name"] for c in d["checks"]} == {
+        "watertight",
+        "manifold",
+        "bodies",
+        "clearance",
+        "motion",
+        "min_feature",
+        "bed",
+        "overhang",
+        "slicer",
+    }
     for c in d["checks"]:
         assert set(c) >= {"name", "passed", "value", "limit", "where", "detail"}
     bpath, bman = write(tmp_path, hinge(obstacle=True), "bad")

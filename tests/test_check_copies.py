@@ -7,12 +7,12 @@ the reports are compared with the exact path on the same mesh."""
 
 import pytest
 import trimesh
-
 from mesh_tools import box, manifold, union
+from test_check import hinge, manifest_for
+
 from rjcad.check import check_clearance, check_motion
 from rjcad.check.copies import APART_MM, FINE_TOL_MM, Copies, near, simplified
 from rjcad.materials import get_printer
-from test_check import hinge, manifest_for
 
 PRINTER = get_printer("generic-0.4")
 GAP_TOL = 2 * FINE_TOL_MM  # reported gaps: fine copies within FINE_TOL_MM of their bodies
@@ -37,8 +37,12 @@ def reports(bodies: dict, motion: bool = True):
     man = manifest_for(bodies)
     out = []
     for copies in (exact(mans), simplified(mans)):
-        out.append((check_clearance(meshes, names, mans, 0.25, 0.02, copies),
-                    check_motion(meshes, names, mans, man, 0.25, PRINTER, copies) if motion else None))
+        out.append(
+            (
+                check_clearance(meshes, names, mans, 0.25, 0.02, copies),
+                check_motion(meshes, names, mans, man, 0.25, PRINTER, copies) if motion else None,
+            )
+        )
     return out, copies
 
 

@@ -8,7 +8,7 @@ import pytest
 from rjcad.check.gcode import ARC_CHORD_MM, parse_gcode
 
 ROAD = 0.45 * 0.2 - 0.2 * 0.2 * (1 - math.pi / 4)  # rounded-rectangle road, w 0.45, h 0.2 [mm²]
-FIL = math.pi * 1.75 ** 2 / 4  # filament cross-section [mm²]
+FIL = math.pi * 1.75**2 / 4  # filament cross-section [mm²]
 
 
 def test_absolute_e_travel_and_retraction_split_paths():
@@ -82,7 +82,7 @@ G1 X10 Y10 E{2 * e:.6f}
 
 
 def test_filament_diameter_from_the_config_block_changes_the_width():
-    e = ROAD * 10 / (math.pi * 2.85 ** 2 / 4)
+    e = ROAD * 10 / (math.pi * 2.85**2 / 4)
     tp = parse_gcode(f"G90\nM82\nG1 Z0.2\nG1 X0 Y0\nG1 X10 Y0 E{e:.6f}\n; filament_diameter = 2.85\n")
     assert tp.width[0] == pytest.approx(0.45, abs=1e-4)
 
@@ -217,7 +217,8 @@ G1 X3 Y0 E0.1
 
 @pytest.mark.parametrize("text", [MIXED, MIXED.replace("\n", "\r\n"), "", "G1 X1\n", "G1 X1 Y1 E1"])
 def test_numpy_reader_gives_what_the_line_by_line_reader_gave(text):
-    from gcode_reference import assert_same, parse_gcode as reference
+    from gcode_reference import assert_same
+    from gcode_reference import parse_gcode as reference
 
     assert_same(parse_gcode(text), reference(text))
     assert len(parse_gcode(MIXED).x0) > 8

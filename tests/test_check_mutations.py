@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
-
 from mesh_tools import box, cyl, difference, union
+
 from rjcad.cad import export as ex
 from rjcad.check import run_checks
 
@@ -44,6 +44,7 @@ def part(slot=0.6, wall=1.2):
 
 # ---------------------------------------------------------------- mutations: (bodies) -> (bodies, damage point)
 
+
 def tri_samples(tri, n=12):
     """Points over a triangle (and its edges) [mm]."""
     a, b, c = np.asarray(tri)
@@ -60,8 +61,9 @@ def _nearest_face(m, point):
 
 
 def _edit(m, faces=None, vertices=None):
-    return trimesh.Trimesh(m.vertices if vertices is None else vertices, m.faces if faces is None else faces,
-                           process=False)
+    return trimesh.Trimesh(
+        m.vertices if vertices is None else vertices, m.faces if faces is None else faces, process=False
+    )
 
 
 def delete_triangle(b):
@@ -104,8 +106,10 @@ def degenerate_triangle(b):
     a, c = g.faces[i][0], g.faces[i][1]
     mid = (g.vertices[a] + g.vertices[c]) / 2
     v = np.vstack([g.vertices, mid])
-    return ({**b, "ground": _edit(g, faces=np.vstack([g.faces, [a, c, len(v) - 1]]), vertices=v)},
-            seg_samples(g.vertices[a], g.vertices[c]))
+    return (
+        {**b, "ground": _edit(g, faces=np.vstack([g.faces, [a, c, len(v) - 1]]), vertices=v)},
+        seg_samples(g.vertices[a], g.vertices[c]),
+    )
 
 
 def poke_vertex(b):
@@ -135,23 +139,35 @@ def shift_gap(b):
 
 def thin_wall(b):
     """The comb's first wall 0.2 mm thick."""
-    return part(wall=1.2) | {"ground": union(box((-12, -12, 0), (12, 12, 2)), pin(),
-                                             box((-10, -11, 2), (-4, -10.8, 8)),
-                                             box((-10, -10.2, 2), (-4, -9.0, 8)))}, \
-        np.array([(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-11.0, -10.8) for z in np.linspace(2, 8, 13)])
+    return part(wall=1.2) | {
+        "ground": union(
+            box((-12, -12, 0), (12, 12, 2)),
+            pin(),
+            box((-10, -11, 2), (-4, -10.8, 8)),
+            box((-10, -10.2, 2), (-4, -9.0, 8)),
+        )
+    }, np.array([(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-11.0, -10.8) for z in np.linspace(2, 8, 13)])
 
 
 def close_gap(b):
     """The comb's slot 0.1 mm wide."""
-    return part(slot=0.1), np.array([(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-9.8, -9.7)
-                                     for z in np.linspace(2, 8, 13)])
+    return part(slot=0.1), np.array(
+        [(x, y, z) for x in np.linspace(-10, -4, 13) for y in (-9.8, -9.7) for z in np.linspace(2, 8, 13)]
+    )
 
 
 MUTATIONS = [
-    (delete_triangle, "watertight"), (delete_patch, "watertight"), (flip_face, "watertight"),
-    (flip_body, "watertight"), (duplicate_face, "watertight"), (degenerate_triangle, "watertight"),
-    (poke_vertex, "clearance"), (shift_overlap, "clearance"), (shift_gap, "clearance"),
-    (thin_wall, "min_feature"), (close_gap, "min_feature"),
+    (delete_triangle, "watertight"),
+    (delete_patch, "watertight"),
+    (flip_face, "watertight"),
+    (flip_body, "watertight"),
+    (duplicate_face, "watertight"),
+    (degenerate_triangle, "watertight"),
+    (poke_vertex, "clearance"),
+    (shift_overlap, "clearance"),
+    (shift_gap, "clearance"),
+    (thin_wall, "min_feature"),
+    (close_gap, "min_feature"),
 ]
 
 
@@ -180,7 +196,8 @@ def test_the_sound_part_passes_every_check(sound, tmp_path, fmt):
     bad = {c.name: c.detail for c in rep.checks if c.passed is False and c.name != "overhang"}
     assert not bad, bad
     assert {"watertight", "manifold", "bodies", "clearance", "min_feature", "bed"} <= {
-        c.name for c in rep.checks if c.passed}
+        c.name for c in rep.checks if c.passed
+    }
 
 
 @pytest.mark.parametrize("fmt", ["stl", "3mf"])
@@ -197,6 +214,7 @@ def test_each_mutation_fails_the_right_check_at_the_damage(sound, tmp_path, fmt,
 
 # ---------------------------------------------------------------- sound shapes that must not cry wolf
 
+
 def crease():
     """A ring with a box cutting slightly into its outside (a shallow re-entrant V at the union)."""
     ring = difference(cyl(6.0, 0, 5, sections=SEG), cyl(4.0, -1, 6, sections=SEG))
@@ -210,8 +228,10 @@ def fillet():
 
 
 def chamfer():
-    pts = np.array([(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 4)] + [(1, 1, 5), (9, 1, 5), (1, 9, 5),
-                                                                                     (9, 9, 5)], float)
+    pts = np.array(
+        [(x, y, z) for x in (0, 10) for y in (0, 10) for z in (0, 4)] + [(1, 1, 5), (9, 1, 5), (1, 9, 5), (9, 9, 5)],
+        float,
+    )
     pts = pts[pts[:, 2] != 4]
     return trimesh.convex.convex_hull(np.vstack([pts, [(0, 0, 4), (10, 0, 4), (0, 10, 4), (10, 10, 4)]]))
 
@@ -242,8 +262,18 @@ def cone_tip(half_angle=20.0):
 
 def chamfer_end():
     """A block whose end is chamfered top and bottom to a knife edge (a chamfer's end, 14° each side)."""
-    pts = [(0, 0, 0), (10, 0, 0), (0, 10, 0), (10, 10, 0), (0, 0, 4), (0, 10, 4), (10, 0, 4), (10, 10, 4),
-           (18, 0, 2), (18, 10, 2)]
+    pts = [
+        (0, 0, 0),
+        (10, 0, 0),
+        (0, 10, 0),
+        (10, 10, 0),
+        (0, 0, 4),
+        (0, 10, 4),
+        (10, 0, 4),
+        (10, 10, 4),
+        (18, 0, 2),
+        (18, 10, 2),
+    ]
     return trimesh.convex.convex_hull(np.array(pts, float))
 
 

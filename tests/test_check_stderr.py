@@ -7,7 +7,6 @@ import json
 import numpy as np
 import pytest
 import trimesh
-
 from mesh_tools import box
 from test_check import hinge, manifest_for
 
@@ -18,8 +17,9 @@ def needle(mesh: trimesh.Trimesh) -> trimesh.Trimesh:
     v, f = mesh.vertices, mesh.faces
     a, b, c = f[0]
     m = len(v)
-    return trimesh.Trimesh(np.vstack([v, (v[a] + v[b]) / 2]),
-                           np.vstack([f[1:], [[a, m, c], [m, b, c], [a, b, m]]]), process=False)
+    return trimesh.Trimesh(
+        np.vstack([v, (v[a] + v[b]) / 2]), np.vstack([f[1:], [[a, m, c], [m, b, c], [a, b, m]]]), process=False
+    )
 
 
 def cube() -> trimesh.Trimesh:

@@ -19,8 +19,9 @@ def readme_quick_start(root):
     text = (root / "README.md").read_text()
     section = re.search(r"^## Quick start\n(.*?)(?=^## )", text, re.S | re.M).group(1)
     blocks = re.findall(r"```(?:sh|bash|console)?\n(.*?)```", section, re.S)
-    return [line.strip() for b in blocks for line in b.splitlines()
-            if line.strip() and not line.strip().startswith("#")]
+    return [
+        line.strip() for b in blocks for line in b.splitlines() if line.strip() and not line.strip().startswith("#")
+    ]
 
 
 def test_readme_quick_start_has_exactly_two_commands(root):
@@ -39,9 +40,19 @@ def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path
 
     def make(target_dir):
         return subprocess.run(
-            ["make", "-s", "-C", str(root), "pytest", f"PY={sys.executable}",
-             f"PYTEST_ARGS=-p no:cacheprovider --rootdir={target_dir} {target_dir}"],
-            capture_output=True, text=True, timeout=300)
+            [
+                "make",
+                "-s",
+                "-C",
+                str(root),
+                "pytest",
+                f"PY={sys.executable}",
+                f"PYTEST_ARGS=-p no:cacheprovider --rootdir={target_dir} {target_dir}",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
 
     bad = make(failing)
     assert bad.returncode != 0, bad.stdout

@@ -27,8 +27,13 @@ entry()
 
 
 def _run(tmp_path, *args):
-    return subprocess.run([sys.executable, "-c", PROGRAM, str(tmp_path / "mark"), *args], capture_output=True,
-                          text=True, cwd=ROOT, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-c", PROGRAM, str(tmp_path / "mark"), *args],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=120,
+    )
 
 
 def test_the_program_leaves_without_teardown_but_joins_threads_runs_atexit_and_flushes(tmp_path):

@@ -10,10 +10,27 @@ def test_json_has_the_pinned_keys(cli):
     code, out, err = cli(PAPER + ["--json"])
     assert code == 0, err
     d = json.loads(out)
-    for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
-                "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
-                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end", "first_contact_deg",
-                "rod_stiffness_nmm_per_rad", "formula_stiffness_nmm_per_rad", "peak_stress_mpa", "pin_force_n"):
+    for key in (
+        "width_mm",
+        "thickness_mm",
+        "length_mm",
+        "inner_radius_mm",
+        "pitch_mm",
+        "turns",
+        "outer_radius_mm",
+        "spring_stiffness_nmm_per_rad",
+        "joint_stiffness_nmm_per_rad",
+        "max_stress_mpa",
+        "allowed_stress_mpa",
+        "min_coil_gap_mm",
+        "material",
+        "end",
+        "first_contact_deg",
+        "rod_stiffness_nmm_per_rad",
+        "formula_stiffness_nmm_per_rad",
+        "peak_stress_mpa",
+        "pin_force_n",
+    ):
         assert key in d, key
     assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
     assert d["rod_stiffness_nmm_per_rad"] == d["joint_stiffness_nmm_per_rad"]  # the rod model's, per joint
@@ -38,9 +55,22 @@ def test_degrees_at_the_cli_radians_inside(cli):
 def test_readable_table(cli):
     code, out, _ = cli(PAPER)
     assert code == 0
-    for label in ("width b", "thickness t", "length L", "pitch p", "turns n", "outer radius",
-                  "joint stiffness", "formula stiffness", "peak stress", "allowed stress", "coil gap", "first contact",
-                  "pin force", "rod model"):
+    for label in (
+        "width b",
+        "thickness t",
+        "length L",
+        "pitch p",
+        "turns n",
+        "outer radius",
+        "joint stiffness",
+        "formula stiffness",
+        "peak stress",
+        "allowed stress",
+        "coil gap",
+        "first contact",
+        "pin force",
+        "rod model",
+    ):
         assert label in out
     line = next(x for x in out.splitlines() if x.strip().startswith("joint stiffness"))
     assert float(line.split()[2]) == pytest.approx(5.2, rel=0.005)
@@ -61,15 +91,32 @@ def test_plot_draws_the_torque_curve_and_the_wound_shape(cli, tmp_path):
 
 
 def test_coil_contact_refusal_says_where_and_what_to_change(cli):
-    code, out, err = cli(["spring", "--stiffness", "2", "--rotation", "180", "--preload", "150", "--end", "pinned",
-                          "--inner-radius-max", "3", "--max-outer-radius", "40"])
+    code, out, err = cli(
+        [
+            "spring",
+            "--stiffness",
+            "2",
+            "--rotation",
+            "180",
+            "--preload",
+            "150",
+            "--end",
+            "pinned",
+            "--inner-radius-max",
+            "3",
+            "--max-outer-radius",
+            "40",
+        ]
+    )
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "coils touch at" in err and "lower the preload or the rotation" in err
 
 
 def test_options_change_the_design(cli):
-    _, out, _ = cli(PAPER + ["--json", "--end", "clamped", "--printer", "dimension-elite",
-                             "--material", "PETG", "--safety-factor", "2"])
+    _, out, _ = cli(
+        PAPER
+        + ["--json", "--end", "clamped", "--printer", "dimension-elite", "--material", "PETG", "--safety-factor", "2"]
+    )
     d = json.loads(out)
     assert d["end"] == "clamped" and d["printer"] == "dimension-elite" and d["material"] == "petg"
     assert d["allowed_stress_mpa"] == pytest.approx(44.0 / 2)

@@ -6,8 +6,8 @@ import stat
 
 import pytest
 
-from rjcad.io.config import check_key, load_toml, write_atomic, write_json
 from rjcad.errors import ParameterError, RjcadError
+from rjcad.io.config import check_key, load_toml, write_atomic, write_json
 
 ALLOWED = {"stiffness_nmm_per_rad": (int, float), "material": str}
 
@@ -18,12 +18,15 @@ def test_load_toml_reads_known_keys(tmp_path):
     assert load_toml(f, ALLOWED) == {"stiffness_nmm_per_rad": 5, "material": "pla"}
 
 
-@pytest.mark.parametrize("text, parameter, words", [
-    ("stifness = 5\n", "j.toml: stifness", "unknown key; known keys: stiffness_nmm_per_rad, material"),
-    ('stiffness_nmm_per_rad = "5"\n', "j.toml: stiffness_nmm_per_rad", "must be a int or float"),
-    ("stiffness_nmm_per_rad = true\n", "j.toml: stiffness_nmm_per_rad", "must be a int or float"),
-    ("material = 3\n", "j.toml: material", "must be a str"),
-])
+@pytest.mark.parametrize(
+    "text, parameter, words",
+    [
+        ("stifness = 5\n", "j.toml: stifness", "unknown key; known keys: stiffness_nmm_per_rad, material"),
+        ('stiffness_nmm_per_rad = "5"\n', "j.toml: stiffness_nmm_per_rad", "must be a int or float"),
+        ("stiffness_nmm_per_rad = true\n", "j.toml: stiffness_nmm_per_rad", "must be a int or float"),
+        ("material = 3\n", "j.toml: material", "must be a str"),
+    ],
+)
 def test_load_toml_names_the_bad_key(tmp_path, text, parameter, words):
     f = tmp_path / "j.toml"
     f.write_text(text)

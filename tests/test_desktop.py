@@ -10,12 +10,11 @@ import pytest
 import trimesh
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
-
 from shared_builds import checked, joint_build, joint_files
 
 from rjcad.design.layout_desktop import CONE_ANGLE, FACET_MARGIN, ROOF_NORMAL, T
-from rjcad.materials import get_printer
 from rjcad.design.params import JointParams
+from rjcad.materials import get_printer
 
 
 @pytest.fixture(scope="module")
@@ -163,8 +162,13 @@ desktop_designs = st.builds(
 
 
 @pytest.mark.slow
-@settings(max_examples=20, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True,
-          phases=[Phase.explicit, Phase.generate])  # no shrinking: a build + slice per step
+@settings(
+    max_examples=20,
+    deadline=None,
+    suppress_health_check=list(HealthCheck),
+    derandomize=True,
+    phases=[Phase.explicit, Phase.generate],
+)  # no shrinking: a build + slice per step
 @given(st.data())
 def test_random_desktop_designs_pass_every_check_with_supports_off(data):
     """Issue #15's acceptance: 20 random valid designs (stiffness, rotation, preload, material, link length) in

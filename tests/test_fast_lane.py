@@ -4,10 +4,9 @@ import ast
 import json
 import textwrap
 
+import conftest
 import pytest
 import trimesh
-
-import conftest
 
 
 @pytest.mark.fast_lane
@@ -33,30 +32,36 @@ def reason(src: str):
     return conftest.own_slow_reason(ast.parse(textwrap.dedent(src)))
 
 
-@pytest.mark.parametrize("src, words", [
-    ("b = build(JointParams())", "builds CAD"),
-    ("jb.write_joint(p, d)", "builds CAD"),
-    ("build_finger_model(fp)", "builds CAD"),
-    ("r = subprocess.run(['x'])", "subprocess"),
-    ("LocalCluster(n_workers=2)", "process pool"),
-    ("sw.run_sweep(spec, d, build=True, workers=0)", "build=True"),
-    ("x = shutil.which('prusa-slicer')", "PrusaSlicer"),
-    ("main(['joint', '--out', str(out)])\nassert e.value.code == 0", "rjcad joint"),
-    ("cli('finger', tpl)", "rjcad finger"),
-    ("main(['sweep', f, '--build'])", "--build"),
-])
+@pytest.mark.parametrize(
+    "src, words",
+    [
+        ("b = build(JointParams())", "builds CAD"),
+        ("jb.write_joint(p, d)", "builds CAD"),
+        ("build_finger_model(fp)", "builds CAD"),
+        ("r = subprocess.run(['x'])", "subprocess"),
+        ("LocalCluster(n_workers=2)", "process pool"),
+        ("sw.run_sweep(spec, d, build=True, workers=0)", "build=True"),
+        ("x = shutil.which('prusa-slicer')", "PrusaSlicer"),
+        ("main(['joint', '--out', str(out)])\nassert e.value.code == 0", "rjcad joint"),
+        ("cli('finger', tpl)", "rjcad finger"),
+        ("main(['sweep', f, '--build'])", "--build"),
+    ],
+)
 def test_slow_things_are_recognised(src, words):
     assert words in reason(src)
 
 
-@pytest.mark.parametrize("src", [
-    "main(['joint', *args])\nassert e.value.code == 2",  # a usage error stops before any CAD
-    "r = cli_process('finger', bad)\nassert r.returncode == 2",
-    "main(['spring', '--json'])",
-    "sw.run_sweep(spec, d, build=False)",
-    "run_checks(hinge(), slicer='prusa')",  # the slicer itself is not looked for here
-    "builds(JointParams)",
-])
+@pytest.mark.parametrize(
+    "src",
+    [
+        "main(['joint', *args])\nassert e.value.code == 2",  # a usage error stops before any CAD
+        "r = cli_process('finger', bad)\nassert r.returncode == 2",
+        "main(['spring', '--json'])",
+        "sw.run_sweep(spec, d, build=False)",
+        "run_checks(hinge(), slicer='prusa')",  # the slicer itself is not looked for here
+        "builds(JointParams)",
+    ],
+)
 def test_fast_things_are_not_marked(src):
     assert reason(src) is None
 
@@ -75,7 +80,6 @@ def test_real_tests_get_the_right_verdict():
     assert conftest.function_slow_reason(test_one_real_joint_builds)  # slow by its code, kept by its mark
 
 
-
 def test_measured_and_longest_lists_name_real_tests(root):
     """Every node id in conftest's MEASURED_SLOW and LONGEST names a test function that exists (a renamed test
     would silently drop out of the list)."""
@@ -86,6 +90,7 @@ def test_measured_and_longest_lists_name_real_tests(root):
 
 def test_the_longest_tests_are_dealt_round_the_workers():
     """Worker k's first tests are the k-th, (k+n)-th, ... longest; every test once; the others in their order."""
+
     class Item:
         def __init__(self, nodeid):
             self.nodeid = nodeid
@@ -95,7 +100,7 @@ def test_the_longest_tests_are_dealt_round_the_workers():
     dealt = conftest.deal_longest(items, 2)
     assert sorted(map(id, dealt)) == sorted(map(id, items))
     half = len(items) // 2
-    assert [it.nodeid for it in dealt[:len(longest[0::2])]] == longest[0::2]
-    assert [it.nodeid for it in dealt[half:half + len(longest[1::2])]] == longest[1::2]
+    assert [it.nodeid for it in dealt[: len(longest[0::2])]] == longest[0::2]
+    assert [it.nodeid for it in dealt[half : half + len(longest[1::2])]] == longest[1::2]
     short = [it.nodeid for it in dealt if it.nodeid.startswith("tests/test_a.py")]
     assert short == [f"tests/test_a.py::test_{i}" for i in range(40)]

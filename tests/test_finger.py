@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
-from rjcad.cad.finger import DEFAULT_FINGER, FingerParams, PAPER_FINGER
-from rjcad.design.finger_lengths import shortest_lengths
+from rjcad.cad.finger import DEFAULT_FINGER, PAPER_FINGER, FingerParams
 from rjcad.cad.joint import LEAD_IN
 from rjcad.cli import main
+from rjcad.design.finger_lengths import shortest_lengths
 from rjcad.view import THREE_FILE
 
 DEG = math.pi / 180
@@ -86,8 +86,18 @@ def test_stiffnesses_and_manifest(default_finger):
     ks = [j["joint_stiffness_nmm_per_rad"] for j in m["joints"]]
     assert ks == pytest.approx([5.2, 7.8, 10.4], rel=0.005)
     for j in m["joints"]:
-        for key in ("parent", "child", "axis_point_mm", "axis_dir", "joint_stiffness_nmm_per_rad", "spring",
-                    "preload_deg", "rotation_deg", "tendon_moment_arm_mm", "tendon_wrap_angle_rad"):
+        for key in (
+            "parent",
+            "child",
+            "axis_point_mm",
+            "axis_dir",
+            "joint_stiffness_nmm_per_rad",
+            "spring",
+            "preload_deg",
+            "rotation_deg",
+            "tendon_moment_arm_mm",
+            "tendon_wrap_angle_rad",
+        ):
             assert key in j
         assert j["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
         assert j["preload_deg"] == 90 and j["rotation_deg"] == 90
@@ -156,8 +166,12 @@ BAD = [
     ("[[joint]]\nstiffness_nmm_per_rad = 5.2\nlink_length_mm = -40\n", None, "joint[1].link_length_mm", ""),
     ("material = 'pla'\n", None, "joint", "1 to 6"),
     ("[[joint]]\nstiffness_nmm_per_rad = 5000\n", None, "joint[1].stiffness_nmm_per_rad", ""),
-    ("[[joint]]\nstiffness_nmm_per_rad = 55\nrotation_deg = 110\npreload_deg = 120\n", None,
-     "joint[1].stiffness_nmm_per_rad", "spring"),
+    (
+        "[[joint]]\nstiffness_nmm_per_rad = 55\nrotation_deg = 110\npreload_deg = 120\n",
+        None,
+        "joint[1].stiffness_nmm_per_rad",
+        "spring",
+    ),
     ("[defaults]\nrotation_deg = 300\n[[joint]]\nstiffness_nmm_per_rad = 5\n", None, "rotation_deg", "[15, 110]"),
     ("[[joint]]\nstiffness_nmm_per_rad = 5.2\nstifness = 3\n", None, "joint[1].stifness", "known keys"),
     ("bogus = 1\n[[joint]]\nstiffness_nmm_per_rad = 5.2\n", None, "bogus", "known keys"),
@@ -191,9 +205,21 @@ def test_per_joint_overrides_and_one_joint_finger(tmp_path):
     from rjcad.cad.build import build_finger_model
     from rjcad.cad.finger import FingerParams
 
-    fp = FingerParams.from_dict({"clearance_mm": 0.3, "material": "petg",
-                                 "joint": [{"stiffness_nmm_per_rad": 4.0, "rotation_deg": 70, "preload_deg": 60,
-                                            "link_length_mm": 45, "tendon_moment_arm_mm": 7.0}]})
+    fp = FingerParams.from_dict(
+        {
+            "clearance_mm": 0.3,
+            "material": "petg",
+            "joint": [
+                {
+                    "stiffness_nmm_per_rad": 4.0,
+                    "rotation_deg": 70,
+                    "preload_deg": 60,
+                    "link_length_mm": 45,
+                    "tendon_moment_arm_mm": 7.0,
+                }
+            ],
+        }
+    )
     b = build_finger_model(fp)
     m = b.manifest
     assert [x["name"] for x in m["bodies"]] == ["base", "distal"]
@@ -219,8 +245,15 @@ def test_default_finger_passes_every_check_with_supports_off(default_finger):
     failed = {c.name: c.detail for c in rep.checks if c.passed is False}
     assert not failed, failed
     assert {c.name for c in rep.checks if c.passed is True} >= {
-        "watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed", "overhang"} | (
-        {"slicer"} if slicer else set())
+        "watertight",
+        "manifold",
+        "bodies",
+        "clearance",
+        "motion",
+        "min_feature",
+        "bed",
+        "overhang",
+    } | ({"slicer"} if slicer else set())
 
 
 def test_the_physics_runs_on_the_desktop_finger_manifest(default_finger, capsys):
@@ -257,8 +290,9 @@ BODY_COLOURS = ("#9aa5b1", "#3b82c4", "#e0a33a", "#6aa84f")  # base, link1, link
 def chromium_page(pw):
     """Debian's Chromium (never Playwright's own download), software WebGL, no network: every request that
     is not the file itself or a data: URL is aborted and recorded."""
-    browser = pw.chromium.launch(executable_path=shutil.which("chromium"),
-                                 args=["--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+    browser = pw.chromium.launch(
+        executable_path=shutil.which("chromium"), args=["--use-angle=swiftshader", "--enable-unsafe-swiftshader"]
+    )
     context = browser.new_context(offline=True, viewport={"width": 960, "height": 720})
     blocked: list[str] = []
 
@@ -281,10 +315,9 @@ def canvas_rgb(page) -> np.ndarray:
 
 def colour_mask(img: np.ndarray, colour: str, tol: float = 0.05) -> np.ndarray:
     """Pixels whose chromaticity (r, g, b)/(r+g+b) is ``colour``'s (shading keeps it), not grey background."""
-    c = np.array([int(colour[i:i + 2], 16) for i in (1, 3, 5)], dtype=float)
+    c = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)], dtype=float)
     s = img.sum(axis=-1, keepdims=True)
-    return (np.abs(img / np.maximum(s, 1) - c / c.sum()).max(axis=-1) < tol) & (img.std(axis=-1) > 6) & \
-        (s[..., 0] > 60)
+    return (np.abs(img / np.maximum(s, 1) - c / c.sum()).max(axis=-1) < tol) & (img.std(axis=-1) > 6) & (s[..., 0] > 60)
 
 
 @pytest.mark.skipif(not THREE, reason="three.js not vendored (make vendor: npm pack three)")

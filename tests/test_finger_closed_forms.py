@@ -68,8 +68,7 @@ def test_hysteresis_width_is_the_friction_band():
     """One joint with pin friction f0 + γ±·s and a capstan: the actuator pulls with
     (K·s + f0 + γ⁺·s)/(r·e^{−μα}) and lets go with (K·s − f0 − γ⁻·s)/(r·e^{μα}) at the same angle θ = t_d/r."""
     f0, gp, gn, mu, wrap = 2.0, 1.89, 3.15, 0.2, 0.45
-    c, pull, rel = pull_release(one_joint(friction=(f0,), gamma_pos=(gp,), gamma_neg=(gn,), wrap=(wrap,), mu_t=mu),
-                                8.0)
+    c, pull, rel = pull_release(one_joint(friction=(f0,), gamma_pos=(gp,), gamma_neg=(gn,), wrap=(wrap,), mu_t=mu), 8.0)
     s = c.tendon_mm[pull] / R + TH0
     assert c.theta[pull, 0] == pytest.approx(c.theta[rel, 0], abs=1e-12)
     assert c.tension[pull] == pytest.approx((K * s + f0 + gp * s) / (R * math.exp(-mu * wrap)), rel=1e-12)
@@ -138,10 +137,22 @@ def test_two_links_under_their_weight_by_scipy_root():
     """Two joints, links of 20 g and 12 g, palm down: the weight's torque written out here,
     τ_1 = w1·(L1/2)·cos θ1 + w2·(L1·cos θ1 + (L2/2)·cos(θ1 + θ2)), τ_2 = w2·(L2/2)·cos(θ1 + θ2),
     and r_i·T = K_i·(θ_i + θ0_i) + τ_i, r·θ = t_d solved by scipy.optimize.root."""
-    Ks, th0, arms, L, w = (np.array([5.2, 7.8]), np.array([70, 80]) * DEG, np.array([6.0, 6.0]),
-                           np.array([40.0, 35.0]), np.array([20.0, 12.0]) * W_PER_G)
-    m = fm.FingerModel(tuple(Ks), tuple(th0), (90 * DEG,) * 2, tuple(arms), link_mass=(20.0, 12.0),
-                       link_length=tuple(L), gravity=(0.0, -1.0))
+    Ks, th0, arms, L, w = (
+        np.array([5.2, 7.8]),
+        np.array([70, 80]) * DEG,
+        np.array([6.0, 6.0]),
+        np.array([40.0, 35.0]),
+        np.array([20.0, 12.0]) * W_PER_G,
+    )
+    m = fm.FingerModel(
+        tuple(Ks),
+        tuple(th0),
+        (90 * DEG,) * 2,
+        tuple(arms),
+        link_mass=(20.0, 12.0),
+        link_length=tuple(L),
+        gravity=(0.0, -1.0),
+    )
     td = np.linspace(0.0, 14.0, 57)
     c = fm.simulate_path(m, td)
 

@@ -22,10 +22,10 @@ from hypothesis import strategies as st
 from rjcad.cad.build import build_finger_model
 from rjcad.cad.export import stl_bytes
 from rjcad.cad.finger import FingerParams
-from rjcad.errors import ParameterError, RjcadError
 from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
-from rjcad.materials import MATERIALS, PRINTERS
 from rjcad.design.params import LAYOUTS, RANGES
+from rjcad.errors import ParameterError, RjcadError
+from rjcad.materials import MATERIALS, PRINTERS
 
 DEG = math.pi / 180
 #: Accepted fingers the random test builds per run (issue #17: 10).
@@ -50,18 +50,28 @@ def finger_designs(draw) -> dict:
     n = draw(st.integers(1, 5))
     joints = []
     for _ in range(n):
-        j = {"stiffness_nmm_per_rad": math.exp(draw(st.floats(math.log(k_lo), math.log(k_hi)))),
-             "rotation_deg": draw(_degrees("rotation")), "preload_deg": draw(_degrees("preload"))}
+        j = {
+            "stiffness_nmm_per_rad": math.exp(draw(st.floats(math.log(k_lo), math.log(k_hi)))),
+            "rotation_deg": draw(_degrees("rotation")),
+            "preload_deg": draw(_degrees("preload")),
+        }
         arm = draw(st.none() | st.floats(4.0, RANGES["tendon_moment_arm"][1]))
         joints.append(j if arm is None else {**j, "tendon_moment_arm_mm": arm})
-    template = {"printer": printer, "layout": layout, "material": draw(st.sampled_from(sorted(MATERIALS))),
-                "end": "clamped" if layout == "desktop" else draw(st.sampled_from(["clamped", "pinned"])),
-                "joint": joints}
+    template = {
+        "printer": printer,
+        "layout": layout,
+        "material": draw(st.sampled_from(sorted(MATERIALS))),
+        "end": "clamped" if layout == "desktop" else draw(st.sampled_from(["clamped", "pinned"])),
+        "joint": joints,
+    }
     clearance = draw(st.none() | st.floats(c_lo, RANGES["clearance"][1]))
     if clearance is not None:
         template["clearance_mm"] = clearance
-    return {"template": template, "extra": draw(st.lists(st.floats(0.0, 20.0), min_size=n, max_size=n)),
-            "base_extra": draw(st.none() | st.floats(0.0, 20.0))}
+    return {
+        "template": template,
+        "extra": draw(st.lists(st.floats(0.0, 20.0), min_size=n, max_size=n)),
+        "base_extra": draw(st.none() | st.floats(0.0, 20.0)),
+    }
 
 
 def finger_params(spec: dict) -> FingerParams:
@@ -82,8 +92,10 @@ def finger_params(spec: dict) -> FingerParams:
     if max(need) > LONGEST or room < 0:
         reject()
     scale = min(1.0, room / sum(extra)) if sum(extra) > 0 else 1.0
-    data = {**template, "joint": [{**j, "link_length_mm": min(LONGEST, L + x * scale)}
-                                  for j, L, x in zip(joints, need, extra)]}
+    data = {
+        **template,
+        "joint": [{**j, "link_length_mm": min(LONGEST, L + x * scale)} for j, L, x in zip(joints, need, extra)],
+    }
     if spec["base_extra"] is not None:
         data["base_length_mm"] = base + spec["base_extra"] * scale
     return FingerParams.from_dict(data)
@@ -97,8 +109,9 @@ def check_finger(fp: FingerParams) -> int:
     m = b.manifest.to_json()
     names = [e["name"] for e in m["bodies"]]
     assert len(names) == fp.n + 1 == len(m["joints"]) + 1
-    bodies = named_bodies(stl_bytes(list(b.meshes.values())), b.meshes,
-                          {e["name"]: e["volume_mm3"] for e in m["bodies"]})
+    bodies = named_bodies(
+        stl_bytes(list(b.meshes.values())), b.meshes, {e["name"]: e["volume_mm3"] for e in m["bodies"]}
+    )
     c = m["clearance_mm"]
     check_gaps(bodies, c, [(j["parent"], j["child"]) for j in m["joints"]])
     # the tendon runs forward from the base to the tip: a channel that doubles back leaves thin walls
@@ -109,8 +122,14 @@ def check_finger(fp: FingerParams) -> int:
     poses = 0
     for k, (j, p) in enumerate(zip(m["joints"], fp.joints)):
         step = max(min(1.0 * DEG, c / (p.link_length + p.link_width)), 0.25 * DEG)
-        poses += overlap_free_sweep(m3.Manifold.compose(mans[:k + 1]), m3.Manifold.compose(mans[k + 1:]),
-                                    j["axis_point_mm"], j["axis_dir"], p.rotation, step)
+        poses += overlap_free_sweep(
+            m3.Manifold.compose(mans[: k + 1]),
+            m3.Manifold.compose(mans[k + 1 :]),
+            j["axis_point_mm"],
+            j["axis_dir"],
+            p.rotation,
+            step,
+        )
     return poses
 
 
@@ -118,17 +137,35 @@ def check_finger(fp: FingerParams) -> int:
 PINNED = [
     # one wide, short distal link (moment arm 9.4 mm): the fingertip's whole cylinder reached back behind the
     # block's start to 0.21 mm of the cup (clearance 0.46 mm); the tip is now the half beyond the block
-    {"template": {"printer": "generic-0.4", "layout": "desktop", "material": "petg", "clearance_mm": 0.46,
-                  "joint": [{"stiffness_nmm_per_rad": 0.92, "rotation_deg": 70, "preload_deg": 110,
-                             "tendon_moment_arm_mm": 9.4}]},
-     "extra": [1.0], "base_extra": None},
+    {
+        "template": {
+            "printer": "generic-0.4",
+            "layout": "desktop",
+            "material": "petg",
+            "clearance_mm": 0.46,
+            "joint": [
+                {"stiffness_nmm_per_rad": 0.92, "rotation_deg": 70, "preload_deg": 110, "tendon_moment_arm_mm": 9.4}
+            ],
+        },
+        "extra": [1.0],
+        "base_extra": None,
+    },
     # the shortest link between moment arms of 14.2 and 6 mm: its channel's runs overlapped, the channel went back
     # 4 mm, and rjcad check's min_feature found a 0.27 mm wall in link1; the shortest link now holds the runs
-    {"template": {"printer": "dimension-elite", "layout": "desktop", "material": "petg", "clearance_mm": 0.29,
-                  "joint": [{"stiffness_nmm_per_rad": 0.69, "rotation_deg": 15, "preload_deg": 112,
-                             "tendon_moment_arm_mm": 14.2},
-                            {"stiffness_nmm_per_rad": 21.4, "rotation_deg": 88, "preload_deg": 31}]},
-     "extra": [0.0, 0.0], "base_extra": None},
+    {
+        "template": {
+            "printer": "dimension-elite",
+            "layout": "desktop",
+            "material": "petg",
+            "clearance_mm": 0.29,
+            "joint": [
+                {"stiffness_nmm_per_rad": 0.69, "rotation_deg": 15, "preload_deg": 112, "tendon_moment_arm_mm": 14.2},
+                {"stiffness_nmm_per_rad": 21.4, "rotation_deg": 88, "preload_deg": 31},
+            ],
+        },
+        "extra": [0.0, 0.0],
+        "base_extra": None,
+    },
 ]
 
 #: The fingers the random test built in this run (FingerParams), in order.
@@ -142,8 +179,13 @@ def _pinned(test):
 
 
 @_pinned
-@settings(max_examples=RANDOM_FINGERS, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True,
-          phases=[Phase.explicit, Phase.generate])  # no shrinking: a build and its checks per step
+@settings(
+    max_examples=RANDOM_FINGERS,
+    deadline=None,
+    suppress_health_check=list(HealthCheck),
+    derandomize=True,
+    phases=[Phase.explicit, Phase.generate],
+)  # no shrinking: a build and its checks per step
 @given(finger_designs())
 def random_finger(spec):
     fp = finger_params(spec)
@@ -158,11 +200,14 @@ def test_random_accepted_fingers_build_checked_meshes(summary_line):
     random_finger()
     n, dt = len(BUILT) - len(PINNED), time.perf_counter() - t0
     assert n >= RANDOM_FINGERS
-    joints = collections.Counter(fp.n for fp in BUILT[len(PINNED):])
+    joints = collections.Counter(fp.n for fp in BUILT[len(PINNED) :])
     assert len(joints) >= 3  # spread over the number of joints
-    line = (f"built {n} random accepted fingers (and {len(PINNED)} pinned; {sum(joints.elements())} joints: "
-            + ", ".join(f"{k} joints x{v}" for k, v in sorted(joints.items())) + f") in {dt:.0f} s, each checked "
-            "watertight, outward, one body per link, gaps >= clearance - 0.02 mm, each joint free over its range")
+    line = (
+        f"built {n} random accepted fingers (and {len(PINNED)} pinned; {sum(joints.elements())} joints: "
+        + ", ".join(f"{k} joints x{v}" for k, v in sorted(joints.items()))
+        + f") in {dt:.0f} s, each checked "
+        "watertight, outward, one body per link, gaps >= clearance - 0.02 mm, each joint free over its range"
+    )
     print(line)
     summary_line(line)
 
@@ -173,7 +218,9 @@ def test_a_finger_longer_than_the_bed_is_refused():
     joints = [{"stiffness_nmm_per_rad": 5.2, "link_length_mm": 40.0}] * 5
     for last, total in ((40.0, 229.0), (38.0, 227.0)):
         with pytest.raises(ParameterError) as e:
-            FingerParams.from_dict({"joint": joints[:4] + [{**joints[4], "link_length_mm": last}], "base_length_mm": 29})
+            FingerParams.from_dict(
+                {"joint": joints[:4] + [{**joints[4], "link_length_mm": last}], "base_length_mm": 29}
+            )
         assert e.value.parameter == "base_length_mm + link_length_mm" and "220 mm" in e.value.limit
         assert e.value.value == pytest.approx(total)
     fp = FingerParams.from_dict({"joint": joints[:4], "base_length_mm": 29})

@@ -28,7 +28,6 @@ import warnings
 from pathlib import Path
 
 import pytest
-
 from fuzz import corpus
 
 RUNNER = Path(__file__).resolve().parent / "fuzz" / "runner.py"
@@ -188,20 +187,38 @@ def corpus_run():
             if corpus.parse_only(c):
                 here.append(c)
                 continue
-            jobs.append({"id": c.id, "argv": c.argv, "cwd": str(d), "timeout": c.timeout, "read_only": c.read_only,
-                         "fsize": c.fsize, "out": str(results_dir / f"{c.id}.out"),
-                         "err": str(results_dir / f"{c.id}.err")})
+            jobs.append(
+                {
+                    "id": c.id,
+                    "argv": c.argv,
+                    "cwd": str(d),
+                    "timeout": c.timeout,
+                    "read_only": c.read_only,
+                    "fsize": c.fsize,
+                    "out": str(results_dir / f"{c.id}.out"),
+                    "err": str(results_dir / f"{c.id}.err"),
+                }
+            )
         (base / "cases.json").write_text(json.dumps(jobs))
-        env = dict(os.environ, MPLBACKEND="Agg", MPLCONFIGDIR=str(base / "_mpl"),
-                   PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-        runner = subprocess.Popen([sys.executable, str(RUNNER), str(base / "cases.json"), str(base / "results.json"),
-                                   "--jobs", "2"], cwd=ROOT, env=env)
+        env = dict(
+            os.environ,
+            MPLBACKEND="Agg",
+            MPLCONFIGDIR=str(base / "_mpl"),
+            PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+        )
+        runner = subprocess.Popen(
+            [sys.executable, str(RUNNER), str(base / "cases.json"), str(base / "results.json"), "--jobs", "2"],
+            cwd=ROOT,
+            env=env,
+        )
         try:  # the parse-only cases here, while the runner runs the others
             with pytest.MonkeyPatch.context() as mp:
                 mp.setenv("MPLBACKEND", "Agg")
                 mp.setenv("MPLCONFIGDIR", str(base / "_mpl"))
-                results = {c.id: run_in_process(c, base / c.id, results_dir / f"{c.id}.out",
-                                                results_dir / f"{c.id}.err") for c in here}
+                results = {
+                    c.id: run_in_process(c, base / c.id, results_dir / f"{c.id}.out", results_dir / f"{c.id}.err")
+                    for c in here
+                }
             assert runner.wait(timeout=1500) == 0
         finally:
             if runner.poll() is None:
@@ -234,14 +251,17 @@ def test_every_case_keeps_the_promise(corpus_run):
     cases, verdicts, mountable, skipped, here = corpus_run
     per_class = collections.Counter(c.id.split("-")[0] for c in cases)
     slowest = sorted(verdicts.items(), key=lambda kv: -(kv[1][1]["seconds"] or 0))[:3]
-    print(f"\nfuzz corpus: {len(cases)} cases ({dict(per_class)}; {here} parse-only in this process, "
-          f"{len(cases) - here} as processes); full-disk cases "
-          f"{'run' if mountable else 'skipped (cannot mount a tmpfs)'}; read-only cases "
-          f"{f'skipped: {len(skipped)} (cannot drop CAP_DAC_OVERRIDE)' if skipped else 'run'}; slowest "
-          + ", ".join(f"{k} {v[1]['seconds']:.1f} s" for k, v in slowest))
+    print(
+        f"\nfuzz corpus: {len(cases)} cases ({dict(per_class)}; {here} parse-only in this process, "
+        f"{len(cases) - here} as processes); full-disk cases "
+        f"{'run' if mountable else 'skipped (cannot mount a tmpfs)'}; read-only cases "
+        f"{f'skipped: {len(skipped)} (cannot drop CAP_DAC_OVERRIDE)' if skipped else 'run'}; slowest "
+        + ", ".join(f"{k} {v[1]['seconds']:.1f} s" for k, v in slowest)
+    )
     failed = {k: v[0] for k, v in verdicts.items() if v[0]}
     if os.environ.get("RJCAD_FUZZ_REPORT"):  # the whole verdict, for whoever works on the failures
         Path(os.environ["RJCAD_FUZZ_REPORT"]).write_text(json.dumps(verdicts, indent=1))
     assert len(cases) >= MIN_CASES
     assert not failed, f"{len(failed)} of {len(cases)} cases broke a promise:\n" + "\n".join(
-        f"  {k}: {'; '.join(p)}" for k, p in sorted(failed.items()))
+        f"  {k}: {'; '.join(p)}" for k, p in sorted(failed.items())
+    )

@@ -20,8 +20,13 @@ from rjcad.identify.data import load_campaign
 from rjcad.identify.result import to_json
 from rjcad.identify.select import Selector, identify
 
-PAPER_VALUES = {"mu_j_mm": 6.92, "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 3.15,
-                "beta_pos": 1.24, "beta_neg": 0.67}
+PAPER_VALUES = {
+    "mu_j_mm": 6.92,
+    "gamma_pos_nmm_per_rad": 1.89,
+    "gamma_neg_nmm_per_rad": 3.15,
+    "beta_pos": 1.24,
+    "beta_neg": 0.67,
+}
 
 
 @pytest.fixture
@@ -62,12 +67,15 @@ def test_hidden_effect_is_found_named_and_measured(tmp_path, effect):
     assert not js["not_identifiable"]
 
 
-@pytest.mark.parametrize("effects", [
-    ["coulomb_pin", "viscous"],
-    ["spring_calibration", "stiffening"],
-    ["coulomb_pin", "tendon_pin_friction", "relaxation"],
-    ["capstan_path", "stiffening", "viscous"],
-])
+@pytest.mark.parametrize(
+    "effects",
+    [
+        ["coulomb_pin", "viscous"],
+        ["spring_calibration", "stiffening"],
+        ["coulomb_pin", "tendon_pin_friction", "relaxation"],
+        ["capstan_path", "stiffening", "viscous"],
+    ],
+)
 def test_hidden_combinations(tmp_path, effects):
     truth, ident, js = _run(tmp_path, effects, seed=11)
     _assert_found(truth, js, effects)
@@ -144,8 +152,9 @@ def test_backward_pass_drops_a_recalibration_that_was_stiffening(tmp_path):
 
 def test_effect_below_relevance_is_not_reported(tmp_path):
     """A 0.2% stiffness change (the paper's 5.19 vs 5.2) is statistically visible but practically irrelevant."""
-    truth, ident, js = _run(tmp_path, ["spring_calibration"], params={"stiffness_nmm_per_rad": 5.19,
-                                                                     "preload_deg": 70.0})
+    truth, ident, js = _run(
+        tmp_path, ["spring_calibration"], params={"stiffness_nmm_per_rad": 5.19, "preload_deg": 70.0}
+    )
     assert js["effects"] == []
     verdicts = [c["verdict"] for c in js["candidates"] if c["effect"] == "spring_calibration"]
     assert verdicts and ("only" in verdicts[0] or "ΔBIC" in verdicts[0])
@@ -159,8 +168,9 @@ def test_diagnostics_point_to_the_cause(tmp_path):
     assert d["hints"][0]["effects"] == ["coulomb_pin"]
     assert js["experiments"][0]["diagnostics_final"]["hints"] == []
 
-    _, _, js = _run(tmp_path / "t", ["tendon_pin_friction"],
-                    experiments=[{"name": "D", "drive": "tendon", "normal_load": 0.0}])
+    _, _, js = _run(
+        tmp_path / "t", ["tendon_pin_friction"], experiments=[{"name": "D", "drive": "tendon", "normal_load": 0.0}]
+    )
     d = js["experiments"][0]["diagnostics_design"]
     assert abs(d["band_halfwidth"][1]) > 1.5 * abs(d["band_halfwidth"][0])  # grows with angle
     assert "tendon_pin_friction" in d["hints"][0]["effects"]
@@ -208,8 +218,10 @@ def test_cli_identify_json_to_stdout(capsys, paper):
 
 def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
     bad = tmp_path / "c.toml"
-    bad.write_text('[design]\nstiffness_nmm_per_rad = 5.2\npreload_deg = 70\npulley_radius_mm = 6\n'
-                   '[[experiment]]\nfile = "nope.csv"\ndrive = "bar"\n')
+    bad.write_text(
+        "[design]\nstiffness_nmm_per_rad = 5.2\npreload_deg = 70\npulley_radius_mm = 6\n"
+        '[[experiment]]\nfile = "nope.csv"\ndrive = "bar"\n'
+    )
     with pytest.raises(SystemExit) as e:
         main(["identify", str(bad), "--json", str(tmp_path / "o.json")])
     assert e.value.code == 2
@@ -220,8 +232,9 @@ def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
 
 def test_a_parameter_the_data_only_bound_is_not_reported_as_fitted(tmp_path):
     """γ⁻ > K: the tendon is slack in every release, so the data say only γ⁻ ≳ K."""
-    truth, ident, js = _run(tmp_path, ["tendon_pin_friction"],
-                            params={"gamma_pos_nmm_per_rad": 2.0, "gamma_neg_nmm_per_rad": 7.0})
+    truth, ident, js = _run(
+        tmp_path, ["tendon_pin_friction"], params={"gamma_pos_nmm_per_rad": 2.0, "gamma_neg_nmm_per_rad": 7.0}
+    )
     assert js["effects"] == ["tendon_pin_friction"]
     assert "gamma_neg_nmm_per_rad" in js["not_identifiable"]
     why = js["not_identifiable_why"]["gamma_neg_nmm_per_rad"]
@@ -269,14 +282,30 @@ def _triangle_campaign(effects, seed=0, n=3000, rate=100.0):
         values.update(EFFECTS[e].typical(design))
     model = JointModel(pulley_radius=6.0, **model_kwargs(values))
     exps = []
-    for name, drive, fn, routed in (("A", "bar", 1.5, False), ("B", "tendon", 1.5, False),
-                                    ("C", "tendon", 1.5, True), ("D", "tendon", 0.0, False),
-                                    ("E", "tendon", 0.0, True)):
+    for name, drive, fn, routed in (
+        ("A", "bar", 1.5, False),
+        ("B", "tendon", 1.5, False),
+        ("C", "tendon", 1.5, True),
+        ("D", "tendon", 0.0, False),
+        ("E", "tendon", 0.0, True),
+    ):
         sigma = DEFAULT_NOISE["torque_nmm" if drive == "bar" else "tendon_force_n"]
         y = simulate(model, Setup(drive, fn, routed), theta, t=t) + rng.normal(0, sigma, n)
         th = theta + rng.normal(0, math.radians(DEFAULT_NOISE["theta_deg"]), n)
-        exps.append(Experiment(file=f"{name}.csv", path=Path(f"{name}.csv"), drive=drive, normal_load=fn,
-                               routed=routed, pulley_radius=6.0, t=t, theta=th, y=y, rows=n))
+        exps.append(
+            Experiment(
+                file=f"{name}.csv",
+                path=Path(f"{name}.csv"),
+                drive=drive,
+                normal_load=fn,
+                routed=routed,
+                pulley_radius=6.0,
+                t=t,
+                theta=th,
+                y=y,
+                rows=n,
+            )
+        )
     return Campaign(Path("triangle.toml"), Design(5.2, math.radians(70.0), 6.0), tuple(exps)), values
 
 

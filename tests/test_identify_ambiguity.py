@@ -22,9 +22,16 @@ K_TRUE = 4.8
 
 def _run(tmp_path, trajectory, effects, params, theta_noise=0.15, torque_noise=0.25, seed=0, samples=3000):
     out = tmp_path / f"c_{trajectory}_{seed}_{theta_noise}"
-    write_campaign(out, effects, {"stiffness_nmm_per_rad": K_TRUE, **params}, seed=seed, samples=samples,
-                   noise={"torque_nmm": torque_noise, "theta_deg": theta_noise}, experiments=BARS,
-                   trajectory_name=trajectory)
+    write_campaign(
+        out,
+        effects,
+        {"stiffness_nmm_per_rad": K_TRUE, **params},
+        seed=seed,
+        samples=samples,
+        noise={"torque_nmm": torque_noise, "theta_deg": theta_noise},
+        experiments=BARS,
+        trajectory_name=trajectory,
+    )
     return to_json(identify(load_campaign(out / "campaign.toml")))
 
 
@@ -64,8 +71,14 @@ def test_viscous_unbiased_under_angle_noise(tmp_path, factor):
     noise = factor * DEFAULT_NOISE["theta_deg"]
     est = []
     for seed in range(3):
-        js = _run(tmp_path, "paper", ["spring_calibration", "viscous"], {"viscous_nmm_s_per_rad": 0.5},
-                  theta_noise=noise, seed=seed)
+        js = _run(
+            tmp_path,
+            "paper",
+            ["spring_calibration", "viscous"],
+            {"viscous_nmm_s_per_rad": 0.5},
+            theta_noise=noise,
+            seed=seed,
+        )
         assert sorted(js["effects"]) == ["spring_calibration", "viscous"]
         est.append(js["params"]["viscous_nmm_s_per_rad"])
     assert np.mean(est) == pytest.approx(0.5, rel=0.03)
@@ -76,8 +89,14 @@ def test_viscous_unbiased_under_angle_noise(tmp_path, factor):
 def test_undecidable_campaign_says_so(tmp_path):
     """A weak, fast Maxwell arm seen at one speed, without holds, through heavy torque noise: the data cannot tell
     it from damping. The report must name both sets, keep the simpler one, and ask for holds."""
-    js = _run(tmp_path, "one-speed", ["spring_calibration", "relaxation"],
-              {"relaxation_stiffness_nmm_per_rad": 0.5, "relaxation_time_s": 0.6}, torque_noise=1.0, samples=1000)
+    js = _run(
+        tmp_path,
+        "one-speed",
+        ["spring_calibration", "relaxation"],
+        {"relaxation_stiffness_nmm_per_rad": 0.5, "relaxation_time_s": 0.6},
+        torque_noise=1.0,
+        samples=1000,
+    )
     sets = [sorted(js["effects"])] + [sorted(a["effects"]) for a in js["ambiguous"]]
     assert ["relaxation", "spring_calibration"] in sets and ["spring_calibration", "viscous"] in sets
     amb = next(a for a in js["ambiguous"] if "relaxation" in a["effects"] or "viscous" in a["effects"])
@@ -103,8 +122,20 @@ def test_bench_cli_trajectory(tmp_path):
 
     from rjcad.cli import cli as main
 
-    r = CliRunner().invoke(main, ["bench", "--effects", "viscous", "--trajectory", "one-speed-holds", "--samples", "500",
-                                  "--out", str(tmp_path / "b")])
+    r = CliRunner().invoke(
+        main,
+        [
+            "bench",
+            "--effects",
+            "viscous",
+            "--trajectory",
+            "one-speed-holds",
+            "--samples",
+            "500",
+            "--out",
+            str(tmp_path / "b"),
+        ],
+    )
     assert r.exit_code == 0, r.output
     truth = json.loads((tmp_path / "b" / "truth.json").read_text())
     assert truth["trajectory"]["name"] == "one-speed-holds"

@@ -13,8 +13,13 @@ from rjcad.identify.bench import DEFAULT_NOISE, SEGMENTS, trajectory, write_camp
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
 
 DESIGN = JointModel(stiffness=5.2, preload=math.radians(70), pulley_radius=6.0)
-PAPER_FILES = ["A_bar_Fn1.5.csv", "B_tendon_Fn1.5.csv", "C_tendon_routed_Fn1.5.csv", "D_tendon_Fn0.csv",
-               "E_tendon_routed_Fn0.csv"]
+PAPER_FILES = [
+    "A_bar_Fn1.5.csv",
+    "B_tendon_Fn1.5.csv",
+    "C_tendon_routed_Fn1.5.csv",
+    "D_tendon_Fn0.csv",
+    "E_tendon_routed_Fn0.csv",
+]
 
 
 def load(path):
@@ -48,8 +53,12 @@ def test_files_columns_and_campaign_toml(tmp_path):
     assert camp["design"] == {"stiffness_nmm_per_rad": 5.2, "preload_deg": 70.0, "pulley_radius_mm": 6.0}
     assert [e["file"] for e in camp["experiment"]] == PAPER_FILES
     assert [(e["drive"], e["normal_load_n"], e["routed"]) for e in camp["experiment"]] == [
-        ("bar", 1.5, False), ("tendon", 1.5, False), ("tendon", 1.5, True), ("tendon", 0.0, False),
-        ("tendon", 0.0, True)]
+        ("bar", 1.5, False),
+        ("tendon", 1.5, False),
+        ("tendon", 1.5, True),
+        ("tendon", 0.0, False),
+        ("tendon", 0.0, True),
+    ]
     assert all(set(e) == {"file", "drive", "normal_load_n", "routed"} for e in camp["experiment"])
     assert (out / "campaign.toml").read_text().startswith("# SYNTHETIC")
     for e in camp["experiment"]:
@@ -61,14 +70,20 @@ def test_files_columns_and_campaign_toml(tmp_path):
 
 
 def test_truth_json(tmp_path):
-    truth = write_campaign(tmp_path / "c", ["tendon_pin_friction", "coulomb_pin"], {"gamma_neg_nmm_per_rad": 2.5},
-                           seed=4, samples=500)
+    truth = write_campaign(
+        tmp_path / "c", ["tendon_pin_friction", "coulomb_pin"], {"gamma_neg_nmm_per_rad": 2.5}, seed=4, samples=500
+    )
     saved = json.loads((tmp_path / "c" / "truth.json").read_text())
     assert saved == truth
     assert saved["synthetic"] is True and saved["generator"] == "rjcad bench"
     assert saved["effects"] == ["coulomb_pin", "tendon_pin_friction"]  # catalogue order
-    assert saved["params"] == {"stiffness_nmm_per_rad": 5.2, "preload_deg": 70.0, "mu_j_mm": 6.92,
-                               "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 2.5}
+    assert saved["params"] == {
+        "stiffness_nmm_per_rad": 5.2,
+        "preload_deg": 70.0,
+        "mu_j_mm": 6.92,
+        "gamma_pos_nmm_per_rad": 1.89,
+        "gamma_neg_nmm_per_rad": 2.5,
+    }
     assert saved["noise"] == DEFAULT_NOISE and saved["seed"] == 4 and saved["samples"] == 500
     assert [e["file"] for e in saved["experiments"]] == PAPER_FILES
 
@@ -120,8 +135,13 @@ def test_trajectory_three_speeds_holds_and_a_partial_reversal():
     v = np.gradient(th, t)
     # full ramps at 1.5, 3, 6 s: minimum-jerk peak speed 1.875/T
     ups = [(a, a + T) for a, T in zip(np.cumsum([0] + [s[0] for s in SEGMENTS])[:-1], [s[0] for s in SEGMENTS])]
-    peaks = sorted({round(float(np.abs(v[(t > a) & (t < b)]).max()), 2) for (a, b), s in zip(ups, SEGMENTS)
-                    if abs(s[2] - s[1]) == 1})
+    peaks = sorted(
+        {
+            round(float(np.abs(v[(t > a) & (t < b)]).max()), 2)
+            for (a, b), s in zip(ups, SEGMENTS)
+            if abs(s[2] - s[1]) == 1
+        }
+    )
     assert peaks == pytest.approx([1.875 / 6, 1.875 / 3, 1.875 / 1.5], rel=0.01)
     assert np.sum(np.diff(motion_direction(th)) != 0) == 7  # 3 cycles + the reversal at 40 %
     assert np.any(np.isclose(th, 0.4, atol=1e-4) & (np.abs(v) < 1e-3))
@@ -131,8 +151,13 @@ def test_trajectory_three_speeds_holds_and_a_partial_reversal():
 
 def test_relaxation_decays_during_the_holds(tmp_path):
     zero = {k: 0.0 for k in DEFAULT_NOISE}
-    write_campaign(tmp_path / "c", ["relaxation"], noise=zero, samples=3000,
-                   experiments=[{"name": "R", "drive": "bar", "normal_load": 0.0, "routed": False}])
+    write_campaign(
+        tmp_path / "c",
+        ["relaxation"],
+        noise=zero,
+        samples=3000,
+        experiments=[{"name": "R", "drive": "bar", "normal_load": 0.0, "routed": False}],
+    )
     _, d = load(tmp_path / "c" / "R_bar_Fn0.csv")
     top = (d[:, 0] > 2.6) & (d[:, 0] < 5.5)  # the first top hold
     excess = d[top, 2] - 5.2 * np.radians(160)
@@ -146,21 +171,24 @@ def test_slack_tendon_is_reported(tmp_path):
     assert "slack tendon" in (tmp_path / "c" / "README.md").read_text().lower()
 
 
-@pytest.mark.parametrize("kwargs, needle", [
-    ({"effects": ["nope"]}, "nope"),
-    ({"effects": ["coulomb_pin"], "params": {"gamma_pos_nmm_per_rad": 1.0}}, "gamma_pos_nmm_per_rad"),
-    ({"effects": ["coulomb_pin"], "params": {"mu_x": 1.0}}, "mu_x"),
-    ({"effects": ["coulomb_pin"], "params": {"mu_j_mm": -1.0}}, "mu_j_mm"),
-    ({"effects": ["capstan_path"], "params": {"beta_neg": 1.5}}, "beta_neg"),
-    ({"noise": {"force": 0.1}}, "force"),
-    ({"noise": {"theta_deg": -0.1}}, "theta_deg"),
-    ({"samples": 99}, "samples"),
-    ({"seed": -1}, "seed"),
-    ({"rotation_deg": 0.0}, "rotation"),
-    ({"design": {"stiffness": 5.0}}, "stiffness"),
-    ({"experiments": [{"name": "X", "drive": "bar", "normal_load": 1.0, "routed": True}]}, "routed"),
-    ({"experiments": "nope"}, "experiments"),
-])
+@pytest.mark.parametrize(
+    "kwargs, needle",
+    [
+        ({"effects": ["nope"]}, "nope"),
+        ({"effects": ["coulomb_pin"], "params": {"gamma_pos_nmm_per_rad": 1.0}}, "gamma_pos_nmm_per_rad"),
+        ({"effects": ["coulomb_pin"], "params": {"mu_x": 1.0}}, "mu_x"),
+        ({"effects": ["coulomb_pin"], "params": {"mu_j_mm": -1.0}}, "mu_j_mm"),
+        ({"effects": ["capstan_path"], "params": {"beta_neg": 1.5}}, "beta_neg"),
+        ({"noise": {"force": 0.1}}, "force"),
+        ({"noise": {"theta_deg": -0.1}}, "theta_deg"),
+        ({"samples": 99}, "samples"),
+        ({"seed": -1}, "seed"),
+        ({"rotation_deg": 0.0}, "rotation"),
+        ({"design": {"stiffness": 5.0}}, "stiffness"),
+        ({"experiments": [{"name": "X", "drive": "bar", "normal_load": 1.0, "routed": True}]}, "routed"),
+        ({"experiments": "nope"}, "experiments"),
+    ],
+)
 def test_bad_input_writes_nothing(tmp_path, kwargs, needle):
     with pytest.raises(RjcadError, match=needle):
         write_campaign(tmp_path / "c", **kwargs)
@@ -170,8 +198,23 @@ def test_bad_input_writes_nothing(tmp_path, kwargs, needle):
 
 def test_cli_writes_and_prints_one_line_per_file(tmp_path, cli):
     out = tmp_path / "c"
-    code, stdout, err = cli(["bench", "--effects", "coulomb_pin,viscous", "--param", "mu_j_mm=5",
-                             "--noise", "torque_nmm=0.2", "--seed", "3", "--samples", "500", "--out", str(out)])
+    code, stdout, err = cli(
+        [
+            "bench",
+            "--effects",
+            "coulomb_pin,viscous",
+            "--param",
+            "mu_j_mm=5",
+            "--noise",
+            "torque_nmm=0.2",
+            "--seed",
+            "3",
+            "--samples",
+            "500",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0, err
     lines = stdout.strip().splitlines()
     assert len(lines) == 8 and all(line.startswith("wrote ") for line in lines)
@@ -192,18 +235,21 @@ def test_cli_null_case(tmp_path, cli):
     assert json.loads((tmp_path / "c" / "truth.json").read_text())["effects"] == []
 
 
-@pytest.mark.parametrize("argv", [
-    ["--effects", "nope"],
-    ["--effects", "coulomb_pin", "--noise", "torque_nmm"],
-    ["--effects", "coulomb_pin", "--noise", "torque=0.1"],
-    ["--effects", "coulomb_pin", "--param", "mu_j_mm=abc"],
-    ["--effects", "coulomb_pin", "--param", "=3"],
-    ["--param", "mu_j_mm=5"],
-    ["--samples", "-5"],
-    ["--samples", "50"],
-    ["--paper", "--effects", "coulomb_pin"],
-    ["--rotation", "400"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--effects", "nope"],
+        ["--effects", "coulomb_pin", "--noise", "torque_nmm"],
+        ["--effects", "coulomb_pin", "--noise", "torque=0.1"],
+        ["--effects", "coulomb_pin", "--param", "mu_j_mm=abc"],
+        ["--effects", "coulomb_pin", "--param", "=3"],
+        ["--param", "mu_j_mm=5"],
+        ["--samples", "-5"],
+        ["--samples", "50"],
+        ["--paper", "--effects", "coulomb_pin"],
+        ["--rotation", "400"],
+    ],
+)
 def test_cli_bad_input_is_one_line_exit_2(tmp_path, cli, argv):
     code, out, err = cli(["bench", "--out", str(tmp_path / "c")] + argv)
     assert code == 2
@@ -229,17 +275,24 @@ def test_shipped_paper_campaign_is_synthetic_and_regenerates(tmp_path, cli, exam
     names = sorted(p.name for p in example.iterdir())
     assert names == sorted(p.name for p in (tmp_path / "c").iterdir())
     for name in names:
-        assert (example / name).read_bytes() == (tmp_path / "c" / name).read_bytes(), \
+        assert (example / name).read_bytes() == (tmp_path / "c" / name).read_bytes(), (
             f"{name} is stale: run `make paper-campaign`"
+        )
     assert sum((example / n).stat().st_size for n in names) < 1_000_000
     readme = (example / "README.md").read_text()
     assert readme.startswith("# SYNTHETIC") and "not measured" in readme and "slack tendon" in readme.lower()
     assert (example / "campaign.toml").read_text().startswith("# SYNTHETIC")
     truth = json.loads((example / "truth.json").read_text())
     assert truth["synthetic"] is True and truth["seed"] == 7 and truth["samples"] == 3000
-    assert truth["params"] == {"stiffness_nmm_per_rad": 5.19, "preload_deg": 70.0, "mu_j_mm": 6.92,
-                               "gamma_pos_nmm_per_rad": 1.89, "gamma_neg_nmm_per_rad": 3.15, "beta_pos": 1.24,
-                               "beta_neg": 0.67}
+    assert truth["params"] == {
+        "stiffness_nmm_per_rad": 5.19,
+        "preload_deg": 70.0,
+        "mu_j_mm": 6.92,
+        "gamma_pos_nmm_per_rad": 1.89,
+        "gamma_neg_nmm_per_rad": 3.15,
+        "beta_pos": 1.24,
+        "beta_neg": 0.67,
+    }
 
 
 def test_the_loader_reads_the_shipped_campaign(example):

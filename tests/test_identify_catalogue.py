@@ -38,22 +38,39 @@ def test_special_starts():
 
 def test_selector_names_no_effect():
     """select.py treats every effect alike: no effect id appears in it as a string."""
-    strings = {n.value for n in ast.walk(ast.parse(inspect.getsource(select)))
-               if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+    strings = {
+        n.value
+        for n in ast.walk(ast.parse(inspect.getsource(select)))
+        if isinstance(n, ast.Constant) and isinstance(n.value, str)
+    }
     assert not strings & set(EFFECTS)
 
 
 def test_typical_sizes_are_the_papers():
-    typ = {**EFFECTS["coulomb_pin"].typical(DESIGN), **EFFECTS["tendon_pin_friction"].typical(DESIGN),
-           **EFFECTS["capstan_path"].typical(DESIGN)}
-    assert typ == {"mu_j_mm": JOINT.mu_j, "gamma_pos_nmm_per_rad": JOINT.gamma_pos,
-                   "gamma_neg_nmm_per_rad": JOINT.gamma_neg, "beta_pos": JOINT.beta_pos, "beta_neg": JOINT.beta_neg}
+    typ = {
+        **EFFECTS["coulomb_pin"].typical(DESIGN),
+        **EFFECTS["tendon_pin_friction"].typical(DESIGN),
+        **EFFECTS["capstan_path"].typical(DESIGN),
+    }
+    assert typ == {
+        "mu_j_mm": JOINT.mu_j,
+        "gamma_pos_nmm_per_rad": JOINT.gamma_pos,
+        "gamma_neg_nmm_per_rad": JOINT.gamma_neg,
+        "beta_pos": JOINT.beta_pos,
+        "beta_neg": JOINT.beta_neg,
+    }
 
 
 def test_report_hint_reads_the_effect():
-    js = {"not_identifiable_why": {"mu_j_mm": "the residuals do not depend on it",
-                                   "cubic_nmm_per_rad3": "the residuals do not depend on it"}}
+    js = {
+        "not_identifiable_why": {
+            "mu_j_mm": "the residuals do not depend on it",
+            "cubic_nmm_per_rad3": "the residuals do not depend on it",
+        }
+    }
     text = "\n".join(_not_identifiable_section(js))
-    assert f"`mu_j_mm` (`coulomb_pin`): the residuals do not depend on it — it needs " \
-           f"{EFFECTS['coulomb_pin'].needs_text}." in text
+    assert (
+        f"`mu_j_mm` (`coulomb_pin`): the residuals do not depend on it — it needs "
+        f"{EFFECTS['coulomb_pin'].needs_text}." in text
+    )
     assert "`cubic_nmm_per_rad3` (`stiffening`): the residuals do not depend on it." in text  # needs any: no hint

@@ -85,16 +85,18 @@ def data_lines(cols):
 
 def test_good_campaign_loads_values_defaults_and_units(tmp_path):
     bar = columns()
-    bar["force"] = np.zeros(600)                       # extra columns are ignored
+    bar["force"] = np.zeros(600)  # extra columns are ignored
     write_csv(tmp_path / "exp1_bar.csv", bar, comments=["# rig 2, camera 60 fps", "#"])
     tendon = columns(drive="tendon", seed=1)
-    tendon = {"frame": np.arange(600), **tendon}       # columns in any order
+    tendon = {"frame": np.arange(600), **tendon}  # columns in any order
     write_csv(tmp_path / "exp2_tendon.csv", tendon, header=" frame ,  t_s,theta_deg ,tendon_force_n ")
     text = (tmp_path / "exp2_tendon.csv").read_text().split("\n")
     text.insert(10, "# a comment between data rows")
-    text.insert(20, "")                                # blank lines are skipped too
+    text.insert(20, "")  # blank lines are skipped too
     (tmp_path / "exp2_tendon.csv").write_text("\n".join(text))
-    toml = write_campaign(tmp_path, """
+    toml = write_campaign(
+        tmp_path,
+        """
 [[experiment]]
 file = "exp1_bar.csv"
 drive = "bar"
@@ -105,7 +107,8 @@ drive = "tendon"
 normal_load_n = 1.5
 routed = true
 pulley_radius_mm = 4.5
-""")
+""",
+    )
     c = load_campaign(toml)
     assert c.path == toml and c.notes == ()
     assert c.design.stiffness == 5.2 and c.design.pulley_radius == 6.0
@@ -130,7 +133,7 @@ def test_paths_are_relative_to_the_toml_file(tmp_path, monkeypatch):
     (tmp_path / "data").mkdir()
     write_csv(tmp_path / "data" / "exp1.csv", columns())
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "data/exp1.csv"\ndrive = "bar"\n')
-    monkeypatch.chdir(tmp_path / "data")               # not where the TOML is
+    monkeypatch.chdir(tmp_path / "data")  # not where the TOML is
     c = load_campaign(toml)
     assert c.experiments[0].name == "exp1" and len(c.experiments[0].t) == 600
 
@@ -144,7 +147,7 @@ def test_crlf_and_byte_order_mark_are_read(tmp_path):
 
 def test_noisy_angles_with_holds_count_as_moving_back_and_forth(tmp_path):
     rng = np.random.default_rng(3)
-    ramp = np.linspace(0, 4, 200)                       # a small 4° motion with holds, 0.3° camera noise
+    ramp = np.linspace(0, 4, 200)  # a small 4° motion with holds, 0.3° camera noise
     theta = np.concatenate([np.zeros(100), ramp, np.full(100, 4.0), ramp[::-1], np.zeros(100)])
     theta = theta + rng.normal(0, 0.3, len(theta))
     write_csv(tmp_path / "exp1.csv", columns(theta=theta))
@@ -161,7 +164,7 @@ def test_a_few_bad_rows_are_dropped_with_a_note(tmp_path):
         parts = lines[line_index].split(",")
         parts[2] = cell
         lines[line_index] = ",".join(parts)
-    parts = lines[60].split(",")                       # two bad cells in one row: one dropped row
+    parts = lines[60].split(",")  # two bad cells in one row: one dropped row
     parts[0], parts[1] = "", "x"
     lines[60] = ",".join(parts)
     (tmp_path / "exp1.csv").write_text("\n".join(lines) + "\n")
@@ -176,7 +179,7 @@ def test_a_few_bad_rows_are_dropped_with_a_note(tmp_path):
 
 def test_a_short_row_counts_as_empty_cells(tmp_path):
     lines = data_lines(columns(n=600))
-    lines[7] = lines[7].split(",")[0]                  # only t_s
+    lines[7] = lines[7].split(",")[0]  # only t_s
     (tmp_path / "exp1.csv").write_text("\n".join(lines) + "\n")
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\n')
     c = load_campaign(toml)
@@ -193,10 +196,11 @@ def _spoil(lines, rows, cell, column=2):
 
 
 def test_too_many_non_numeric_cells_is_an_error(tmp_path):
-    lines = _spoil(data_lines(columns(n=600)), range(16, 16 + 13), "abc")   # 13 > 2 % of 600
+    lines = _spoil(data_lines(columns(n=600)), range(16, 16 + 13), "abc")  # 13 > 2 % of 600
     msg = csv_error(tmp_path, lines)
-    assert msg == ("exp1.csv: column torque_nmm: non-numeric value 'abc' at line 17 "
-                   "(13 of 600 rows bad; at most 2% are dropped)")
+    assert msg == (
+        "exp1.csv: column torque_nmm: non-numeric value 'abc' at line 17 (13 of 600 rows bad; at most 2% are dropped)"
+    )
 
 
 def test_too_many_nans_is_an_error(tmp_path):
@@ -245,7 +249,7 @@ def test_duplicate_column_is_an_error(tmp_path):
 
 def test_time_must_increase(tmp_path):
     cols = columns()
-    cols["t_s"][400] = cols["t_s"][399] - 0.005        # data row 401 → line 402
+    cols["t_s"][400] = cols["t_s"][399] - 0.005  # data row 401 → line 402
     msg = csv_error(tmp_path, data_lines(cols))
     assert msg == "exp1.csv: t_s is not increasing at line 402 (t = 3.985 s after 3.99 s)"
 
@@ -278,29 +282,35 @@ def test_empty_file_is_too_few_samples(tmp_path):
 def test_no_reversal(tmp_path):
     cols = columns(theta=np.linspace(0, 90, 600))
     msg = csv_error(tmp_path, data_lines(cols))
-    assert re.fullmatch(r"exp1\.csv: no reversal: the joint must move forward and back "
-                        r"\(range 0\.\d–89\.\d deg, monotonic; a reversal needs a return of at least 8\.9 deg\)", msg)
+    assert re.fullmatch(
+        r"exp1\.csv: no reversal: the joint must move forward and back "
+        r"\(range 0\.\d–89\.\d deg, monotonic; a reversal needs a return of at least 8\.9 deg\)",
+        msg,
+    )
 
 
 def test_noisy_ramp_with_holds_is_no_reversal(tmp_path):
     rng = np.random.default_rng(7)
     theta = np.concatenate([np.zeros(200), np.linspace(0, 5, 300), np.full(300, 5.0)])
-    theta = theta + rng.normal(0, 0.5, len(theta))     # camera noise larger than the 0.5° floor
+    theta = theta + rng.normal(0, 0.5, len(theta))  # camera noise larger than the 0.5° floor
     msg = csv_error(tmp_path, data_lines(columns(theta=theta)))
     assert msg.startswith("exp1.csv: no reversal")
 
 
 def test_camera_glitches_do_not_make_a_reversal(tmp_path):
     theta = np.linspace(0, 90, 600)
-    theta[[0, 200, 401]] = [40.0, 10.0, 95.0]          # single-frame tracking errors, one on the first row
+    theta[[0, 200, 401]] = [40.0, 10.0, 95.0]  # single-frame tracking errors, one on the first row
     msg = csv_error(tmp_path, data_lines(columns(theta=theta)))
     assert msg.startswith("exp1.csv: no reversal")
 
 
 def test_angle_range_below_one_degree(tmp_path):
     msg = csv_error(tmp_path, data_lines(columns(theta=triangle(top=0.6))))
-    assert re.fullmatch(r"exp1\.csv: the joint angle spans only 0\.\d\d deg \(0\.0–0\.\d deg\); "
-                        r"it must move at least 1 deg", msg)
+    assert re.fullmatch(
+        r"exp1\.csv: the joint angle spans only 0\.\d\d deg \(0\.0–0\.\d deg\); "
+        r"it must move at least 1 deg",
+        msg,
+    )
 
 
 def test_csv_that_is_not_utf8(tmp_path):
@@ -326,8 +336,9 @@ def test_toml_syntax_error(tmp_path):
 
 def test_missing_csv_file(tmp_path):
     write_csv(tmp_path / "exp1.csv", columns())
-    toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\n'
-                                    '[[experiment]]\nfile = "exp2.csv"\ndrive = "bar"\n')
+    toml = write_campaign(
+        tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\n[[experiment]]\nfile = "exp2.csv"\ndrive = "bar"\n'
+    )
     assert error(toml).startswith(f"{toml}: experiment 2: file 'exp2.csv' not found")
 
 
@@ -354,8 +365,10 @@ def test_unknown_experiment_key_lists_the_known_keys(tmp_path):
     write_csv(tmp_path / "exp1.csv", columns())
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "bar"\nnormal_load = 1.5\n')
     msg = error(toml, ParameterError)
-    assert msg == (f"{toml}: experiment 1 (exp1.csv): normal_load = 1.5 is invalid: unknown key; "
-                   "known keys: file, drive, normal_load_n, routed, pulley_radius_mm")
+    assert msg == (
+        f"{toml}: experiment 1 (exp1.csv): normal_load = 1.5 is invalid: unknown key; "
+        "known keys: file, drive, normal_load_n, routed, pulley_radius_mm"
+    )
 
 
 def test_unknown_top_level_key(tmp_path):
@@ -363,13 +376,16 @@ def test_unknown_top_level_key(tmp_path):
     assert error(toml) == f"{toml}: unknown key or table 'experiments'; known: [design], [[experiment]]"
 
 
-@pytest.mark.parametrize("line, expect", [
-    ('stiffness_nmm_per_rad = "5.2"', "[design] stiffness_nmm_per_rad = '5.2' is invalid: must be a int or float"),
-    ("stiffness_nmm_per_rad = 0", "[design] stiffness_nmm_per_rad = 0 is invalid: must be > 0"),
-    ("pulley_radius_mm = -6", "[design] pulley_radius_mm = -6 is invalid: must be > 0"),
-    ("preload_deg = nan", "design.preload_deg = nan is invalid: must be a finite number"),  # rjcad.io.untrusted
-    ("preload_deg = true", "[design] preload_deg = True is invalid: must be a int or float"),
-])
+@pytest.mark.parametrize(
+    "line, expect",
+    [
+        ('stiffness_nmm_per_rad = "5.2"', "[design] stiffness_nmm_per_rad = '5.2' is invalid: must be a int or float"),
+        ("stiffness_nmm_per_rad = 0", "[design] stiffness_nmm_per_rad = 0 is invalid: must be > 0"),
+        ("pulley_radius_mm = -6", "[design] pulley_radius_mm = -6 is invalid: must be > 0"),
+        ("preload_deg = nan", "design.preload_deg = nan is invalid: must be a finite number"),  # rjcad.io.untrusted
+        ("preload_deg = true", "[design] preload_deg = True is invalid: must be a int or float"),
+    ],
+)
 def test_bad_design_values(tmp_path, line, expect):
     key = line.split(" = ")[0]
     design = "\n".join(x if not x.startswith(key) else line for x in DESIGN.splitlines()) + "\n"
@@ -377,12 +393,15 @@ def test_bad_design_values(tmp_path, line, expect):
     assert error(toml, ParameterError) == f"{toml}: {expect}"
 
 
-@pytest.mark.parametrize("extra, expect", [
-    ("normal_load_n = -1", "normal_load_n = -1 is invalid: must be >= 0"),
-    ("pulley_radius_mm = 0.0", "pulley_radius_mm = 0 is invalid: must be > 0"),
-    ('routed = "yes"', "routed = 'yes' is invalid: must be true or false"),
-    ("normal_load_n = '1.5'", "normal_load_n = '1.5' is invalid: must be a int or float"),
-])
+@pytest.mark.parametrize(
+    "extra, expect",
+    [
+        ("normal_load_n = -1", "normal_load_n = -1 is invalid: must be >= 0"),
+        ("pulley_radius_mm = 0.0", "pulley_radius_mm = 0 is invalid: must be > 0"),
+        ('routed = "yes"', "routed = 'yes' is invalid: must be true or false"),
+        ("normal_load_n = '1.5'", "normal_load_n = '1.5' is invalid: must be a int or float"),
+    ],
+)
 def test_bad_experiment_values(tmp_path, extra, expect):
     write_csv(tmp_path / "exp1.csv", columns(drive="tendon"))
     toml = write_campaign(tmp_path, f'[[experiment]]\nfile = "exp1.csv"\ndrive = "tendon"\n{extra}\n')
@@ -392,8 +411,9 @@ def test_bad_experiment_values(tmp_path, extra, expect):
 def test_unknown_drive(tmp_path):
     write_csv(tmp_path / "exp1.csv", columns())
     toml = write_campaign(tmp_path, '[[experiment]]\nfile = "exp1.csv"\ndrive = "motor"\n')
-    assert error(toml, ParameterError) == (f"{toml}: experiment 1 (exp1.csv): drive = 'motor' is invalid: "
-                                           "must be 'bar' or 'tendon'")
+    assert error(toml, ParameterError) == (
+        f"{toml}: experiment 1 (exp1.csv): drive = 'motor' is invalid: must be 'bar' or 'tendon'"
+    )
 
 
 def test_routed_bar_drive_is_an_error(tmp_path):
@@ -426,8 +446,10 @@ def test_two_experiments_with_the_same_name(tmp_path):
     for d in ("a", "b"):
         (tmp_path / d).mkdir()
         write_csv(tmp_path / d / "exp1.csv", columns())
-    toml = write_campaign(tmp_path, '[[experiment]]\nfile = "a/exp1.csv"\ndrive = "bar"\n'
-                                    '[[experiment]]\nfile = "b/exp1.csv"\ndrive = "bar"\n')
+    toml = write_campaign(
+        tmp_path,
+        '[[experiment]]\nfile = "a/exp1.csv"\ndrive = "bar"\n[[experiment]]\nfile = "b/exp1.csv"\ndrive = "bar"\n',
+    )
     msg = error(toml)
     assert msg.startswith(f"{toml}: experiment 2 (b/exp1.csv): name 'exp1' is already used by experiment 1")
 
@@ -474,13 +496,16 @@ def _bad_cells(value, every=10):
     return lines
 
 
-@pytest.mark.parametrize("case, expect", [
-    ("non-numeric", "non-numeric value 'abc'"),
-    ("nan", "NaN"),
-    ("time", "t_s is not increasing"),
-    ("few", "usable samples"),
-    ("drive", "drive = 'motor' is invalid"),
-])
+@pytest.mark.parametrize(
+    "case, expect",
+    [
+        ("non-numeric", "non-numeric value 'abc'"),
+        ("nan", "NaN"),
+        ("time", "t_s is not increasing"),
+        ("few", "usable samples"),
+        ("drive", "drive = 'motor' is invalid"),
+    ],
+)
 def test_cli_every_bad_data_case_is_one_line_exit_2(tmp_path, capsys, case, expect):
     drive = "bar"
     if case == "non-numeric":

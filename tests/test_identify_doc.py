@@ -12,6 +12,7 @@ from rjcad.identify.report import fmt
 from rjcad.identify.result import to_json
 from rjcad.identify.select import identify
 
+
 @pytest.fixture(scope="module")
 def js(root):
     return to_json(identify(load_campaign(root / "examples" / "paper_campaign" / "campaign.toml")))

@@ -15,8 +15,8 @@ from rjcad.identify.finger.bench import _template_text
 from rjcad.identify.finger.catalogue import catalogue, model_of
 from rjcad.identify.finger.data import design_from_file
 from rjcad.identify.finger.endpoint import identify_endpoints, render_markdown
-from rjcad.physics.finger import simulate_path
 from rjcad.io.templates import PAPER_FINGER
+from rjcad.physics.finger import simulate_path
 
 
 def _campaign(d, finger, endpoints):

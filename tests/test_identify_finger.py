@@ -20,7 +20,6 @@ from rjcad.identify.finger.bench import write_finger_campaign
 from rjcad.identify.finger.problem import identify_finger
 from rjcad.identify.finger.result import render_markdown, to_json
 
-
 #: (effects, seed, options) → (truth, result): a campaign that two tests identify is identified once per process.
 _IDENTIFIED: dict = {}
 
@@ -50,19 +49,38 @@ def test_one_effect_fast(tmp_path):
     """The fast lane's end-to-end case: a stretching tendon, found with its compliance."""
     truth, js = _identify(tmp_path, ["tendon_stretch"], samples=1500)
     _check(truth, js)
-    assert js["kind"] == "finger" and set(js) >= {"effects", "params", "not_identifiable", "experiments", "gain",
-                                                   "ambiguous", "joints"}
+    assert js["kind"] == "finger" and set(js) >= {
+        "effects",
+        "params",
+        "not_identifiable",
+        "experiments",
+        "gain",
+        "ambiguous",
+        "joints",
+    }
     e = js["experiments"][0]
-    assert set(e["rmse_design"]) == set(e["quantities"]) == {"theta1_deg", "theta2_deg", "theta3_deg",
-                                                             "tendon_force_n"}
+    assert set(e["rmse_design"]) == set(e["quantities"]) == {"theta1_deg", "theta2_deg", "theta3_deg", "tendon_force_n"}
     md = render_markdown(js)
     assert "## Per joint" in md and "joint 3:" in md
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("effect", ["spring_calibration", "coulomb_pin", "tendon_pin_friction", "capstan_path",
-                                    "moment_arm", "capstan_along_finger", "link_weight", "viscous", "stiffening",
-                                    "relaxation", "none"])
+@pytest.mark.parametrize(
+    "effect",
+    [
+        "spring_calibration",
+        "coulomb_pin",
+        "tendon_pin_friction",
+        "capstan_path",
+        "moment_arm",
+        "capstan_along_finger",
+        "link_weight",
+        "viscous",
+        "stiffening",
+        "relaxation",
+        "none",
+    ],
+)
 def test_single_hidden_effect(tmp_path, effect):
     effects = [] if effect == "none" else [effect]
     truth, js = _identify(tmp_path, effects)
@@ -79,8 +97,14 @@ def test_a_damped_record_does_not_invite_gravity(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("pair", [("moment_arm", "coulomb_pin"), ("tendon_stretch", "capstan_along_finger"),
-                                  ("spring_calibration", "tendon_stretch")])
+@pytest.mark.parametrize(
+    "pair",
+    [
+        ("moment_arm", "coulomb_pin"),
+        ("tendon_stretch", "capstan_along_finger"),
+        ("spring_calibration", "tendon_stretch"),
+    ],
+)
 def test_hidden_pairs(tmp_path, pair):
     truth, js = _identify(tmp_path, list(pair))
     _check(truth, js)
@@ -116,7 +140,9 @@ def test_degenerate_pair_is_reported_not_fitted(tmp_path):
     so one direction (all K × s, β ÷ s) leaves every record unchanged. The result must say so, not pick a value."""
     truth, js = _identify(tmp_path, ["spring_calibration", "capstan_path"])
     assert set(js["effects"]) == {"spring_calibration", "capstan_path"}
-    assert {"beta_pos", "beta_neg"} <= set(js["not_identifiable"]) or "stiffness_nmm_per_rad_j1" in js["not_identifiable"]
+    assert {"beta_pos", "beta_neg"} <= set(js["not_identifiable"]) or "stiffness_nmm_per_rad_j1" in js[
+        "not_identifiable"
+    ]
     for j in js["experiments"]:
         assert max(j["final_over_noise"].values()) <= 1.1
 
@@ -130,11 +156,23 @@ def test_bad_finger_campaigns(tmp_path):
         "finger missing": (base.replace("finger.toml", "nope.toml"), None, "not found"),
         "mixed drives": (base.replace('drive = "finger"', 'drive = "bar"', 1), None, "cannot be mixed"),
         "orientation": (base.replace("horizontal-palm-up", "sideways"), None, "orientation"),
-        "theta count": (base, csv.replace("theta3_deg", "theta3_deg,theta4_deg").replace("\n", ",0\n")
-                        .replace("theta4_deg,0", "theta4_deg"), "theta4_deg"),
-        "time": (base, csv.replace("\n0.006", "\n-1.0", 1) if "\n0.006" in csv else
-                 "\n".join([csv.split("\n")[0], *[",".join(["1.0"] + r.split(",")[1:]) for r in csv.split("\n")[1:]
-                                                  if r]]) + "\n", "t_s"),
+        "theta count": (
+            base,
+            csv.replace("theta3_deg", "theta3_deg,theta4_deg")
+            .replace("\n", ",0\n")
+            .replace("theta4_deg,0", "theta4_deg"),
+            "theta4_deg",
+        ),
+        "time": (
+            base,
+            csv.replace("\n0.006", "\n-1.0", 1)
+            if "\n0.006" in csv
+            else "\n".join(
+                [csv.split("\n")[0], *[",".join(["1.0"] + r.split(",")[1:]) for r in csv.split("\n")[1:] if r]]
+            )
+            + "\n",
+            "t_s",
+        ),
     }
     for name, (toml, new_csv, words) in cases.items():
         d = tmp_path / name.replace(" ", "_")
@@ -148,12 +186,28 @@ def test_bad_finger_campaigns(tmp_path):
 
 
 def test_cli_bench_and_identify_finger(tmp_path, cli):
-    r = cli("bench", "--finger", "--effects", "capstan_along_finger", "--samples", "600", "--seed", "4",
-            "--out", str(tmp_path / "c"))
+    r = cli(
+        "bench",
+        "--finger",
+        "--effects",
+        "capstan_along_finger",
+        "--samples",
+        "600",
+        "--seed",
+        "4",
+        "--out",
+        str(tmp_path / "c"),
+    )
     assert r.code == 0, r.err
     assert "SYNTHETIC" in (tmp_path / "c" / "README.md").read_text()
-    r = cli("identify", str(tmp_path / "c" / "campaign.toml"), "--json", str(tmp_path / "r.json"),
-            "--report", str(tmp_path / "rep"))
+    r = cli(
+        "identify",
+        str(tmp_path / "c" / "campaign.toml"),
+        "--json",
+        str(tmp_path / "r.json"),
+        "--report",
+        str(tmp_path / "rep"),
+    )
     assert r.code == 0, r.err
     js = json.loads((tmp_path / "r.json").read_text())
     assert js["effects"] == ["capstan_along_finger"] and "joint 1:" in r.out

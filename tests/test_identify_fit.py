@@ -27,8 +27,20 @@ def campaign(mu_j=MU_J, seed=0, n=1500):
     for name, drive, fn in (("A", "bar", 1.5), ("D", "tendon", 0.0)):
         y = simulate(model, Setup(drive, fn, False), theta, t=t) + rng.normal(0, NOISE[drive], n)
         th = theta + rng.normal(0, math.radians(0.1), n)
-        exps.append(Experiment(file=f"{name}.csv", path=Path(f"{name}.csv"), drive=drive, normal_load=fn,
-                               routed=False, pulley_radius=6.0, t=t, theta=th, y=y, rows=n))
+        exps.append(
+            Experiment(
+                file=f"{name}.csv",
+                path=Path(f"{name}.csv"),
+                drive=drive,
+                normal_load=fn,
+                routed=False,
+                pulley_radius=6.0,
+                t=t,
+                theta=th,
+                y=y,
+                rows=n,
+            )
+        )
     return Campaign(Path("mem.toml"), Design(5.2, math.radians(70.0), 6.0), tuple(exps))
 
 

@@ -65,8 +65,10 @@ def test_effects_causes_and_step_table(paper):
     for i, s in enumerate(js["steps"], 1):
         assert s["action"] == "added"
         short = EFFECTS[s["effect"]].name
-        row = f"| {i} | `{s['effect']}` | {short} | {fmt(s['delta_bic'])} | {fmt(s['heldout_rmse'], 3)} | " \
-              f"{fmt(s['gain'], 3)} |"
+        row = (
+            f"| {i} | `{s['effect']}` | {short} | {fmt(s['delta_bic'])} | {fmt(s['heldout_rmse'], 3)} | "
+            f"{fmt(s['gain'], 3)} |"
+        )
         assert row in md
     for png in ("fit.png", "residuals.png", "steps.png", "diagnostics.png"):
         assert f"]({png})" in md
@@ -77,9 +79,11 @@ def test_experiment_table_params_and_noise_floor(paper):
     for e in js["experiments"]:
         unit = "N·mm" if e["quantity"] == "torque_nmm" else "N"
         label = "torque" if unit == "N·mm" else "tendon force"
-        row = (f"| {e['file']} | {label} [{unit}] | {fmt(e['rmse_design'])} | {fmt(e['rmse_final'])} | "
-               f"{fmt(e['noise'])} | {fmt(e['final_over_noise'], 3)} | "
-               f"{e['samples_masked_at_reversals']} of {e['samples']} | 0 |")
+        row = (
+            f"| {e['file']} | {label} [{unit}] | {fmt(e['rmse_design'])} | {fmt(e['rmse_final'])} | "
+            f"{fmt(e['noise'])} | {fmt(e['final_over_noise'], 3)} | "
+            f"{e['samples_masked_at_reversals']} of {e['samples']} | 0 |"
+        )
         assert row in md
         assert e["samples_masked_at_reversals"] > 0
     for name, (lo, hi) in js["param_ci95"].items():

@@ -54,8 +54,8 @@ def test_preview_shows_both_bodies_and_the_tendon_and_the_glb_holds_the_stl_mesh
     out, manifest, bodies = default_joint
     img = np.asarray(Image.open(out / "joint.png").convert("RGB")).astype(int)
     assert img.std() > 10
-    view = img[TITLE_PX:TITLE_PX + PANEL[1], :PANEL[0]]
-    sections = img[TITLE_PX:, PANEL[0]:]
+    view = img[TITLE_PX : TITLE_PX + PANEL[1], : PANEL[0]]
+    sections = img[TITLE_PX:, PANEL[0] :]
     for colour in (*JOINT_COLOURS.values(), TENDON):
         c = np.array(rgb(colour))
         chrom = view / np.maximum(view.sum(axis=-1, keepdims=True), 1)
@@ -109,8 +109,9 @@ def test_range_of_motion_is_free(default_joint):
     _, manifest, bodies = default_joint
     named = by_name(manifest, bodies)
     g, m = manifold(named["ground"]), manifold(named["moving"])
-    poses = sweep_collisions(g, m, manifest["axis_point_mm"], manifest["axis_dir"], 0.0,
-                             manifest["rotation_deg"] * DEG, step=1.0 * DEG)
+    poses = sweep_collisions(
+        g, m, manifest["axis_point_mm"], manifest["axis_dir"], 0.0, manifest["rotation_deg"] * DEG, step=1.0 * DEG
+    )
     assert len(poses) >= 91
     worst = min(poses, key=lambda p: p[2])
     assert all(vol < 1e-9 for _, vol, _ in poses), [p for p in poses if p[1] > 0][:3]
@@ -134,9 +135,24 @@ def test_stops_bound_the_range(default_joint):
 
 def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     _, m, _ = default_joint
-    for key in ("spring", "bodies", "axis_point_mm", "axis_dir", "moving_body", "rotation_deg", "preload_deg",
-                "joint_stiffness_nmm_per_rad", "tendon_moment_arm_mm", "tendon_wrap_angle_rad", "clearance_mm",
-                "stiffness_nmm_per_rad", "material", "printer", "link_length_mm", "tendon_diameter_mm"):
+    for key in (
+        "spring",
+        "bodies",
+        "axis_point_mm",
+        "axis_dir",
+        "moving_body",
+        "rotation_deg",
+        "preload_deg",
+        "joint_stiffness_nmm_per_rad",
+        "tendon_moment_arm_mm",
+        "tendon_wrap_angle_rad",
+        "clearance_mm",
+        "stiffness_nmm_per_rad",
+        "material",
+        "printer",
+        "link_length_mm",
+        "tendon_diameter_mm",
+    ):
         assert key in m, key
     assert m["moving_body"] == "moving"
     assert {b["name"] for b in m["bodies"]} == {"ground", "moving"}
@@ -144,9 +160,22 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     # the material's desktop clearance (ABS-like: 0.40 mm), not the stacked layout's 0.25
     assert m["rotation_deg"] == 90 and m["preload_deg"] == 90 and m["clearance_mm"] == 0.40
     assert m["joint_stiffness_nmm_per_rad"] == pytest.approx(5.2, rel=0.005)
-    for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
-                "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
-                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end"):
+    for key in (
+        "width_mm",
+        "thickness_mm",
+        "length_mm",
+        "inner_radius_mm",
+        "pitch_mm",
+        "turns",
+        "outer_radius_mm",
+        "spring_stiffness_nmm_per_rad",
+        "joint_stiffness_nmm_per_rad",
+        "max_stress_mpa",
+        "allowed_stress_mpa",
+        "min_coil_gap_mm",
+        "material",
+        "end",
+    ):
         assert key in m["spring"], key
     # moment arm: groove bottom 5.7 mm (measured) + half the 0.6 mm line = 6.0 mm (the default)
     assert m["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
@@ -154,6 +183,7 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     # 40 − LEAD_IN − (X_g + 3) mm (X_g: where the ground block starts): two bends of that angle
     from rjcad.cad.joint import LEAD_IN
     from rjcad.design.params import JointParams
+
     xb = JointParams().ground_block_start
     hand = 2 * math.atan2(6.0, 40.0 - LEAD_IN - (xb + 3.0))
     assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
@@ -229,8 +259,10 @@ def test_spring_strips_volume_measured_on_the_stl(default_joint):
     r_hi = s["outer_radius_mm"] + 0.02
     b, H = s["width_mm"], m["frame"]["height_mm"]
     total = 0.0
-    for z0 in ((0.0,) if desktop else (0.0, H - b)):
-        ring = (m3.Manifold.cylinder(b, r_hi, r_hi, 512) - m3.Manifold.cylinder(b, r_lo, r_lo, 512)).translate((0, 0, z0))
+    for z0 in (0.0,) if desktop else (0.0, H - b):
+        ring = (m3.Manifold.cylinder(b, r_hi, r_hi, 512) - m3.Manifold.cylinder(b, r_lo, r_lo, 512)).translate(
+            (0, 0, z0)
+        )
         total += (body ^ ring).volume()
     nominal = s["springs"] * s["width_mm"] * s["thickness_mm"] * s["length_mm"]
     assert total == pytest.approx(nominal, rel=0.02)

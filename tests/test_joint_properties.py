@@ -20,9 +20,9 @@ from wound_tools import wound_strip_clearance
 
 from rjcad.cad.build import build
 from rjcad.cad.export import stl_bytes
+from rjcad.design.params import LAYOUTS, RANGES, JointParams
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.materials import MATERIALS, PRINTERS
-from rjcad.design.params import LAYOUTS, RANGES, JointParams
 
 DEG = math.pi / 180
 #: Accepted designs the random test builds per run (issue #17: at least 50).
@@ -47,7 +47,9 @@ def joint_designs(draw) -> dict:
     k_lo, k_hi, _ = RANGES["stiffness"]
     c_lo = max(RANGES["clearance"][0], PRINTERS[printer].min_gap_mm)
     return dict(
-        printer=printer, layout=layout, material=draw(st.sampled_from(sorted(MATERIALS))),
+        printer=printer,
+        layout=layout,
+        material=draw(st.sampled_from(sorted(MATERIALS))),
         end="clamped" if layout == "desktop" else draw(st.sampled_from(["clamped", "pinned"])),
         stiffness=math.exp(draw(st.floats(math.log(k_lo), math.log(k_hi)))),
         rotation=draw(_range("rotation")),
@@ -67,18 +69,21 @@ def check_joint(p: JointParams) -> dict:
     for solid_ in (b.solids.ground, b.solids.moving):
         assert solid_.isValid() and len(solid_.Solids()) == 1
     m = b.manifest.to_json()
-    bodies = named_bodies(stl_bytes(list(b.meshes.values())), b.meshes,
-                          {e["name"]: e["volume_mm3"] for e in m["bodies"]})
+    bodies = named_bodies(
+        stl_bytes(list(b.meshes.values())), b.meshes, {e["name"]: e["volume_mm3"] for e in m["bodies"]}
+    )
     assert set(bodies) == {"ground", "moving"} and m["clearance_mm"] == p.clearance
     gaps = check_gaps(bodies, p.clearance, [("ground", "moving")])
     # the whole range of motion, free (every ≤ 1°, finer where the link's end moves by more than the clearance)
     step = max(min(1.0 * DEG, p.clearance / (p.link_length + p.link_width)), 0.25 * DEG)
-    poses = overlap_free_sweep(solid(bodies["ground"]), solid(bodies["moving"]), m["axis_point_mm"], m["axis_dir"],
-                               p.rotation, step)
+    poses = overlap_free_sweep(
+        solid(bodies["ground"]), solid(bodies["moving"]), m["axis_point_mm"], m["axis_dir"], p.rotation, step
+    )
     assert wound_strip_clearance(p, b.meshes, step_deg=15.0) >= p.gap_internal - 0.05, p
     s = m["spring"]
-    assert m["spring_strip_volume_mm3"] == pytest.approx(p.springs * s["width_mm"] * s["thickness_mm"] * s["length_mm"],
-                                                         rel=0.02)
+    assert m["spring_strip_volume_mm3"] == pytest.approx(
+        p.springs * s["width_mm"] * s["thickness_mm"] * s["length_mm"], rel=0.02
+    )
     return {"gap": gaps[("ground", "moving")], "poses": poses}
 
 
@@ -86,7 +91,7 @@ def check_joint(p: JointParams) -> dict:
 PINNED = [
     # a desktop joint whose moment arm puts the band near the cup: its stop lugs had a negative length (the
     # builder raised Standard_DomainError) and the hub's flare reached into the cup's wall; the cup now grows
-    dict(rotation=30.9 * DEG, tendon_moment_arm=11.29),
+    dict(rotation=30.9 * DEG, tendon_moment_arm=11.29)
 ]
 
 #: The designs the random test built in this run (JointParams), in order, and their keywords.
@@ -101,8 +106,13 @@ def _pinned(test):
 
 
 @_pinned
-@settings(max_examples=RANDOM_JOINTS, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True,
-          phases=[Phase.explicit, Phase.generate])  # no shrinking: a build and its checks per step
+@settings(
+    max_examples=RANDOM_JOINTS,
+    deadline=None,
+    suppress_health_check=list(HealthCheck),
+    derandomize=True,
+    phases=[Phase.explicit, Phase.generate],
+)  # no shrinking: a build and its checks per step
 @given(joint_designs())
 def random_joint(kw):
     try:
@@ -146,23 +156,30 @@ def test_random_accepted_joints_build_checked_meshes(summary_line):
     assert n >= RANDOM_JOINTS
     extra = cover_missing("material", MATERIALS) + cover_missing("printer", PRINTERS)
     dt = time.perf_counter() - t0
-    spread = {what: collections.Counter(getattr(p, what) for p in BUILT[len(PINNED):])
-              for what in ("material", "printer", "layout", "end")}
+    spread = {
+        what: collections.Counter(getattr(p, what) for p in BUILT[len(PINNED) :])
+        for what in ("material", "printer", "layout", "end")
+    }
     assert set(spread["material"]) == set(MATERIALS) and set(spread["printer"]) == set(PRINTERS)
     assert set(spread["layout"]) == set(LAYOUTS) and set(spread["end"]) == {"clamped", "pinned"}
-    line = (f"built {n} random accepted joints (and {len(PINNED)} pinned, {len(extra)} to cover {extra}) in {dt:.0f} s, each checked watertight, outward, 2 bodies, gap >= "
-            f"clearance - 0.02 mm, free over its range: " + "; ".join(
-                ", ".join(f"{k} {v}" for k, v in sorted(c.items())) for c in spread.values()))
+    line = (
+        f"built {n} random accepted joints (and {len(PINNED)} pinned, {len(extra)} to cover {extra}) in {dt:.0f} s, each checked watertight, outward, 2 bodies, gap >= "
+        f"clearance - 0.02 mm, free over its range: "
+        + "; ".join(", ".join(f"{k} {v}" for k, v in sorted(c.items())) for c in spread.values())
+    )
     print(line)
     summary_line(line)
 
 
-@pytest.mark.parametrize("rotation_deg, preload_deg, clearance, end", [
-    (110, 30, 0.25, "clamped"), (15, 120, 0.6, "clamped"), (110, 120, 0.6, "clamped"), (110, 30, 0.25, "pinned")])
+@pytest.mark.parametrize(
+    "rotation_deg, preload_deg, clearance, end",
+    [(110, 30, 0.25, "clamped"), (15, 120, 0.6, "clamped"), (110, 120, 0.6, "clamped"), (110, 30, 0.25, "pinned")],
+)
 def test_range_corners_build(rotation_deg, preload_deg, clearance, end):
     layout = "stacked" if end == "pinned" else None  # the desktop layout holds a clamped end only
-    check_joint(JointParams(rotation=rotation_deg * DEG, preload=preload_deg * DEG, clearance=clearance, end=end,
-                            layout=layout))
+    check_joint(
+        JointParams(rotation=rotation_deg * DEG, preload=preload_deg * DEG, clearance=clearance, end=end, layout=layout)
+    )
 
 
 @pytest.mark.parametrize(
@@ -185,9 +202,16 @@ def test_out_of_range_is_rejected(kw, param):
     assert e.value.parameter == param
 
 
-@pytest.mark.parametrize("kw", PINNED + [
-    dict(tendon_moment_arm=15.0), dict(tendon_moment_arm=15.0, printer="dimension-elite", layout="desktop"),
-    dict(stiffness=1.8, pin_radius=1.45, printer="dimension-elite", layout="desktop"), dict(stiffness=0.2)])
+@pytest.mark.parametrize(
+    "kw",
+    PINNED
+    + [
+        dict(tendon_moment_arm=15.0),
+        dict(tendon_moment_arm=15.0, printer="dimension-elite", layout="desktop"),
+        dict(stiffness=1.8, pin_radius=1.45, printer="dimension-elite", layout="desktop"),
+        dict(stiffness=0.2),
+    ],
+)
 def test_the_desktop_cup_holds_its_stop_lugs_and_clears_the_flare(kw):
     """The cup grows to hold a moment arm's wide band: each stop lug at least LUG_WIDTH long (the first pinned design
     had a negative one) and the hub's flare clear of the cup's wall by the clearance (it reached into it)."""

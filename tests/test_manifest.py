@@ -83,26 +83,36 @@ def bad(edit, base="finger"):
     return d
 
 
-@pytest.mark.parametrize("data, key", [
-    (bad(lambda d: d.update(schema_version=2)), "schema_version"),
-    (bad(lambda d: d.update(schema_version="1")), "schema_version"),
-    (bad(lambda d: (d.update(schema_version=1), d.pop("joints"))), "joints"),
-    (bad(lambda d: d.update(joints={"a": 1})), "joints"),
-    (bad(lambda d: d["joints"].__setitem__(1, "link")), "joints[2]"),
-    (bad(lambda d: d["joints"][1].update(axis_dir="up")), "joints[2].axis_dir"),
-    (bad(lambda d: d["joints"][2].update(axis_point_mm=[0, 0])), "joints[3].axis_point_mm"),
-    (bad(lambda d: d["joints"][0].update(rotation_deg=True)), "joints[1].rotation_deg"),
-    (bad(lambda d: d["joints"][0].update(parent=3)), "joints[1].parent"),
-    (bad(lambda d: d["bodies"][1].pop("name")), "bodies[2].name"),
-    (bad(lambda d: d.update(bodies="base")), "bodies"),
-    (bad(lambda d: d.update(clearance_mm="0.25")), "clearance_mm"),
-    (bad(lambda d: d.update(rotation_deg="90"), "joint"), "rotation_deg"),
-    (bad(lambda d: d.update(schema_version=1, joints=[{}, {}]), "joint"), "joints"),
-    (bad(lambda d: d.update(Manifest.from_json(copy.deepcopy(d)).to_json(), joints=[
-        {**Manifest.from_json(copy.deepcopy(d)).to_json()["joints"][0], "rotation_deg": 80.0}]), "joint"),
-     "rotation_deg"),  # a version-1 joint's flat keys disagree with its entry
-    ([1, 2], "manifest"),
-])
+@pytest.mark.parametrize(
+    "data, key",
+    [
+        (bad(lambda d: d.update(schema_version=2)), "schema_version"),
+        (bad(lambda d: d.update(schema_version="1")), "schema_version"),
+        (bad(lambda d: (d.update(schema_version=1), d.pop("joints"))), "joints"),
+        (bad(lambda d: d.update(joints={"a": 1})), "joints"),
+        (bad(lambda d: d["joints"].__setitem__(1, "link")), "joints[2]"),
+        (bad(lambda d: d["joints"][1].update(axis_dir="up")), "joints[2].axis_dir"),
+        (bad(lambda d: d["joints"][2].update(axis_point_mm=[0, 0])), "joints[3].axis_point_mm"),
+        (bad(lambda d: d["joints"][0].update(rotation_deg=True)), "joints[1].rotation_deg"),
+        (bad(lambda d: d["joints"][0].update(parent=3)), "joints[1].parent"),
+        (bad(lambda d: d["bodies"][1].pop("name")), "bodies[2].name"),
+        (bad(lambda d: d.update(bodies="base")), "bodies"),
+        (bad(lambda d: d.update(clearance_mm="0.25")), "clearance_mm"),
+        (bad(lambda d: d.update(rotation_deg="90"), "joint"), "rotation_deg"),
+        (bad(lambda d: d.update(schema_version=1, joints=[{}, {}]), "joint"), "joints"),
+        (
+            bad(
+                lambda d: d.update(
+                    Manifest.from_json(copy.deepcopy(d)).to_json(),
+                    joints=[{**Manifest.from_json(copy.deepcopy(d)).to_json()["joints"][0], "rotation_deg": 80.0}],
+                ),
+                "joint",
+            ),
+            "rotation_deg",
+        ),  # a version-1 joint's flat keys disagree with its entry
+        ([1, 2], "manifest"),
+    ],
+)
 def test_a_bad_manifest_is_one_line_naming_the_key(data, key):
     with pytest.raises(ParameterError) as e:
         Manifest.from_json(data)
@@ -157,9 +167,17 @@ def test_the_builders_write_version_1_and_it_round_trips():
     new = without_additions(d)
     assert list(new) == list(old)
     assert d["measured_min_gap_mm"] == pytest.approx(old["measured_min_gap_mm"], abs=1e-4)
-    geometry = ("bodies", "tendon_wrap_angle_rad", "spring_strip_volume_mm3", "frame", "mesh", "print",
-                "measured_min_gap_mm",
-                "spring", "joint_stiffness_nmm_per_rad")  # #14: the spring is designed on the rod model
+    geometry = (
+        "bodies",
+        "tendon_wrap_angle_rad",
+        "spring_strip_volume_mm3",
+        "frame",
+        "mesh",
+        "print",
+        "measured_min_gap_mm",
+        "spring",
+        "joint_stiffness_nmm_per_rad",
+    )  # #14: the spring is designed on the rod model
     assert {k: v for k, v in new.items() if k not in geometry} == {k: v for k, v in old.items() if k not in geometry}
     fb = build_finger_model(FingerParams.from_dict({"joint": [{"stiffness_nmm_per_rad": 5.2}]}))
     assert Manifest.from_json(fb.manifest.to_json()) == fb.manifest and len(fb.manifest.joints) == 1

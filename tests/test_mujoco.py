@@ -14,20 +14,20 @@ import pytest
 mujoco = pytest.importorskip("mujoco")
 
 from rjcad.io.manifest import Manifest  # noqa: E402
+from rjcad.io.templates import PAPER_FINGER  # noqa: E402
 from rjcad.mjcf.export import gravity_of, mesh_sources, mjcf_files, read_meshes  # noqa: E402
 from rjcad.mjcf.fit import compare, mujoco_stroke, paper_friction_model, representable  # noqa: E402
 from rjcad.mjcf.model import spec_from_model  # noqa: E402
 from rjcad.mjcf.simulate import load, run_stroke  # noqa: E402
 from rjcad.mjcf.spec import to_xml  # noqa: E402
-from rjcad.physics.finger import (FingerModel, gravity_torques, model_from_manifest, model_from_template,  # noqa: E402
-                                  simulate_stroke)
-from rjcad.io.templates import PAPER_FINGER  # noqa: E402
+from rjcad.physics.finger import FingerModel, gravity_torques, model_from_manifest, model_from_template, simulate_stroke  # noqa: E402
 
 STEPS = 250  # each way: 0.1 mm of tendon per step over the 25 mm stroke
 ONE_JOINT = 'material = "absplus-p430"\nprinter = "generic-0.4"\n[[joint]]\nstiffness_nmm_per_rad = 5.2\n'
-FIVE_JOINTS = ('material = "petg"\nprinter = "generic-0.4"\n[defaults]\nrotation_deg = 45\npreload_deg = 45\n'
-               'link_length_mm = 36\n' + "".join(f"[[joint]]\nstiffness_nmm_per_rad = {k}\n"
-                                                 for k in (2.0, 2.5, 3.0, 3.5, 4.0)))
+FIVE_JOINTS = (
+    'material = "petg"\nprinter = "generic-0.4"\n[defaults]\nrotation_deg = 45\npreload_deg = 45\n'
+    "link_length_mm = 36\n" + "".join(f"[[joint]]\nstiffness_nmm_per_rad = {k}\n" for k in (2.0, 2.5, 3.0, 3.5, 4.0))
+)
 
 
 @pytest.fixture(scope="module")
@@ -37,8 +37,7 @@ def built(tmp_path_factory, root):
 
     out = {}
     base = tmp_path_factory.mktemp("mjcf")
-    for name, template in (("default", root / "templates" / "finger.toml"), ("one", ONE_JOINT),
-                           ("five", FIVE_JOINTS)):
+    for name, template in (("default", root / "templates" / "finger.toml"), ("one", ONE_JOINT), ("five", FIVE_JOINTS)):
         d = base / name
         if isinstance(template, str):
             (base / f"{name}.toml").write_text(template)
@@ -73,15 +72,18 @@ def test_every_exported_mjcf_loads_and_its_geometry_is_the_manifests(built, name
     assert m.body_mass.sum() * 1e3 == pytest.approx(total, rel=0.01)
     # the meshes MuJoCo reads hold that mass at the material's density (the CAD solids' volumes)
     meshes = read_meshes(mesh_sources(built[name] / "finger.json", man))
-    assert sum(abs(x.volume) for x in meshes.values()) / sum(b.volume_mm3 for b in man.bodies) == \
-        pytest.approx(1.0, rel=0.01)
+    assert sum(abs(x.volume) for x in meshes.values()) / sum(b.volume_mm3 for b in man.bodies) == pytest.approx(
+        1.0, rel=0.01
+    )
     # hinge: springref = -preload (spring torque K·preload at the straight pose), range stop → rotation limit
     for k, j in enumerate(man.joints):
         assert m.jnt_stiffness[k] == pytest.approx(j.joint_stiffness_nmm_per_rad * 1e-3)
         assert m.qpos_spring[m.jnt_qposadr[k]] == pytest.approx(-np.radians(j.preload_deg))
         np.testing.assert_allclose(m.jnt_range[k], [0.0, np.radians(j.rotation_deg)])
-    excluded = {tuple(sorted((m.body(int(a)).name, m.body(int(b)).name)))
-                for a, b in zip(m.exclude_signature >> 16, m.exclude_signature & 0xFFFF)}
+    excluded = {
+        tuple(sorted((m.body(int(a)).name, m.body(int(b)).name)))
+        for a, b in zip(m.exclude_signature >> 16, m.exclude_signature & 0xFFFF)
+    }
     assert excluded == {tuple(sorted((j.parent, j.child))) for j in man.joints}
 
 
@@ -127,8 +129,9 @@ def test_frictionless_agreement_on_the_built_finger(built, order):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("gravity", ["horizontal-palm-down", "horizontal-palm-up", "vertical-tip-down",
-                                     "vertical-tip-up"])
+@pytest.mark.parametrize(
+    "gravity", ["horizontal-palm-down", "horizontal-palm-up", "vertical-tip-down", "vertical-tip-up"]
+)
 def test_gravity_on_frictionless_agreement(gravity):
     """Capsule fingers whose links weigh less than their springs' preload torques (both closing orders)."""
     g = gravity_of(gravity)
@@ -195,12 +198,19 @@ def test_what_mujoco_cannot_represent_is_measured(root):
     doc = json.loads((root / "docs" / "mujoco.json").read_text())
     full = paper_friction_model()
     steps = doc["model"]["steps_each_way"]
-    for key, model in (("fitted", full), ("fitted_to_tension", full), ("frictionless_mujoco", full),
-                       ("fitted_without_capstan_and_gamma", representable(full)),
-                       ("fitted_to_tension_without_capstan_and_gamma", representable(full))):
+    for key, model in (
+        ("fitted", full),
+        ("fitted_to_tension", full),
+        ("frictionless_mujoco", full),
+        ("fitted_without_capstan_and_gamma", representable(full)),
+        ("fitted_to_tension_without_capstan_and_gamma", representable(full)),
+    ):
         rep = doc[key]
-        got = compare(simulate_stroke(model, 25.0, steps), mujoco_stroke(model, rep["frictionloss_nmm"], 25.0, steps),
-                      rep["frictionloss_nmm"]).to_dict()
+        got = compare(
+            simulate_stroke(model, 25.0, steps),
+            mujoco_stroke(model, rep["frictionloss_nmm"], 25.0, steps),
+            rep["frictionloss_nmm"],
+        ).to_dict()
         for k in ("rms_deg", "max_deg", "release_rms_deg", "release_max_deg", "tension_rms_n"):
             assert got[k] == pytest.approx(rep[k], abs=0.02), (key, k)
     # with capstan and γ on, MuJoCo misses by degrees, and no constant frictionloss helps much
@@ -210,8 +220,9 @@ def test_what_mujoco_cannot_represent_is_measured(root):
     assert doc["fitted_without_capstan_and_gamma"]["max_deg"] < 1.0
     assert doc["fitted_to_tension_without_capstan_and_gamma"]["max_deg"] < 1.0
     # MuJoCo's frictionloss plays rjcad's constant pin friction: fitted to the tension, it comes out near it
-    assert doc["fitted_to_tension_without_capstan_and_gamma"]["frictionloss_nmm"][0] == \
-        pytest.approx(doc["model"]["pin_friction_nmm"], rel=0.5)
+    assert doc["fitted_to_tension_without_capstan_and_gamma"]["frictionloss_nmm"][0] == pytest.approx(
+        doc["model"]["pin_friction_nmm"], rel=0.5
+    )
     assert doc["fitted"]["tension_rms_n"] < doc["frictionless_mujoco"]["tension_rms_n"]
     # and with MuJoCo's frictionloss the very pin friction rjcad has (nothing fitted), within 1° too
     rep = representable(full)
@@ -234,13 +245,33 @@ def test_rjcad_mjcf_from_the_3mf_and_simulate_with_both_engines(built, tmp_path,
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["one.xml", "one_base.stl", "one_distal.stl"]
     m, _ = _data(tmp_path / "out" / "one.xml")
     np.testing.assert_allclose(m.opt.gravity, [9.81 * np.cos(np.radians(30)), 9.81 * np.sin(np.radians(30)), 0])
-    code, out, err = cli("simulate", "finger", tmp_path / "out" / "one.xml", "--engine", "mujoco", "--steps", "20",
-                         "--stroke", "5", "--json")
+    code, out, err = cli(
+        "simulate",
+        "finger",
+        tmp_path / "out" / "one.xml",
+        "--engine",
+        "mujoco",
+        "--steps",
+        "20",
+        "--stroke",
+        "5",
+        "--json",
+    )
     assert code == 0, err
     assert set(json.loads(out)) == {"tendon_mm", "phase", "theta_deg", "tension_n", "joint_tension_n", "state"}
     png = tmp_path / "cmp.png"
-    code, out, err = cli("simulate", "finger", built["default"] / "finger.json", "--engine", "mujoco", "--compare",
-                         "--steps", "20", "--plot", png)
+    code, out, err = cli(
+        "simulate",
+        "finger",
+        built["default"] / "finger.json",
+        "--engine",
+        "mujoco",
+        "--compare",
+        "--steps",
+        "20",
+        "--plot",
+        png,
+    )
     assert code == 0, err
     assert png.stat().st_size > 10000 and "rjcad:" in out and "mujoco:" in out
 
@@ -261,12 +292,25 @@ def test_bad_input_is_one_line_exit_2_and_no_partial_xml(built, tmp_path, cli):
     shutil.copy(built["default"] / "finger.json", lonely / "finger.json")
     _one_line_exit_2(cli("mjcf", lonely / "finger.json", "--out", out / "f.xml"), "mesh file not found", tmp_path)
     other = tmp_path / "other.json"
-    other.write_text(json.dumps({"kind": "finger", "params": {"friction_nmm_j1": 1.0},
-                                 "design": {"joints": 2, "stiffness_nmm_per_rad": [5.2, 7.8]}}))
-    _one_line_exit_2(cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--identified", other),
-                     "another design", tmp_path)
-    _one_line_exit_2(cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--gravity", "sideways"),
-                     "--gravity", tmp_path)
+    other.write_text(
+        json.dumps(
+            {
+                "kind": "finger",
+                "params": {"friction_nmm_j1": 1.0},
+                "design": {"joints": 2, "stiffness_nmm_per_rad": [5.2, 7.8]},
+            }
+        )
+    )
+    _one_line_exit_2(
+        cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--identified", other),
+        "another design",
+        tmp_path,
+    )
+    _one_line_exit_2(
+        cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--gravity", "sideways"),
+        "--gravity",
+        tmp_path,
+    )
     _one_line_exit_2(cli("simulate", "finger", "--engine", "mujoco", "--mu-t", "0.2"), "capstan", tmp_path)
     assert not out.exists()
 
@@ -275,9 +319,15 @@ def test_an_identify_result_sets_friction_and_stiffness(built, tmp_path, cli):
     man = Manifest.read(built["default"] / "finger.json")
     ks = [j.joint_stiffness_nmm_per_rad for j in man.joints]
     ident = tmp_path / "result.json"
-    ident.write_text(json.dumps({"kind": "finger", "design": {"joints": 3, "stiffness_nmm_per_rad": ks},
-                                 "params": {"friction_nmm_j2": 1.5, "stiffness_nmm_per_rad_j1": 4.0,
-                                            "gamma_pos_nmm_per_rad": 1.0}}))
+    ident.write_text(
+        json.dumps(
+            {
+                "kind": "finger",
+                "design": {"joints": 3, "stiffness_nmm_per_rad": ks},
+                "params": {"friction_nmm_j2": 1.5, "stiffness_nmm_per_rad_j1": 4.0, "gamma_pos_nmm_per_rad": 1.0},
+            }
+        )
+    )
     code, out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "x.xml", "--identified", ident)
     assert code == 0, err
     m, _ = _data(tmp_path / "x.xml")

@@ -4,13 +4,12 @@ import numpy as np
 import pytest
 from spring_reference import brute_force
 
+from rjcad import DEG
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import get_material, get_printer
 from rjcad.spring import optimise as opt
 from rjcad.spring import rod
-from rjcad import DEG
-
 
 
 def paper_requirement(**kw):
@@ -25,8 +24,18 @@ def test_paper_joint_is_feasible_and_meets_every_constraint():
     E, yield_ = 2200.0, 31.0
     assert d.end == "clamped"
     # stiffness: the rod model's slope over the working range 90° → 180°, wound again here (public API)
-    res = rod.spiral_windup(d.inner_radius, d.pitch, d.turns, d.width, d.thickness, E, end="clamped", sense="unwind",
-                            theta_max=math.pi, steps=36)
+    res = rod.spiral_windup(
+        d.inner_radius,
+        d.pitch,
+        d.turns,
+        d.width,
+        d.thickness,
+        E,
+        end="clamped",
+        sense="unwind",
+        theta_max=math.pi,
+        steps=36,
+    )
     slope = (res.torque[-1] - np.interp(math.pi / 2, res.theta, res.torque)) / (math.pi / 2)
     assert slope == pytest.approx(2.6, rel=0.005) and d.spring_stiffness == pytest.approx(slope, rel=1e-3)
     assert d.joint_stiffness == pytest.approx(5.2, rel=0.005)
@@ -43,6 +52,7 @@ def test_paper_joint_is_feasible_and_meets_every_constraint():
     # geometry consistent: exact spiral length equals L; r_out = r_in + p·n
     k = d.pitch / (2 * math.pi)
     from scipy.integrate import quad
+
     length, _ = quad(lambda phi: math.hypot(d.inner_radius + k * phi, k), 0, 2 * math.pi * d.turns)
     assert length == pytest.approx(d.length, rel=1e-9)
     # coil gap over the whole wind-up, rod model: ≥ the printer's 0.25 mm, no contact
@@ -58,11 +68,29 @@ def test_paper_joint_is_feasible_and_meets_every_constraint():
 
 def test_paper_joint_json_keys():
     d = opt.design_spring(paper_requirement()).to_dict()
-    for key in ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
-                "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
-                "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm", "material", "end",
-                "first_contact_deg", "rod_stiffness_nmm_per_rad", "formula_stiffness_nmm_per_rad", "peak_stress_mpa",
-                "pin_force_n", "loading_sense", "verified"):
+    for key in (
+        "width_mm",
+        "thickness_mm",
+        "length_mm",
+        "inner_radius_mm",
+        "pitch_mm",
+        "turns",
+        "outer_radius_mm",
+        "spring_stiffness_nmm_per_rad",
+        "joint_stiffness_nmm_per_rad",
+        "max_stress_mpa",
+        "allowed_stress_mpa",
+        "min_coil_gap_mm",
+        "material",
+        "end",
+        "first_contact_deg",
+        "rod_stiffness_nmm_per_rad",
+        "formula_stiffness_nmm_per_rad",
+        "peak_stress_mpa",
+        "pin_force_n",
+        "loading_sense",
+        "verified",
+    ):
         assert key in d
     assert d["joint_stiffness_nmm_per_rad"] == pytest.approx(2 * d["spring_stiffness_nmm_per_rad"])
     assert d["rod_stiffness_nmm_per_rad"] == d["joint_stiffness_nmm_per_rad"]
@@ -110,8 +138,7 @@ def test_outer_radius_binding_error_message():
 
 
 def test_turns_binding_error_message():
-    req = paper_requirement(joint_stiffness=40.0, rotation=20 * DEG, preload=0.0, min_turns=3.0,
-                            width_max=3.0)
+    req = paper_requirement(joint_stiffness=40.0, rotation=20 * DEG, preload=0.0, min_turns=3.0, width_max=3.0)
     with pytest.raises(InfeasibleDesign) as e:
         opt.design_spring(req)
     assert e.value.constraint == "turns"
@@ -168,8 +195,12 @@ def test_vectorised_optimiser_matches_scalar_designs():
     K_joint = np.array([2.0, 5.2, 7.8, 10.4, 12.0])
     rot = np.array([60, 90, 90, 90, 120]) * DEG
     pre = np.array([90, 90, 90, 90, 45]) * DEG
-    kw = dict(material=get_material("absplus-p430"), printer=get_printer("generic-0.4"), allowed_stress=31.0 / 1.5,
-              end="clamped")
+    kw = dict(
+        material=get_material("absplus-p430"),
+        printer=get_printer("generic-0.4"),
+        allowed_stress=31.0 / 1.5,
+        end="clamped",
+    )
     res = opt.optimise_arrays(K_joint / 2, rot + pre, rotation=rot, **kw)
     for i in range(len(K_joint)):
         one = opt.optimise_arrays(K_joint[i] / 2, rot[i] + pre[i], rotation=rot[i], **kw)

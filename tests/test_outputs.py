@@ -15,9 +15,9 @@ from pathlib import Path
 
 import pytest
 
+from rjcad.errors import RjcadError
 from rjcad.io import outputs
 from rjcad.io.config import write_atomic
-from rjcad.errors import RjcadError
 from rjcad.io.outputs import OutputError, check_writable, output_set, write_set
 
 OLD = {"joint.stl": b"old stl", "joint.json": b'{"joint_stiffness_nmm_per_rad": 5.2}\n', "joint.png": b"old png"}
@@ -28,8 +28,10 @@ def snapshot(d: Path) -> dict:
     """Every entry under ``d`` (hidden ones too): bytes and mtime of files, and ``d``'s own mtime."""
     if not d.exists():
         return {}
-    files = {p.relative_to(d).as_posix(): (p.read_bytes() if p.is_file() else "dir", p.stat().st_mtime_ns)
-             for p in sorted(d.rglob("*"))}
+    files = {
+        p.relative_to(d).as_posix(): (p.read_bytes() if p.is_file() else "dir", p.stat().st_mtime_ns)
+        for p in sorted(d.rglob("*"))
+    }
     return {".": d.stat().st_mtime_ns, **files}
 
 
@@ -110,8 +112,11 @@ def test_a_failed_set_leaves_no_new_directory(tmp_path, monkeypatch):
 
 def test_a_file_in_the_way_is_named(tmp_path):
     (tmp_path / "f").write_text("x")
-    for call in (lambda: write_set(tmp_path / "f" / "out", NEW), lambda: check_writable(tmp_path / "f" / "out"),
-                 lambda: write_atomic(tmp_path / "f" / "out" / "a.png", b"png")):
+    for call in (
+        lambda: write_set(tmp_path / "f" / "out", NEW),
+        lambda: check_writable(tmp_path / "f" / "out"),
+        lambda: write_atomic(tmp_path / "f" / "out" / "a.png", b"png"),
+    ):
         with pytest.raises(OutputError, match=f"cannot write: {tmp_path / 'f'} is not a directory"):
             call()
     with pytest.raises(OutputError, match="f: cannot write: not a directory"):
@@ -135,6 +140,7 @@ def test_output_error_is_a_user_error_and_crosses_processes(tmp_path):
 
 
 # ---------------------------------------------------------------- real read-only and full filesystems
+
 
 def _mount(*args) -> bool:
     return os.geteuid() == 0 and subprocess.run(["mount", *args], capture_output=True).returncode == 0
@@ -163,8 +169,13 @@ def read_only(earlier):
 def test_a_read_only_directory_is_refused_in_one_line_and_left_alone(read_only, tmp_path):
     out, reason = read_only
     before = snapshot(out)
-    for call in (lambda: write_set(out, NEW), lambda: check_writable(out), lambda: write_atomic(out / "a.png", b"x"),
-                 lambda: check_writable(out / "new" / "sub"), lambda: write_set(out / "new", NEW)):
+    for call in (
+        lambda: write_set(out, NEW),
+        lambda: check_writable(out),
+        lambda: write_atomic(out / "a.png", b"x"),
+        lambda: check_writable(out / "new" / "sub"),
+        lambda: write_set(out / "new", NEW),
+    ):
         with pytest.raises(OutputError, match=f"cannot write: {reason}$"):
             call()
     assert snapshot(out) == before
@@ -191,6 +202,7 @@ def test_a_really_full_disk_leaves_the_earlier_set(tiny_fs):
 
 
 # ---------------------------------------------------------------- every command that writes, through the CLI
+
 
 @pytest.fixture(scope="module")
 def campaign(tmp_path_factory) -> Path:

@@ -5,7 +5,6 @@ import json
 
 import numpy as np
 import pytest
-
 from test_physics_finger import small_manifest
 
 
@@ -24,8 +23,22 @@ def test_simulate_joint_bar_defaults_are_the_papers_joint(cli_process):
 
 def test_simulate_joint_flags_change_the_loop(cli_process):
     a = json.loads(cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json").stdout)
-    b = json.loads(cli_process("simulate", "joint", "--drive", "tendon", "--rotation", "60", "--json", "--routed",
-                               "--normal-load", "0", "--pulley-radius", "8").stdout)
+    b = json.loads(
+        cli_process(
+            "simulate",
+            "joint",
+            "--drive",
+            "tendon",
+            "--rotation",
+            "60",
+            "--json",
+            "--routed",
+            "--normal-load",
+            "0",
+            "--pulley-radius",
+            "8",
+        ).stdout
+    )
     assert len(a["tendon_force_n"]) == len(b["tendon_force_n"]) and a["tendon_force_n"] != b["tendon_force_n"]
 
 
@@ -49,7 +62,10 @@ def test_simulate_joint_slack_tendon(cli_process):
 
 def test_simulate_finger_mu_t_needs_wrap_angles(tmp_path, cli_process):
     """A template carries no wrap angle: --mu-t would silently do nothing, so it is refused (one line, exit 2)."""
-    for args in (["simulate", "finger", "--mu-t", "0.2"], ["simulate", "finger", "templates/finger.toml", "--mu-t", "0.2"]):
+    for args in (
+        ["simulate", "finger", "--mu-t", "0.2"],
+        ["simulate", "finger", "templates/finger.toml", "--mu-t", "0.2"],
+    ):
         r = cli_process(*args)
         assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--mu-t" in r.stderr and "wrap" in r.stderr
     assert cli_process("simulate", "finger", "templates/finger.toml", "--mu-t", "0").returncode == 0
@@ -59,8 +75,9 @@ def test_simulate_finger_from_a_manifest(tmp_path, cli_process):
     p = tmp_path / "finger.json"
     p.write_text(json.dumps(small_manifest()))
     png = tmp_path / "closure.png"
-    r = cli_process("simulate", "finger", str(p), "--stroke", "15", "--steps", "50", "--mu-t", "0.3", "--json",
-                    "--plot", str(png))
+    r = cli_process(
+        "simulate", "finger", str(p), "--stroke", "15", "--steps", "50", "--mu-t", "0.3", "--json", "--plot", str(png)
+    )
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"}
@@ -69,10 +86,10 @@ def test_simulate_finger_from_a_manifest(tmp_path, cli_process):
     assert png.stat().st_size > 5000
 
 
-@pytest.mark.parametrize("content, words", [
-    ('{"joints": [{"preload_deg": 90}]}', "joints[1].joint_stiffness_nmm_per_rad"),
-    ("{not json", "not valid JSON"),
-])
+@pytest.mark.parametrize(
+    "content, words",
+    [('{"joints": [{"preload_deg": 90}]}', "joints[1].joint_stiffness_nmm_per_rad"), ("{not json", "not valid JSON")],
+)
 def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words, cli_process):
     p = tmp_path / "finger.json"
     p.write_text(content)
@@ -84,8 +101,18 @@ def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words, cli_pro
 
 def test_finger_design_cli_writes_a_template_and_reports(tmp_path, cli_process):
     out = tmp_path / "my.toml"
-    r = cli_process("finger-design", "--target", "90,20,20", "--stroke", "12", "--sequence", "proximal-first",
-                    "--out", str(out), "--json")
+    r = cli_process(
+        "finger-design",
+        "--target",
+        "90,20,20",
+        "--stroke",
+        "12",
+        "--sequence",
+        "proximal-first",
+        "--out",
+        str(out),
+        "--json",
+    )
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert max(abs(e) for e in d["end_error_deg"]) < 1.0 and len(d["closure"]["theta_deg"]) == 3
@@ -121,9 +148,20 @@ def test_usage_error_in_a_subcommand_points_to_its_own_help(capsys):
 
 # ---------------------------------------------------------------- more of the same commands (from test_physics.py)
 
+
 def test_cli_simulate_joint_json(tmp_path, cli_process):
-    r = cli_process("simulate", "joint", "--drive", "tendon", "--routed", "--rotation", "90", "--json",
-                    "--plot", str(tmp_path / "loop.png"))
+    r = cli_process(
+        "simulate",
+        "joint",
+        "--drive",
+        "tendon",
+        "--routed",
+        "--rotation",
+        "90",
+        "--json",
+        "--plot",
+        str(tmp_path / "loop.png"),
+    )
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d) == {"theta_deg", "direction", "tendon_force_n", "slack", "slack_samples", "loop_width"}
@@ -137,8 +175,9 @@ def test_cli_simulate_finger_and_design(tmp_path, cli_process, root):
     d = json.loads(r.stdout)
     assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"} and len(d["theta_deg"]) == 3
     out = tmp_path / "my.toml"
-    r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "25", "--sequence", "proximal-first",
-                    "--out", str(out))
+    r = cli_process(
+        "finger-design", "--target", "65,50,50", "--stroke", "25", "--sequence", "proximal-first", "--out", str(out)
+    )
     assert r.returncode == 0, r.stderr and out.exists()
     r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "90", "--out", str(tmp_path / "x.toml"))
     assert r.returncode == 2 and "moment arm" in r.stderr and r.stderr.count("\n") == 1

@@ -44,16 +44,43 @@ def random_step(rng, n=3, friction=True, comp=0.0):
     E = H.diagonal() * (prev + th0) * rng.uniform(0.8, 1.2, n)
     t_d = float(r @ prev + rng.normal(0.0, 1.0))
     prev_T = float(rng.uniform(0.0, 5.0))
-    return SimpleNamespace(n=n, t_d=max(t_d, 0.0), prev=prev, prev_T=prev_T, E=E, H=H, th0=th0, thmax=thmax, r=r,
-                           rc=rc, f0=f0, gp=gp, gn=gn, comp=comp, tol=1e-7)
+    return SimpleNamespace(
+        n=n,
+        t_d=max(t_d, 0.0),
+        prev=prev,
+        prev_T=prev_T,
+        E=E,
+        H=H,
+        th0=th0,
+        thmax=thmax,
+        r=r,
+        rc=rc,
+        f0=f0,
+        gp=gp,
+        gn=gn,
+        comp=comp,
+        tol=1e-7,
+    )
 
 
 def coupled_solve(st, state=None):
     """``cp.coupled_solve`` on a ``random_step``, every joint first sticking: (θ − prev, T, slack) or None."""
     state = np.zeros(st.n + 1, np.int64) if state is None else state
     d = np.zeros(st.n)
-    ok, T = cp.coupled_solve(state, st.t_d, st.tol, st.prev, st.prev_T, st.E, st.H, st.prev + st.th0,
-                             Joints(st.th0, st.thmax, st.r, st.f0, st.gp, st.gn), st.rc, st.comp, d)
+    ok, T = cp.coupled_solve(
+        state,
+        st.t_d,
+        st.tol,
+        st.prev,
+        st.prev_T,
+        st.E,
+        st.H,
+        st.prev + st.th0,
+        Joints(st.th0, st.thmax, st.r, st.f0, st.gp, st.gn),
+        st.rc,
+        st.comp,
+        d,
+    )
     return (d, T, bool(state[st.n] == 1)) if ok else None
 
 
@@ -123,9 +150,18 @@ def test_frictionless_step_is_the_constrained_minimum():
 
 def bench_finger(gravity):
     """benchmarks/physics.py's finger: capstan, pin friction with its tendon-induced part, heavy links."""
-    return fm.FingerModel(FINGER.designed_stiffness, (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.45, 0, 0),
-                          mu_t=0.2, friction=(2.0,) * 3, gamma=(1.0,) * 3, link_mass=(17.6, 14.4, 9.8),
-                          gravity=gravity)
+    return fm.FingerModel(
+        FINGER.designed_stiffness,
+        (90 * DEG,) * 3,
+        (90 * DEG,) * 3,
+        (6.0,) * 3,
+        wrap=(0.45, 0, 0),
+        mu_t=0.2,
+        friction=(2.0,) * 3,
+        gamma=(1.0,) * 3,
+        link_mass=(17.6, 14.4, 9.8),
+        gravity=gravity,
+    )
 
 
 @pytest.mark.parametrize("gravity", [(0.0, -1.0), (1.0, 0.0), (0.6, -0.8)])
@@ -146,8 +182,11 @@ def random_heavy_finger(rng):
     n = int(rng.integers(1, 6))
     ang = rng.uniform(0, 2 * np.pi)
     K = rng.uniform(2, 12, n)
-    kw = dict(link_mass=tuple(rng.uniform(2, 40, n)), gravity=(math.cos(ang), math.sin(ang)),
-              link_length=tuple(rng.uniform(25, 50, n)))
+    kw = dict(
+        link_mass=tuple(rng.uniform(2, 40, n)),
+        gravity=(math.cos(ang), math.sin(ang)),
+        link_length=tuple(rng.uniform(25, 50, n)),
+    )
     if rng.uniform() < 0.7:
         kw["friction"] = tuple(rng.uniform(0, 3, n))
         if rng.uniform() < 0.5:
@@ -157,8 +196,13 @@ def random_heavy_finger(rng):
         kw["tendon_stiffness"] = float(rng.uniform(1, 10))
     if rng.uniform() < 0.3:
         kw["wrap"], kw["mu_t"] = tuple(rng.uniform(0, 0.6, n)), 0.2
-    return fm.FingerModel(tuple(K), tuple(rng.uniform(10, 90, n) * DEG), tuple(rng.uniform(45, 110, n) * DEG),
-                          tuple(rng.uniform(5, 9, n)), **kw)
+    return fm.FingerModel(
+        tuple(K),
+        tuple(rng.uniform(10, 90, n) * DEG),
+        tuple(rng.uniform(45, 110, n) * DEG),
+        tuple(rng.uniform(5, 9, n)),
+        **kw,
+    )
 
 
 def test_random_heavy_fingers_balance_at_every_reading():
@@ -176,8 +220,10 @@ def test_random_heavy_fingers_balance_at_every_reading():
         fingers.append((m, float(np.dot(m.moment_arm, m.rotation) * rng.uniform(0.5, 1.1))))
     bad = [fm.unbalanced_readings(m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers]
     assert sum(bad) <= 1, bad
-    own = [fm.unbalanced_readings(m, fm.simulate_path(m, c.tendon_mm, c.phase, coupled=False))
-           for m, c in ((m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5])]
+    own = [
+        fm.unbalanced_readings(m, fm.simulate_path(m, c.tendon_mm, c.phase, coupled=False))
+        for m, c in ((m, fm.simulate_stroke(m, stroke, 200)) for m, stroke in fingers[:5])
+    ]
     assert sum(own) > 10 * sum(bad[:5]) + 50, (own, bad[:5])
 
 
@@ -198,9 +244,11 @@ def test_a_joint_the_tendon_holds_where_it_was_does_not_flip_between_sliding_and
     spring_terms(z, z, 0.0, 0.0, 0.0, Springs(K, k3, c, km, tr), Joints(th0, thmax, r, f0, gp, gn), E0, B)
     c_pull, _ = fm.capstan_factors(m)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
-    ok, T, slack = cp.coupled_step(0.0, z, 0.0, z, E0, B, Joints(th0, thmax, r, f0, gp, gn), r * c_pull, comp,
-                                   fm.weight_of(m), th)
+    ok, T, slack = cp.coupled_step(
+        0.0, z, 0.0, z, E0, B, Joints(th0, thmax, r, f0, gp, gn), r * c_pull, comp, fm.weight_of(m), th
+    )
     assert ok and slack and T == 0.0 and np.degrees(th[0]) > 30
-    c = fm.Closure(np.zeros(1), ["pull"], th[None, :], np.array([T]), (T * c_pull)[None, :], np.zeros((1, m.n)),
-                   np.array([slack]))
+    c = fm.Closure(
+        np.zeros(1), ["pull"], th[None, :], np.array([T]), (T * c_pull)[None, :], np.zeros((1, m.n)), np.array([slack])
+    )
     assert fm.unbalanced_readings(m, c) == 0

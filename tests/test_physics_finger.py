@@ -10,17 +10,24 @@ import pytest
 from scipy.optimize import minimize
 
 from rjcad.errors import ParameterError, RjcadError
-from rjcad.physics import finger as fm
 from rjcad.io.templates import PAPER_FINGER
+from rjcad.physics import finger as fm
 
 DEG = math.pi / 180
 TOL = 1e-6  # N·mm
 
 
 def frictional_finger(**kw):
-    base = dict(stiffness=(5.2, 7.8, 10.4), preload=(60 * DEG, 45 * DEG, 30 * DEG), rotation=(90 * DEG,) * 3,
-                moment_arm=(6.0, 7.0, 8.0), wrap=(0.45, 0.3, 0.3), mu_t=0.25, friction=(3.0, 2.0, 1.0),
-                gamma=(1.0, 0.5, 0.5))
+    base = dict(
+        stiffness=(5.2, 7.8, 10.4),
+        preload=(60 * DEG, 45 * DEG, 30 * DEG),
+        rotation=(90 * DEG,) * 3,
+        moment_arm=(6.0, 7.0, 8.0),
+        wrap=(0.45, 0.3, 0.3),
+        mu_t=0.25,
+        friction=(3.0, 2.0, 1.0),
+        gamma=(1.0, 0.5, 0.5),
+    )
     base.update(kw)
     return fm.FingerModel(**base)
 
@@ -59,8 +66,8 @@ def test_every_step_is_an_equilibrium_with_stick_slip():
     # stick is real: after the reversal joints 1 and 2 hold while the tendon moves (an inextensible tendon
     # lets only the joint whose band is left first open), and the actuator tension falls across the bands
     rev = 301
-    assert np.all(c.state[rev:rev + 5, :2] == 0) and np.all(c.theta[rev:rev + 5, :2] == c.theta[300, :2])
-    assert np.all(c.state[rev:rev + 5, 2] == -1)
+    assert np.all(c.state[rev : rev + 5, :2] == 0) and np.all(c.theta[rev : rev + 5, :2] == c.theta[300, :2])
+    assert np.all(c.state[rev : rev + 5, 2] == -1)
     assert c.tension[rev] < 0.6 * c.tension[300]
     # a joint starts only once the tension reaching it leaves its band: later than without friction
     # (joint 3, the first to move, must start at once: the tendon is inextensible)
@@ -73,8 +80,9 @@ def test_conditions_hold_with_gravity_and_a_slack_release():
     """With heavy links and wide bands, palm up, every reading meets every condition with the weight's torque at
     its own angles (the joints coupled through the weight, rjcad.physics.coupled). Without the weight the springs
     cannot overcome the friction on the way back: the tendon goes slack."""
-    m = frictional_finger(friction=(12.0, 8.0, 6.0), link_mass=(20.0, 15.0, 10.0), gravity=(0.0, -1.0),
-                          preload=(30 * DEG,) * 3)
+    m = frictional_finger(
+        friction=(12.0, 8.0, 6.0), link_mass=(20.0, 15.0, 10.0), gravity=(0.0, -1.0), preload=(30 * DEG,) * 3
+    )
     c = fm.simulate_stroke(m, 25.0, 200)
     check_conditions(m, c)
     # the weight opens the finger on the way back: joint 1, stuck at 13.7° by its band alone, falls back to 0
@@ -109,8 +117,7 @@ def test_capstan_factor_each_way():
 
 
 def test_gravity_torque_of_one_horizontal_link():
-    m = fm.FingerModel((5.0,), (0.5,), (90 * DEG,), (6.0,), link_mass=(30.0,), link_length=(40.0,),
-                       gravity=(0.0, -1.0))
+    m = fm.FingerModel((5.0,), (0.5,), (90 * DEG,), (6.0,), link_mass=(30.0,), link_length=(40.0,), gravity=(0.0, -1.0))
     assert fm.gravity_torques(m, np.array([0.0]))[0] == pytest.approx(30 * 9.81e-3 * 20.0)
     assert fm.gravity_torques(m, np.array([90 * DEG]))[0] == pytest.approx(0.0, abs=1e-9)
     # pointing down (gravity along +x): the weight pulls the link towards the axis, no torque either way
@@ -118,12 +125,18 @@ def test_gravity_torque_of_one_horizontal_link():
     assert fm.gravity_torques(m2, np.array([0.0]))[0] == pytest.approx(0.0, abs=1e-9)
 
 
-
 def test_gravity_slope_is_the_torques_derivative():
     """∂τ_i/∂θ_i of gravity_terms against central differences of gravity_torques (links off their axes too)."""
-    m = fm.FingerModel((5.0, 6.0, 7.0), (1.0, 1.0, 1.0), (1.5, 1.5, 1.5), (6.0, 6.0, 6.0), link_mass=(20.0, 15.0, 10.0),
-                       link_length=(40.0, 35.0, 30.0), link_com=((18.0, 2.0), (15.0, -1.0), (12.0, 3.0)),
-                       gravity=(0.6, 0.8))
+    m = fm.FingerModel(
+        (5.0, 6.0, 7.0),
+        (1.0, 1.0, 1.0),
+        (1.5, 1.5, 1.5),
+        (6.0, 6.0, 6.0),
+        link_mass=(20.0, 15.0, 10.0),
+        link_length=(40.0, 35.0, 30.0),
+        link_com=((18.0, 2.0), (15.0, -1.0), (12.0, 3.0)),
+        gravity=(0.6, 0.8),
+    )
     rng = np.random.default_rng(5)
     for _ in range(5):
         th = rng.uniform(0, 1.5, 3)
@@ -141,8 +154,15 @@ def test_heavy_links_each_reading_is_an_equilibrium(gravity):
     free joint, r·T = K(θ + θ0) + τ_g(θ) to 1e-3 N·mm (and K(θ + θ0) + τ_g ≥ r·T at the straight stop, ≤ at the
     limit). With the weight taken at the previous angles only, these flipped by up to 90° from step to step."""
     m = fm.model_from_template(PAPER_FINGER)
-    m = fm.FingerModel(m.stiffness, m.preload, m.rotation, m.moment_arm, link_mass=(40.0, 30.0, 20.0),
-                       link_length=m.link_length, gravity=gravity)
+    m = fm.FingerModel(
+        m.stiffness,
+        m.preload,
+        m.rotation,
+        m.moment_arm,
+        link_mass=(40.0, 30.0, 20.0),
+        link_length=m.link_length,
+        gravity=gravity,
+    )
     c = fm.simulate_stroke(m, 25.0, 250)
     K, th0, thmax, r, *_ = m.arrays()
     unbalanced = 0
@@ -162,14 +182,29 @@ def small_manifest():
     spring = {"stiffness_nmm_per_rad": 2.6, "width_mm": 5.0, "thickness_mm": 0.8, "length_mm": 120.0}
     joints = []
     for i, (k, arm, wrap) in enumerate(((4.0, 6.5, 0.45), (6.0, 7.5, 0.0)), start=1):
-        joints.append({"parent": "base" if i == 1 else "link1", "child": "link1" if i == 1 else "distal",
-                       "axis_point_mm": [40.0 * (i - 1), 0, 0], "axis_dir": [0, 0, 1],
-                       "joint_stiffness_nmm_per_rad": k, "spring": spring, "preload_deg": 80, "rotation_deg": 95,
-                       "tendon_moment_arm_mm": arm, "tendon_wrap_angle_rad": wrap})
-    return {"joints": joints, "tendon_length_mm": 110.0,
-            "bodies": [{"name": "base", "volume_mm3": 9000.0, "mass_g": 9.4},
-                       {"name": "link1", "volume_mm3": 15000.0, "mass_g": 15.6},
-                       {"name": "distal", "volume_mm3": 8000.0, "mass_g": 8.3}]}
+        joints.append(
+            {
+                "parent": "base" if i == 1 else "link1",
+                "child": "link1" if i == 1 else "distal",
+                "axis_point_mm": [40.0 * (i - 1), 0, 0],
+                "axis_dir": [0, 0, 1],
+                "joint_stiffness_nmm_per_rad": k,
+                "spring": spring,
+                "preload_deg": 80,
+                "rotation_deg": 95,
+                "tendon_moment_arm_mm": arm,
+                "tendon_wrap_angle_rad": wrap,
+            }
+        )
+    return {
+        "joints": joints,
+        "tendon_length_mm": 110.0,
+        "bodies": [
+            {"name": "base", "volume_mm3": 9000.0, "mass_g": 9.4},
+            {"name": "link1", "volume_mm3": 15000.0, "mass_g": 15.6},
+            {"name": "distal", "volume_mm3": 8000.0, "mass_g": 8.3},
+        ],
+    }
 
 
 def test_manifest_file_is_read_whole(tmp_path):
@@ -181,11 +216,14 @@ def test_manifest_file_is_read_whole(tmp_path):
     assert m.link_mass == (15.6, 8.3) and m.mu_t == 0.2  # the child body of each joint
 
 
-@pytest.mark.parametrize("edit, name", [
-    (lambda d: d["joints"][1].pop("tendon_moment_arm_mm"), "joints[2].tendon_moment_arm_mm"),
-    (lambda d: d["joints"][0].update(preload_deg="ninety"), "joints[1].preload_deg"),
-    (lambda d: d.update(joints=[]), "joints"),
-])
+@pytest.mark.parametrize(
+    "edit, name",
+    [
+        (lambda d: d["joints"][1].pop("tendon_moment_arm_mm"), "joints[2].tendon_moment_arm_mm"),
+        (lambda d: d["joints"][0].update(preload_deg="ninety"), "joints[1].preload_deg"),
+        (lambda d: d.update(joints=[]), "joints"),
+    ],
+)
 def test_bad_manifest_names_the_key(tmp_path, edit, name):
     d = small_manifest()
     edit(d)
@@ -198,14 +236,15 @@ def test_bad_manifest_names_the_key(tmp_path, edit, name):
 
 def test_template_physics_keys_defaults_and_errors(tmp_path):
     t = tmp_path / "f.toml"
-    t.write_text('material = "pla"\nclearance_mm = 0.3\n[defaults]\npreload_deg = 80\n'
-                 "[[joint]]\nstiffness_nmm_per_rad = 5.2\n"
-                 "[[joint]]\nstiffness_nmm_per_rad = 7.8\ntendon_moment_arm_mm = 8.5\nrotation_deg = 100\n")
+    t.write_text(
+        'material = "pla"\nclearance_mm = 0.3\n[defaults]\npreload_deg = 80\n'
+        "[[joint]]\nstiffness_nmm_per_rad = 5.2\n"
+        "[[joint]]\nstiffness_nmm_per_rad = 7.8\ntendon_moment_arm_mm = 8.5\nrotation_deg = 100\n"
+    )
     m = fm.load_finger_model(str(t))
     assert m.moment_arm == (6.0, 8.5) and m.wrap == (0.0, 0.0)  # 6 mm unless given, no wrap in a template
     assert m.preload == pytest.approx((80 * DEG,) * 2) and m.rotation == pytest.approx((90 * DEG, 100 * DEG))
-    t.write_text("[[joint]]\nstiffness_nmm_per_rad = 5.2\n[[joint]]\npreload_deg = true\n"
-                 "stiffness_nmm_per_rad = 3\n")
+    t.write_text("[[joint]]\nstiffness_nmm_per_rad = 5.2\n[[joint]]\npreload_deg = true\nstiffness_nmm_per_rad = 3\n")
     with pytest.raises(ParameterError, match=r"joint\[2\]\.preload_deg"):
         fm.load_finger_model(str(t))
     t.write_text("[[joint]\n")
@@ -213,11 +252,18 @@ def test_template_physics_keys_defaults_and_errors(tmp_path):
         fm.load_finger_model(str(t))
 
 
-@pytest.mark.parametrize("kw, name", [({"rotation": (0.0,)}, "rotation"), ({"mu_t": -0.1}, "mu_t"),
-                                      ({"friction": (-1.0,)}, "friction"), ({"moment_arm": (math.inf,)},
-                                                                            "moment_arm"),
-                                      ({"damping": (-0.1,)}, "damping"), ({"cubic": (1.0, 2.0)}, "cubic"),
-                                      ({"relax_time": 0.0}, "relax_time")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        ({"rotation": (0.0,)}, "rotation"),
+        ({"mu_t": -0.1}, "mu_t"),
+        ({"friction": (-1.0,)}, "friction"),
+        ({"moment_arm": (math.inf,)}, "moment_arm"),
+        ({"damping": (-0.1,)}, "damping"),
+        ({"cubic": (1.0, 2.0)}, "cubic"),
+        ({"relax_time": 0.0}, "relax_time"),
+    ],
+)
 def test_bad_model_parameters(kw, name):
     base = dict(stiffness=(5.0,), preload=(0.5,), rotation=(1.5,), moment_arm=(6.0,))
     base.update(kw)
@@ -236,6 +282,7 @@ def test_the_condition_checker_rejects_a_wrong_answer():
 
 # ---------------------------------------------------------------- the paper's finger: honest uncertainties
 
+
 def test_fit_uncertainty_says_not_identified_when_it_is_not():
     from rjcad.physics.uncertainty import parameter_std as _std
 
@@ -247,8 +294,9 @@ def test_fit_uncertainty_says_not_identified_when_it_is_not():
     assert std == pytest.approx(np.sqrt(np.diag(np.linalg.inv(J.T @ J)))) and why == ["", ""]
     std, why = _std(np.c_[J[:, :1], np.zeros(3)], x, lb, ub, ["a", "b"])
     assert np.isnan(std[1]) and why[1] == "no effect"  # no effect on the fit
-    both, why = _std(np.c_[J[:, :1], 2 * J[:, :1], J[:, 1:]], np.r_[x, 1.0], np.zeros(3), np.full(3, 10.0),
-                     ["a", "b", "c"])
+    both, why = _std(
+        np.c_[J[:, :1], 2 * J[:, :1], J[:, 1:]], np.r_[x, 1.0], np.zeros(3), np.full(3, 10.0), ["a", "b", "c"]
+    )
     assert np.isnan(both[0]) and np.isnan(both[1]) and np.isfinite(both[2])  # two that trade off exactly
     assert why == ["trades off with b", "trades off with a", ""]
     std, why = _std(J, np.array([0.0, 3.0]), lb, ub, ["a", "b"])
@@ -284,27 +332,33 @@ def test_paper_finger_capstan_and_friction_verdicts():
 
 # ---------------------------------------------------------------- the paper's three-joint finger (from test_physics.py)
 
+
 def paper_model(**kw):
     return fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, **kw)
 
 
 @pytest.mark.parametrize("t_d", [1.0, 5.0, 12.0, 20.0, 25.0])
 def test_frictionless_equals_the_energy_minimum(t_d):
-    m = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG, 80 * DEG, 100 * DEG),
-                       (6.0, 7.0, 8.0))
+    m = fm.FingerModel(
+        (5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG, 80 * DEG, 100 * DEG), (6.0, 7.0, 8.0)
+    )
     c = fm.simulate_path(m, np.linspace(0, t_d, 60))
     K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
-    res = minimize(lambda x: 0.5 * np.sum(K * (x + th0) ** 2), np.full(3, 0.1), method="SLSQP",
-                   bounds=list(zip([0] * 3, thmax)), constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}],
-                   options={"ftol": 1e-14, "maxiter": 500})
+    res = minimize(
+        lambda x: 0.5 * np.sum(K * (x + th0) ** 2),
+        np.full(3, 0.1),
+        method="SLSQP",
+        bounds=list(zip([0] * 3, thmax)),
+        constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}],
+        options={"ftol": 1e-14, "maxiter": 500},
+    )
     assert res.success
     assert c.theta[-1] == pytest.approx(res.x, abs=1e-4)
     assert fm.frictionless_optimum(m, t_d) == pytest.approx(res.x, abs=1e-4)
 
 
 def test_capstan_makes_the_proximal_joint_start_first():
-    equal = fm.FingerModel((5.0,) * 3, (60 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3,
-                           wrap=(0.3, 0.3, 0.3), mu_t=0.3)
+    equal = fm.FingerModel((5.0,) * 3, (60 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, wrap=(0.3, 0.3, 0.3), mu_t=0.3)
     onset = fm.onset_tendon(fm.simulate_stroke(equal, 15, 300))
     assert onset[0] < onset[1] < onset[2]
 
@@ -426,8 +480,13 @@ def test_gamma_shorthand_and_contradiction():
 
 def test_larger_gamma_neg_opens_later_on_release():
     """Two joints: a larger γ⁻ narrows the opening band's lower edge, so joints stay closed longer on release."""
-    base = dict(stiffness=(5.2, 7.8), preload=(90 * DEG,) * 2, rotation=(90 * DEG,) * 2, moment_arm=(6.0, 6.0),
-                friction=(1.0, 1.0))
+    base = dict(
+        stiffness=(5.2, 7.8),
+        preload=(90 * DEG,) * 2,
+        rotation=(90 * DEG,) * 2,
+        moment_arm=(6.0, 6.0),
+        friction=(1.0, 1.0),
+    )
     lo = fm.simulate_stroke(fm.FingerModel(**base, gamma_pos=(1.89,) * 2, gamma_neg=(1.89,) * 2), 12.0, 200)
     hi = fm.simulate_stroke(fm.FingerModel(**base, gamma_pos=(1.89,) * 2, gamma_neg=(3.15,) * 2), 12.0, 200)
     pull = np.array([p == "pull" for p in lo.phase])
@@ -437,6 +496,7 @@ def test_larger_gamma_neg_opens_later_on_release():
 
 
 # --- rate and wind-up effects (issue #18: the joint catalogue's viscous, stiffening and relaxation per joint) ---
+
 
 def _ramp(stroke, seconds, n=400, hold_s=0.0, hold_n=0):
     """A pull from 0 to ``stroke`` mm in ``seconds`` (uniform speed), then a hold: (t_s, tendon_mm)."""
@@ -453,13 +513,23 @@ def test_stiffening_equals_the_energy_minimum(t_d):
     """Springs K·s + k3·s³ (s = θ + θ0): the quasi-static answer is the minimum of Σ(½K s² + ¼k3 s⁴) under the tendon
     constraint (SLSQP, which shares nothing with the solver's step linearisation)."""
     k3 = np.array([0.15, 0.2, 0.1])
-    m = fm.FingerModel((5.2, 7.8, 10.4), (90 * DEG, 60 * DEG, 40 * DEG), (90 * DEG, 80 * DEG, 100 * DEG),
-                       (6.0, 7.0, 8.0), cubic=tuple(k3))
+    m = fm.FingerModel(
+        (5.2, 7.8, 10.4),
+        (90 * DEG, 60 * DEG, 40 * DEG),
+        (90 * DEG, 80 * DEG, 100 * DEG),
+        (6.0, 7.0, 8.0),
+        cubic=tuple(k3),
+    )
     c = fm.simulate_path(m, np.linspace(0, t_d, 400))
     K, th0, thmax, r = (np.array(v) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
-    res = minimize(lambda x: np.sum(0.5 * K * (x + th0) ** 2 + 0.25 * k3 * (x + th0) ** 4), np.full(3, 0.1),
-                   method="SLSQP", bounds=list(zip([0] * 3, thmax)),
-                   constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}], options={"ftol": 1e-14, "maxiter": 500})
+    res = minimize(
+        lambda x: np.sum(0.5 * K * (x + th0) ** 2 + 0.25 * k3 * (x + th0) ** 4),
+        np.full(3, 0.1),
+        method="SLSQP",
+        bounds=list(zip([0] * 3, thmax)),
+        constraints=[{"type": "eq", "fun": lambda x: r @ x - t_d}],
+        options={"ftol": 1e-14, "maxiter": 500},
+    )
     assert res.success
     assert c.theta[-1] == pytest.approx(res.x, abs=2e-3)  # the step linearisation's error: O(k3·s·Δθ²) per step
     soft = fm.simulate_path(fm.FingerModel(m.stiffness, m.preload, m.rotation, m.moment_arm), np.linspace(0, t_d, 400))
@@ -474,8 +544,9 @@ def test_damping_vanishes_when_pulled_slowly_and_lags_when_fast():
     ref = fm.simulate_path(m0, _ramp(20.0, 1.0)[1])
     slow = fm.simulate_path(m, _ramp(20.0, 1000.0)[1], t_s=_ramp(20.0, 1000.0)[0])
     fast = fm.simulate_path(m, _ramp(20.0, 1.0)[1], t_s=_ramp(20.0, 1.0)[0])
-    assert slow.theta == pytest.approx(ref.theta, abs=1e-3) and slow.tension == pytest.approx(ref.tension, rel=1e-3,
-                                                                                              abs=1e-3)
+    assert slow.theta == pytest.approx(ref.theta, abs=1e-3) and slow.tension == pytest.approx(
+        ref.tension, rel=1e-3, abs=1e-3
+    )
     assert fast.tension[200] > ref.tension[200] * 1.01
     # at constant tendon speed v the damping torques sum to c·θ̇ with r·θ̇ summing to v: check the balance directly
     k = 200

@@ -23,12 +23,15 @@ def buildable(k, preload, rotation, arm):
     return True
 
 
-@pytest.mark.parametrize("target, stroke, sequence", [
-    ([90, 20, 20], 12, "proximal-first"),  # preloads cannot be proportional: only proximal-first reaches it
-    ([30, 60, 90], 15, "simultaneous"),
-    ([40, 70], 14, "proximal-first"),
-    ([100, 80, 60, 40], 30, "simultaneous"),
-])
+@pytest.mark.parametrize(
+    "target, stroke, sequence",
+    [
+        ([90, 20, 20], 12, "proximal-first"),  # preloads cannot be proportional: only proximal-first reaches it
+        ([30, 60, 90], 15, "simultaneous"),
+        ([40, 70], 14, "proximal-first"),
+        ([100, 80, 60, 40], 30, "simultaneous"),
+    ],
+)
 def test_reachable_targets_end_within_a_degree_in_order(target, stroke, sequence):
     d = design_finger(target, stroke, sequence)
     # re-simulate independently from the written template's physics keys
@@ -110,6 +113,7 @@ def test_the_written_template_is_accepted_by_the_finger_builder(tmp_path):
 
 
 # ---------------------------------------------------------------- the paper's finger as a target (from test_physics.py)
+
 
 @pytest.mark.parametrize("sequence", ["simultaneous", "proximal-first"])
 def test_inverse_design_reaches_the_target(sequence, tmp_path):

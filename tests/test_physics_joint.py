@@ -7,8 +7,16 @@ import numpy as np
 import pytest
 
 from rjcad.errors import ParameterError
-from rjcad.physics.joint import (PAPER_JOINT, PARAM_NAMES, JointModel, Setup, cycle, motion_direction,
-                                 relaxation_torque, simulate)
+from rjcad.physics.joint import (
+    PAPER_JOINT,
+    PARAM_NAMES,
+    JointModel,
+    Setup,
+    cycle,
+    motion_direction,
+    relaxation_torque,
+    simulate,
+)
 
 DEG = math.pi / 180
 R = PAPER_JOINT.pulley_radius
@@ -99,9 +107,16 @@ def test_parameter_vector_round_trip_and_errors():
         JointModel.from_vector([1.0], ("stiffness", "mu_j"))
 
 
-@pytest.mark.parametrize("kw, name", [({"beta_pos": 0.9}, "beta_pos"), ({"beta_neg": 1.1}, "beta_neg"),
-                                      ({"beta_neg": 0.0}, "beta_neg"), ({"viscous": -1.0}, "viscous"),
-                                      ({"stiffness": math.nan}, "stiffness")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        ({"beta_pos": 0.9}, "beta_pos"),
+        ({"beta_neg": 1.1}, "beta_neg"),
+        ({"beta_neg": 0.0}, "beta_neg"),
+        ({"viscous": -1.0}, "viscous"),
+        ({"stiffness": math.nan}, "stiffness"),
+    ],
+)
 def test_the_beta_convention_and_signs_are_enforced(kw, name):
     with pytest.raises(ParameterError) as e:
         JointModel(**kw)
@@ -124,8 +139,9 @@ def test_relaxation_on_uneven_samples_matches_a_step_by_step_solution():
     th = 0.5 * np.sin(0.7 * t) + 0.3 * np.sin(2.3 * t)
     assert relaxation_torque(th, t, 2.0, 0.4) == pytest.approx(step_by_step(th, t, 2.0, 0.4), abs=1e-9)
     tu = np.linspace(0, 5, 501)  # uniform steps take the linear-filter path
-    assert relaxation_torque(np.sin(tu), tu, 2.0, 0.4) == pytest.approx(step_by_step(np.sin(tu), tu, 2.0, 0.4),
-                                                                        abs=1e-12)
+    assert relaxation_torque(np.sin(tu), tu, 2.0, 0.4) == pytest.approx(
+        step_by_step(np.sin(tu), tu, 2.0, 0.4), abs=1e-12
+    )
 
 
 def test_optional_effects_all_act_in_the_tendon_drive():
@@ -142,6 +158,7 @@ def test_optional_effects_all_act_in_the_tendon_drive():
 
 
 # ---------------------------------------------------------------- one full cycle (from test_physics.py)
+
 
 def loop(setup, model=PAPER_JOINT, rot=90):
     th, d = cycle(rot * DEG)

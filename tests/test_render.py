@@ -11,7 +11,7 @@ import trimesh
 from PIL import Image
 
 from rjcad.cad import export as ex
-from rjcad.cad.render import PANEL, TITLE_PX, TENDON, preview_png, rgb
+from rjcad.cad.render import PANEL, TENDON, TITLE_PX, preview_png, rgb
 
 COLOURS = {"near": "#3b82c4", "far": "#e0a33a"}
 
@@ -32,14 +32,15 @@ def render(order):
     """The preview of the bodies named in ``order``, drawn in that order, as an RGB array."""
     near, far, tendon = scene()
     meshes = {name: {"near": near, "far": far}[name] for name in order}
-    png = preview_png(meshes, "test", lines=[tendon], colours=COLOURS,
-                      sections=[("z = 9.5", (0, 0, 9.5), (0, 0, 1))])  # cuts both boxes
+    png = preview_png(
+        meshes, "test", lines=[tendon], colours=COLOURS, sections=[("z = 9.5", (0, 0, 9.5), (0, 0, 1))]
+    )  # cuts both boxes
     return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
 
 
 def iso(img):
     """The isometric panel (top left, below the title)."""
-    return img[TITLE_PX:TITLE_PX + PANEL[1], :PANEL[0]]
+    return img[TITLE_PX : TITLE_PX + PANEL[1], : PANEL[0]]
 
 
 def hue_share(img, colour, tol=0.06):
@@ -69,7 +70,7 @@ def test_each_body_in_its_colour_and_the_tendon_drawn(images):
     panel = iso(images[0])
     for name, colour in COLOURS.items():
         assert hue_share(panel, colour) > 0.002, name
-    section = images[0][TITLE_PX:, PANEL[0]:]
+    section = images[0][TITLE_PX:, PANEL[0] :]
     exact = {tuple(int(round(255 * v)) for v in rgb(c)) for c in (*COLOURS.values(), TENDON)}
     present = {tuple(p) for p in section.reshape(-1, 3)}
     assert exact <= present  # the section's outlines are drawn unlit, in the bodies' exact colours
@@ -90,8 +91,9 @@ def test_glb_holds_the_named_bodies_in_their_colours():
     assert sorted(back.geometry) == ["far", "near"]
     for name, m in (("near", near), ("far", far)):
         g = back.geometry[name]
-        assert np.allclose(np.sort(g.triangles.reshape(-1, 9), axis=0), np.sort(m.triangles.reshape(-1, 9), axis=0),
-                           atol=1e-5)
+        assert np.allclose(
+            np.sort(g.triangles.reshape(-1, 9), axis=0), np.sort(m.triangles.reshape(-1, 9), axis=0), atol=1e-5
+        )
         linear = np.array(g.visual.material.baseColorFactor[:3], dtype=float)
         linear = linear / 255 if linear.max() > 1 else linear
         srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)

@@ -8,15 +8,15 @@ import numpy as np
 import pytest
 import trimesh
 
-from rjcad.errors import ParameterError
+from rjcad import DEG
 from rjcad.check.mesh_checks import to_manifold
+from rjcad.errors import ParameterError
 from rjcad.paper import FINGER, JOINT
 from rjcad.plotting import png_bytes, pyplot, save_png
-from rjcad import DEG
 from rjcad.validate import default_limit, in_range
 
-
 # ---------------------------------------------------------------- units and the paper's values
+
 
 def test_deg_is_one_degree_in_radians():
     assert 180 * DEG == math.pi and math.radians(37.5) == pytest.approx(37.5 * DEG, rel=1e-15)
@@ -24,7 +24,13 @@ def test_deg_is_one_degree_in_radians():
 
 def test_the_paper_table_holds_the_papers_numbers():
     assert (JOINT.stiffness, JOINT.mu_j, JOINT.gamma_pos, JOINT.gamma_neg, JOINT.beta_pos, JOINT.beta_neg) == (
-        5.19, 6.92, 1.89, 3.15, 1.24, 0.67)
+        5.19,
+        6.92,
+        1.89,
+        3.15,
+        1.24,
+        0.67,
+    )
     assert JOINT.mu_j * JOINT.normal_load == pytest.approx(10.39, rel=0.002)  # 10.39 N·mm measured, μ_j rounded
     assert JOINT.preload == pytest.approx(70 * DEG) and JOINT.pulley_radius == 6.0
     assert FINGER.designed_stiffness == (5.2, 7.8, 10.4)  # K1, 1.5·K1, 2·K1
@@ -32,8 +38,8 @@ def test_the_paper_table_holds_the_papers_numbers():
 
 
 def test_the_physics_and_the_finger_template_use_the_paper_table():
-    from rjcad.physics.joint import PAPER_JOINT
     from rjcad.io.templates import PAPER_FINGER
+    from rjcad.physics.joint import PAPER_JOINT
 
     for name in ("stiffness", "preload", "mu_j", "gamma_pos", "gamma_neg", "beta_pos", "beta_neg", "pulley_radius"):
         assert getattr(PAPER_JOINT, name) == pytest.approx(getattr(JOINT, name), rel=1e-12), name
@@ -43,14 +49,18 @@ def test_the_physics_and_the_finger_template_use_the_paper_table():
 
 # ---------------------------------------------------------------- the range check
 
-@pytest.mark.parametrize("kw, inside, outside", [
-    ({"lo": 0.0, "hi": 1.0}, [0.0, 0.5, 1.0], [-1e-9, 1.000001]),
-    ({"lo": 0.0, "hi": 1.0, "lo_open": True}, [1e-12, 1.0], [0.0, -1.0]),
-    ({"lo": 0.0, "hi": 1.0, "hi_open": True}, [0.0, 0.999], [1.0]),
-    ({"lo": 2.0}, [2.0, 1e300], [1.999]),
-    ({"hi": 2.0, "hi_open": True}, [-1e300, 1.999], [2.0]),
-    ({"lo": 0.0, "hi": 1.0, "tol": 0.01}, [-0.01, 1.01], [-0.011, 1.011]),
-])
+
+@pytest.mark.parametrize(
+    "kw, inside, outside",
+    [
+        ({"lo": 0.0, "hi": 1.0}, [0.0, 0.5, 1.0], [-1e-9, 1.000001]),
+        ({"lo": 0.0, "hi": 1.0, "lo_open": True}, [1e-12, 1.0], [0.0, -1.0]),
+        ({"lo": 0.0, "hi": 1.0, "hi_open": True}, [0.0, 0.999], [1.0]),
+        ({"lo": 2.0}, [2.0, 1e300], [1.999]),
+        ({"hi": 2.0, "hi_open": True}, [-1e300, 1.999], [2.0]),
+        ({"lo": 0.0, "hi": 1.0, "tol": 0.01}, [-0.01, 1.01], [-0.011, 1.011]),
+    ],
+)
 def test_in_range_closed_and_open_ends(kw, inside, outside):
     for v in inside:
         assert in_range("x", v, **kw) == v
@@ -85,6 +95,7 @@ def test_in_range_rejects_what_is_not_a_finite_number(bad):
 
 # ---------------------------------------------------------------- mesh conversion
 
+
 def test_to_manifold_keeps_volume_and_double_precision():
     box = trimesh.creation.box(extents=(10.0, 20.0, 30.0))
     man = to_manifold(box)
@@ -106,6 +117,7 @@ def test_to_manifold_of_an_open_mesh_is_not_a_solid():
 
 # ---------------------------------------------------------------- plots
 
+
 def figure():
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(3, 2))
@@ -118,8 +130,8 @@ def png_chunks(data: bytes) -> list[tuple[bytes, bytes]]:
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     out, i = [], 8
     while i < len(data):
-        (n,) = struct.unpack(">I", data[i:i + 4])
-        out.append((data[i + 4:i + 8], data[i + 8:i + 8 + n]))
+        (n,) = struct.unpack(">I", data[i : i + 4])
+        out.append((data[i + 4 : i + 8], data[i + 8 : i + 8 + n]))
         i += 12 + n
     return out
 

@@ -3,17 +3,15 @@
 import math
 
 import pytest
-
 from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 from spring_reference import brute_force
 
+from rjcad import DEG
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign, ParameterError
 from rjcad.materials import MATERIALS, PRINTERS
 from rjcad.spring import optimise as opt
-from rjcad import DEG
-
 
 requirements = st.builds(
     sp.SpringRequirement,
@@ -86,10 +84,11 @@ def test_feasible_requirements_of_the_paper_family(K, rot, pre):
 
 
 @settings(max_examples=60)
-@given(st.one_of(
-    st.floats(allow_nan=True, allow_infinity=True).filter(lambda x: not (0 < x <= 1e4)),
-    st.just(float("nan")),
-))
+@given(
+    st.one_of(
+        st.floats(allow_nan=True, allow_infinity=True).filter(lambda x: not (0 < x <= 1e4)), st.just(float("nan"))
+    )
+)
 def test_bad_stiffness_always_rejected(K):
     try:
         sp.SpringRequirement(K, math.pi / 2)

@@ -35,12 +35,12 @@ def straight(n_el=40, length=100.0):
 
 # --- straight cantilevers ------------------------------------------------------------------
 
+
 @pytest.mark.parametrize("bend_deg", [90, 180, 270])
 def test_end_moment_bends_a_circular_arc(bend_deg):
     L, EI = 100.0, 1000.0
     kappa = bend_deg * DEG / L  # M = EI·κ gives a circle of radius 1/κ
-    sol = rod.solve_rod(straight(40, L), {0: (0.0, 0.0, 0.0)}, {-1: (0.0, 0.0, EI * kappa)},
-                        EI=EI, EA=1e7, steps=12)
+    sol = rod.solve_rod(straight(40, L), {0: (0.0, 0.0, 0.0)}, {-1: (0.0, 0.0, EI * kappa)}, EI=EI, EA=1e7, steps=12)
     tip = sol.positions()[-1]
     exact = np.array([math.sin(kappa * L), 1.0 - math.cos(kappa * L)]) / kappa
     assert np.hypot(*(tip - exact)) < 1e-3 * L
@@ -55,6 +55,7 @@ def elastica_tip(load):
     With k² = (1 + sin α)/2 and sin φ1 = 1/(√2·k) (α the tip slope):
     √(PL²/EI) = K(k) − F(φ1, k); δ/L = 1 − 2[E(k) − E(φ1, k)]/√(PL²/EI); x/L = √(2 sin α / (PL²/EI)).
     """
+
     def parts(alpha):
         m = (1.0 + math.sin(alpha)) / 2.0
         phi1 = math.asin(1.0 / math.sqrt(2.0 * m))
@@ -73,8 +74,9 @@ def test_elastica_reference_matches_bisshopp_drucker():
 @pytest.mark.parametrize("load", [1.0, 2.0, 5.0, 10.0])
 def test_tip_force_matches_the_elastica(load):
     L, EI = 100.0, 1000.0
-    sol = rod.solve_rod(straight(40, L), {0: (0.0, 0.0, 0.0)}, {-1: (0.0, -load * EI / L**2, 0.0)},
-                        EI=EI, EA=1e7, steps=10)
+    sol = rod.solve_rod(
+        straight(40, L), {0: (0.0, 0.0, 0.0)}, {-1: (0.0, -load * EI / L**2, 0.0)}, EI=EI, EA=1e7, steps=10
+    )
     x_ref, d_ref, alpha = elastica_tip(load)
     tip = sol.positions()[-1] / L
     assert tip[0] == pytest.approx(x_ref, rel=0.01)
@@ -83,6 +85,7 @@ def test_tip_force_matches_the_elastica(load):
 
 
 # --- the default spiral at small wind-up -----------------------------------------------
+
 
 @pytest.mark.parametrize("end, k_ratio, m_factor", [("clamped", 1.008, 1.15), ("pinned", 0.785, 1.945)])
 def test_small_windup_stiffness_and_stress_factor(end, k_ratio, m_factor):
@@ -97,10 +100,10 @@ def test_length_is_the_designs():
 
 # --- coil gap under wind-up (tightening, the sense the joint loads the spring) --------------
 
+
 @pytest.fixture(scope="module")
 def wound():
-    return {end: rod.spiral_windup(**SPRING, end=end, theta_max=100 * DEG, steps=20)
-            for end in ("clamped", "pinned")}
+    return {end: rod.spiral_windup(**SPRING, end=end, theta_max=100 * DEG, steps=20) for end in ("clamped", "pinned")}
 
 
 def test_printed_gap(wound):
@@ -124,8 +127,11 @@ def test_linearised_about_the_arbor_reproduces_the_linear_fe(end, linear_fe):
     X, tang, a = rod.spiral_nodes(SPRING["r_in"], SPRING["pitch"], SPRING["turns"], -math.pi / 2)
     eps = -1e-5  # tightening: the arbor turns clockwise relative to the outer end
     x0, y0 = X[0]
-    arbor = lambda lam: (x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),  # noqa: E731
-                         x0 * math.sin(lam * eps) + y0 * (math.cos(lam * eps) - 1), lam * eps)
+    arbor = lambda lam: (
+        x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),  # noqa: E731
+        x0 * math.sin(lam * eps) + y0 * (math.cos(lam * eps) - 1),
+        lam * eps,
+    )
     outer = (0.0, 0.0, 0.0) if end == "clamped" else (0.0, 0.0, None)
     E, b, t = SPRING["E"], SPRING["b"], SPRING["t"]
     sol = rod.solve_rod(X, {0: arbor, -1: outer}, EI=E * b * t**3 / 12, EA=E * b * t, steps=1, tangents=tang)
@@ -164,6 +170,7 @@ def test_two_arm_pair():
 
 
 # --- API -----------------------------------------------------------------------------------
+
 
 def test_result_fields(wound):
     res = wound["clamped"]

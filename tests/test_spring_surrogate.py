@@ -29,6 +29,7 @@ def centreline_distance(res, t):
 
 # --- the invariance the tables rest on ---------------------------------------------------------
 
+
 def test_centreline_depends_on_the_geometry_only():
     base = rod.spiral_windup(**SPRING, end="clamped", sense="unwind", theta_max=90 * DEG, steps=6)
     ref = centreline_distance(base, SPRING["t"])
@@ -44,17 +45,20 @@ def test_centreline_depends_on_the_geometry_only():
 
 # --- the default spring ---------------------------------------------------------------------------
 
+
 @pytest.mark.parametrize("end, c, m", [("clamped", 1.0082, 1.154), ("pinned", 0.7857, 1.944)])
 def test_default_spring_factors(end, c, m):
     # rod.stiffness_ratio / stress_factor of the default spring (test_spring_rod.py)
     assert sg.stiffness_ratio(RHO, SPRING["turns"], end=end) == pytest.approx(c, rel=0.003)
     assert sg.stress_factor(RHO, SPRING["turns"], end=end, margin=False) == pytest.approx(m, rel=0.005)
-    assert sg.stress_factor(RHO, SPRING["turns"], end=end) >= sg.stress_factor(RHO, SPRING["turns"], end=end,
-                                                                                 margin=False)
+    assert sg.stress_factor(RHO, SPRING["turns"], end=end) >= sg.stress_factor(
+        RHO, SPRING["turns"], end=end, margin=False
+    )
 
 
-@pytest.mark.parametrize("end, sense, contact_deg", [("clamped", "tighten", 84.2), ("pinned", "tighten", 23.5),
-                                                     ("pinned", "unwind", 37.0)])
+@pytest.mark.parametrize(
+    "end, sense, contact_deg", [("clamped", "tighten", 84.2), ("pinned", "tighten", 23.5), ("pinned", "unwind", 37.0)]
+)
 def test_default_spring_first_contact(end, sense, contact_deg):
     # centreline distance = t where the rod model's first contact is (test_spring_rod.py, spring-notes.md)
     theta = np.radians(np.arange(0.0, 120.0, 0.25))
@@ -67,12 +71,14 @@ def test_default_spring_first_contact(end, sense, contact_deg):
 
 def test_default_spring_unwound_clamped_keeps_its_gap():
     # spring-notes brief: clamped + unwind keeps 0.267 mm at 180° (rod model, none touching)
-    gap = sg.coil_gap(math.pi, SPRING["r_in"], SPRING["pitch"], SPRING["turns"], SPRING["t"], sense="unwind",
-                      margin=False)
+    gap = sg.coil_gap(
+        math.pi, SPRING["r_in"], SPRING["pitch"], SPRING["turns"], SPRING["t"], sense="unwind", margin=False
+    )
     assert gap == pytest.approx(0.267, abs=0.01)
 
 
 # --- random designs against fresh rod solves ------------------------------------------------------
+
 
 def random_designs(n, seed):
     rng = np.random.default_rng(seed)
@@ -87,8 +93,7 @@ def random_designs(n, seed):
 def test_random_designs_within_the_margin(sense):
     for design, theta_max in random_designs(3, seed=7 if sense == "unwind" else 8):
         steps = math.ceil(theta_max / (3.75 * DEG))
-        res = rod.spiral_windup(**design, end="clamped", sense=sense, theta_max=theta_max, steps=steps,
-                                per_turn=160)
+        res = rod.spiral_windup(**design, end="clamped", sense=sense, theta_max=theta_max, steps=steps, per_turn=160)
         p, t = design["pitch"], design["t"]
         rod_h = np.minimum.accumulate(centreline_distance(res, t)) / p
         args = (res.theta, design["r_in"] / p, design["turns"])
@@ -104,6 +109,7 @@ def test_random_designs_within_the_margin(sense):
 
 
 # --- properties of the lookups --------------------------------------------------------------------
+
 
 def monotone(a, sign):
     """Each row non-increasing (sign -1) or non-decreasing (+1) along θ wherever two neighbours are finite."""
@@ -148,8 +154,15 @@ def test_printed_spiral_at_zero_windup():
 def test_nan_outside_the_table():
     inside = (1.0, 4.0, 6.0)
     assert np.isfinite(sg.gap_ratio_min(*inside))
-    for theta, rho, turns in [(7.0, 4.0, 6.0), (-0.1, 4.0, 6.0), (1.0, 0.5, 6.0), (1.0, 17.0, 6.0),
-                              (1.0, 4.0, 0.9), (1.0, 4.0, 20.5), (np.nan, 4.0, 6.0)]:
+    for theta, rho, turns in [
+        (7.0, 4.0, 6.0),
+        (-0.1, 4.0, 6.0),
+        (1.0, 0.5, 6.0),
+        (1.0, 17.0, 6.0),
+        (1.0, 4.0, 0.9),
+        (1.0, 4.0, 20.5),
+        (np.nan, 4.0, 6.0),
+    ]:
         assert np.isnan(sg.gap_ratio_min(theta, rho, turns)), (theta, rho, turns)
         assert np.isnan(sg.stress_factor(rho, turns, theta)), (theta, rho, turns)
     assert np.isnan(sg.gap_ratio_min(1.0, 4.0, 10.5, arms=2))

@@ -18,7 +18,8 @@ from hypothesis import strategies as st
 from rjcad import spring as sp
 from rjcad.errors import InfeasibleDesign
 from rjcad.materials import MATERIALS, PRINTERS
-from rjcad.spring import factors, optimise as opt, rod
+from rjcad.spring import factors, rod
+from rjcad.spring import optimise as opt
 from rjcad.spring.paper_check import paper_check
 
 DEG = math.pi / 180
@@ -29,8 +30,19 @@ def rewind(d: sp.SpringDesign, sense: str = "unwind"):
     """The design wound again by the rod model, finer than the designer's check."""
     req = d.requirement
     theta = req.preload + req.rotation
-    return rod.spiral_windup(d.inner_radius, d.pitch, d.turns, d.width, d.thickness, d.youngs_modulus, end=d.end,
-                             sense=sense, theta_max=theta, steps=math.ceil(theta / (2.5 * DEG)), per_turn=100)
+    return rod.spiral_windup(
+        d.inner_radius,
+        d.pitch,
+        d.turns,
+        d.width,
+        d.thickness,
+        d.youngs_modulus,
+        end=d.end,
+        sense=sense,
+        theta_max=theta,
+        steps=math.ceil(theta / (2.5 * DEG)),
+        per_turn=100,
+    )
 
 
 def assert_right_in_the_rod_model(d: sp.SpringDesign):
@@ -64,8 +76,13 @@ def test_default_design_is_contact_free_in_the_rod_model():
 
 
 @settings(max_examples=50, deadline=None)
-@given(st.floats(1.0, 15.0), st.floats(30.0, 150.0), st.floats(0.0, 120.0), st.sampled_from(sorted(MATERIALS)),
-       st.sampled_from(sorted(PRINTERS)))
+@given(
+    st.floats(1.0, 15.0),
+    st.floats(30.0, 150.0),
+    st.floats(0.0, 120.0),
+    st.sampled_from(sorted(MATERIALS)),
+    st.sampled_from(sorted(PRINTERS)),
+)
 def _random_requirement(K, rot, pre, material, printer):
     """One random requirement: designed and right in the rod model, or refused with a named constraint."""
     req = sp.SpringRequirement(K, rot * DEG, pre * DEG, material=material, printer=printer)
@@ -96,8 +113,16 @@ def test_old_default_design_is_refused_by_the_verification():
     # the first wave's default as printed: b 7.6, t 0.8, L 219.5, r_in 3, p 1.1434, 5.62 turns, pinned, and the
     # joint TIGHTENED it; the rod model has its coils touching at ≈ 23.5° of the 180° wind-up
     req = sp.SpringRequirement(5.2, 90 * DEG, 90 * DEG, end="pinned")
-    old = sp.SpringDesign(width=7.6, thickness=0.8, length=219.5, inner_radius=3.0, pitch=1.1434137451636173,
-                          turns=5.620157989891363, requirement=req, sense="tighten")
+    old = sp.SpringDesign(
+        width=7.6,
+        thickness=0.8,
+        length=219.5,
+        inner_radius=3.0,
+        pitch=1.1434137451636173,
+        turns=5.620157989891363,
+        requirement=req,
+        sense="tighten",
+    )
     with pytest.raises(InfeasibleDesign) as e:
         opt.verify(old, adjust=False)
     assert e.value.constraint == "coil_gap"
@@ -125,9 +150,11 @@ def test_paper_check():
     s = c["spring"]
     assert s["b"] == 4.8 and s["length"] == pytest.approx(2200 * 4.8 * s["t"] ** 3 / (12 * 2.6))
     # the acceptance: the default (clamped) model predicts the paper's measured 5.19 within 1 %
-    print(f"\npaper's joint, rod model: clamped {c['clamped']['slope']:.3f} ({c['clamped']['slope_error']:+.2%}; small "
-          f"wind-up {c['clamped']['small_error']:+.2%}), pinned {c['pinned']['slope']:.3f} "
-          f"({c['pinned']['slope_error']:+.2%}; small wind-up {c['pinned']['small_error']:+.2%})")
+    print(
+        f"\npaper's joint, rod model: clamped {c['clamped']['slope']:.3f} ({c['clamped']['slope_error']:+.2%}; small "
+        f"wind-up {c['clamped']['small_error']:+.2%}), pinned {c['pinned']['slope']:.3f} "
+        f"({c['pinned']['slope_error']:+.2%}; small wind-up {c['pinned']['small_error']:+.2%})"
+    )
     assert abs(c["clamped"]["slope_error"]) <= 0.01
     assert c["pinned"]["small_error"] == pytest.approx(-0.21, abs=0.02)
     assert c["pinned"]["slope_error"] < -0.15

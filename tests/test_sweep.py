@@ -10,9 +10,26 @@ from rjcad.materials import get_printer
 
 
 def spring_json(row, cli):
-    return cli(["spring", "--stiffness", str(row["stiffness_nmm_per_rad"]), "--rotation", str(row["rotation_deg"]),
-                "--preload", str(row["preload_deg"]), "--material", row["material"], "--printer", row["printer"],
-                "--safety-factor", str(row["safety_factor"]), "--end", row["end"], "--json"])
+    return cli(
+        [
+            "spring",
+            "--stiffness",
+            str(row["stiffness_nmm_per_rad"]),
+            "--rotation",
+            str(row["rotation_deg"]),
+            "--preload",
+            str(row["preload_deg"]),
+            "--material",
+            row["material"],
+            "--printer",
+            row["printer"],
+            "--safety-factor",
+            str(row["safety_factor"]),
+            "--end",
+            row["end"],
+            "--json",
+        ]
+    )
 
 
 def test_example_sweep_matches_rjcad_spring(tmp_path, cli, root):
@@ -44,30 +61,35 @@ def test_example_sweep_matches_rjcad_spring(tmp_path, cli, root):
 
 
 def test_infeasible_rows_carry_the_binding_constraint(tmp_path, capsys):
-    spec = sw.SweepSpec.from_dict({
-        "fixed": {"preload_deg": 90},
-        "params": {"stiffness_nmm_per_rad": {"values": [5.2, 80.0, 150.0]},
-                   "rotation_deg": {"values": [90, 300]}},
-    })
+    spec = sw.SweepSpec.from_dict(
+        {
+            "fixed": {"preload_deg": 90},
+            "params": {"stiffness_nmm_per_rad": {"values": [5.2, 80.0, 150.0]}, "rotation_deg": {"values": [90, 300]}},
+        }
+    )
     rows = sw.run_sweep(spec, tmp_path, stream=io.StringIO()).rows
     bad = [r for r in rows if not r["feasible"]]
     assert bad and any(r["feasible"] for r in rows)
     from rjcad import spring as sp
-    from rjcad.spring import optimise as opt
     from rjcad.errors import InfeasibleDesign
+    from rjcad.spring import optimise as opt
 
     for r in bad:
         assert r["status"] == "infeasible" and r["binding"] in opt.CONSTRAINTS and r["error"]
         with pytest.raises(InfeasibleDesign) as e:
-            opt.design_spring(sp.SpringRequirement(r["stiffness_nmm_per_rad"], math.radians(r["rotation_deg"]),
-                                                  math.radians(r["preload_deg"])))
+            opt.design_spring(
+                sp.SpringRequirement(
+                    r["stiffness_nmm_per_rad"], math.radians(r["rotation_deg"]), math.radians(r["preload_deg"])
+                )
+            )
         assert e.value.constraint == r["binding"]
         assert str(e.value) == r["error"]
 
 
 def test_invalid_points_are_failed_rows_not_a_crash(tmp_path):
-    spec = sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [5.2, -1.0]},
-                                              "material": {"values": ["pla", "cheese"]}}})
+    spec = sw.SweepSpec.from_dict(
+        {"params": {"stiffness_nmm_per_rad": {"values": [5.2, -1.0]}, "material": {"values": ["pla", "cheese"]}}}
+    )
     rows = sw.run_sweep(spec, tmp_path, stream=io.StringIO()).rows
     failed = [r for r in rows if r["status"] == "failed"]
     assert len(failed) == 3 and all(r["error"] for r in failed)
@@ -75,9 +97,12 @@ def test_invalid_points_are_failed_rows_not_a_crash(tmp_path):
 
 
 def test_resume_does_not_recompute(tmp_path, monkeypatch):
-    spec = sw.SweepSpec.from_dict({"sweep": {"mode": "lhs", "samples": 50, "seed": 3},
-                                   "params": {"stiffness_nmm_per_rad": {"range": [2, 12]},
-                                              "rotation_deg": {"range": [60, 120]}}})
+    spec = sw.SweepSpec.from_dict(
+        {
+            "sweep": {"mode": "lhs", "samples": 50, "seed": 3},
+            "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}, "rotation_deg": {"range": [60, 120]}},
+        }
+    )
     first = sw.run_sweep(spec, tmp_path, stream=io.StringIO())
     assert first.computed == 50
     calls = []
@@ -133,9 +158,11 @@ def test_progress_bar_on_a_terminal_and_lines_otherwise():
 
 def test_bad_sweep_files(tmp_path, capsys):
     f = tmp_path / "s.toml"
-    for text, word in [("[params.stiffnes]\nvalues = [1]\n", "stiffnes"),
-                       ("[params.rotation_deg]\nrange = [60, 120]\n", "steps"),
-                       ("[sweep]\nmode = 'random'\n", "mode")]:
+    for text, word in [
+        ("[params.stiffnes]\nvalues = [1]\n", "stiffnes"),
+        ("[params.rotation_deg]\nrange = [60, 120]\n", "steps"),
+        ("[sweep]\nmode = 'random'\n", "mode"),
+    ]:
         f.write_text(text)
         with pytest.raises(SystemExit) as e:
             main(["sweep", str(f), "--out", str(tmp_path / "o")])
@@ -144,8 +171,9 @@ def test_bad_sweep_files(tmp_path, capsys):
 
 
 def test_lhs_is_stratified():
-    spec = sw.SweepSpec.from_dict({"sweep": {"mode": "lhs", "samples": 40, "seed": 1},
-                                   "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}}})
+    spec = sw.SweepSpec.from_dict(
+        {"sweep": {"mode": "lhs", "samples": 40, "seed": 1}, "params": {"stiffness_nmm_per_rad": {"range": [2, 12]}}}
+    )
     ks = sorted(p["stiffness_nmm_per_rad"] for p in spec.points())
     # exactly one sample in each of the 40 strata
     assert [int((k - 2) / 10 * 40) for k in ks] == list(range(40))
@@ -153,13 +181,14 @@ def test_lhs_is_stratified():
 
 def test_dask_cluster_gives_the_same_results_as_the_local_run(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
-    spec = sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [4.0, 6.0]},
-                                              "rotation_deg": {"values": [80]}}})
+    spec = sw.SweepSpec.from_dict(
+        {"params": {"stiffness_nmm_per_rad": {"values": [4.0, 6.0]}, "rotation_deg": {"values": [80]}}}
+    )
     local = sw.run_sweep(spec, tmp_path / "local", build=True, workers=2, stream=io.StringIO()).rows
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
-        remote = sw.run_sweep(spec, tmp_path / "dask", build=True, scheduler=cluster.scheduler_address,
-                              stream=io.StringIO()).rows
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        remote = sw.run_sweep(
+            spec, tmp_path / "dask", build=True, scheduler=cluster.scheduler_address, stream=io.StringIO()
+        ).rows
     volatile = {"build_s"}
     strip = lambda rows: [{k: v for k, v in r.items() if k not in volatile} for r in rows]  # noqa: E731
     assert strip(remote) == strip(local)

@@ -21,9 +21,14 @@ import pytest
 from rjcad import sweep as sw
 from rjcad.sweep.resume import read_earlier
 
-SPEC = {"params": {"stiffness_nmm_per_rad": {"range": [2, 12], "steps": 6}, "rotation_deg": {"values": [60, 120]},
-                   "material": {"values": ["pla", "petg"]}},
-        "fixed": {"preload_deg": 90}}
+SPEC = {
+    "params": {
+        "stiffness_nmm_per_rad": {"range": [2, 12], "steps": 6},
+        "rotation_deg": {"values": [60, 120]},
+        "material": {"values": ["pla", "petg"]},
+    },
+    "fixed": {"preload_deg": 90},
+}
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +79,7 @@ def _rows(data: bytes) -> list[bytes]:
 def _start_of(data: bytes, i: int) -> int:
     """Offset of row ``i`` (0: the first after the header; negative from the end)."""
     lines = _rows(data)
-    return sum(len(ln) for ln in lines[:(i + 1 if i >= 0 else len(lines) + i)])
+    return sum(len(ln) for ln in lines[: (i + 1 if i >= 0 else len(lines) + i)])
 
 
 def _cut_inside(line: bytes, field: int) -> int:
@@ -84,19 +89,36 @@ def _cut_inside(line: bytes, field: int) -> int:
 
 DAMAGE = {
     # name: (damaged bytes from the good ones, ids to compute again (by row index) , dropped reason words)
-    "truncated mid-row": (lambda d: d[:len(d) - len(_rows(d)[-1]) // 2], [-1], "cut short"),
-    "truncated inside the id": (lambda d: d[:len(d) - len(_rows(d)[-1]) + _cut_inside(_rows(d)[-1], 9)], [-1],
-                                "cut short"),
-    "truncated after the id": (lambda d: d[:len(d) - len(_rows(d)[-1]) + _cut_inside(_rows(d)[-1], 10) - 3], [-1],
-                               "cut short"),
+    "truncated mid-row": (lambda d: d[: len(d) - len(_rows(d)[-1]) // 2], [-1], "cut short"),
+    "truncated inside the id": (
+        lambda d: d[: len(d) - len(_rows(d)[-1]) + _cut_inside(_rows(d)[-1], 9)],
+        [-1],
+        "cut short",
+    ),
+    "truncated after the id": (
+        lambda d: d[: len(d) - len(_rows(d)[-1]) + _cut_inside(_rows(d)[-1], 10) - 3],
+        [-1],
+        "cut short",
+    ),
     "last line break lost": (lambda d: d[:-2], [-1], "cut short"),
-    "garbage lines": (lambda d: b"".join(_rows(d)[:5] + [b"\x8f\xff garbage \x00\r\n", b'half "quoted, line\r\n',
-                                                          b"1,2,3\r\n"] + _rows(d)[5:]), [], "unreadable bytes"),
+    "garbage lines": (
+        lambda d: b"".join(
+            _rows(d)[:5] + [b"\x8f\xff garbage \x00\r\n", b'half "quoted, line\r\n', b"1,2,3\r\n"] + _rows(d)[5:]
+        ),
+        [],
+        "unreadable bytes",
+    ),
     "garbage tail": (lambda d: d + b"\x13\x37 tail without a line break \xff", [], "cut short"),
-    "NUL tail (a crash)": (lambda d: d[:_start_of(d, -3)] + b"\0" * (len(d) - _start_of(d, -3)), [-3, -2, -1],
-                           "cut short"),
-    "NUL bytes in a row": (lambda d: d[:_start_of(d, 3)] + b"\0" * (len(_rows(d)[4]) - 2) + d[_start_of(d, 4) - 2:],
-                           [3], "unreadable bytes"),
+    "NUL tail (a crash)": (
+        lambda d: d[: _start_of(d, -3)] + b"\0" * (len(d) - _start_of(d, -3)),
+        [-3, -2, -1],
+        "cut short",
+    ),
+    "NUL bytes in a row": (
+        lambda d: d[: _start_of(d, 3)] + b"\0" * (len(_rows(d)[4]) - 2) + d[_start_of(d, 4) - 2 :],
+        [3],
+        "unreadable bytes",
+    ),
     "rows repeated (869 for 819)": (lambda d: d + b"".join(_rows(d)[1:8]) + d, [], "repeating a design"),
 }
 
@@ -120,12 +142,15 @@ def test_resume_drops_nothing_from_a_whole_file(first, tmp_path, monkeypatch):
     assert (tmp_path / "results.csv").read_bytes() == good
 
 
-@pytest.mark.parametrize("bad, word", [
-    (lambda d: d[d.index(b"\n") + 1:], "id column"),                       # no header
-    (lambda d: d.replace(b",id,", b",ident,", 1), "id column"),            # no id column
-    (lambda d: d.decode().encode("utf-16"), "UTF-16"),
-    (lambda d: b"\0" * 40 + d, "header"),
-])
+@pytest.mark.parametrize(
+    "bad, word",
+    [
+        (lambda d: d[d.index(b"\n") + 1 :], "id column"),  # no header
+        (lambda d: d.replace(b",id,", b",ident,", 1), "id column"),  # no id column
+        (lambda d: d.decode().encode("utf-16"), "UTF-16"),
+        (lambda d: b"\0" * 40 + d, "header"),
+    ],
+)
 def test_resume_refuses_a_file_that_is_not_a_results_csv_in_one_line(first, tmp_path, cli, bad, word, root):
     _, _, good = first
     (tmp_path / "results.csv").write_bytes(bad(good))
@@ -149,8 +174,11 @@ def test_the_build_log_is_read_line_by_line(tmp_path):
     log.write_text("\n".join(lines) + "\n" + json.dumps(rows[2])[:-5])
     got = read_earlier(tmp_path / "results.csv", log)
     assert [r["id"] for r in got.rows] == [rows[0]["id"], rows[1]["id"]]
-    assert got.dropped == {"repeating a design already read": 2, "not a complete row": 2,
-                           "cut short at the end of the file": 1}
+    assert got.dropped == {
+        "repeating a design already read": 2,
+        "not a complete row": 2,
+        "cut short at the end of the file": 1,
+    }
 
 
 def test_an_interrupted_sweep_leaves_the_earlier_results_as_they_were(first, tmp_path, monkeypatch):
@@ -174,13 +202,19 @@ def test_a_design_named_twice_is_one_row(tmp_path):
 
 def test_an_error_message_with_line_breaks_is_one_line(tmp_path, monkeypatch):
     spec = sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": [4.0, 5.0]}}})
-    row = {**spec.points()[0], "id": sw.point_id(spec.points()[0]), "status": "failed", "feasible": False,
-           "error": "OCC says:\nno\r\nreally"}
+    row = {
+        **spec.points()[0],
+        "id": sw.point_id(spec.points()[0]),
+        "status": "failed",
+        "feasible": False,
+        "error": "OCC says:\nno\r\nreally",
+    }
     sw.write_results(tmp_path, [row])
     lines = (tmp_path / "results.csv").read_bytes().split(b"\r\n")
     assert len(lines) == 3 and b"OCC says: no really" in lines[1]
-    assert [r["error"] for r in read_earlier(tmp_path / "results.csv", tmp_path / "none").rows] == \
-        ["OCC says: no really"]
+    assert [r["error"] for r in read_earlier(tmp_path / "results.csv", tmp_path / "none").rows] == [
+        "OCC says: no really"
+    ]
 
 
 # ---------------------------------------------------------------- stopping a build-mode sweep
@@ -199,9 +233,12 @@ def _start(tmp_path: Path, out: Path, *extra: str) -> subprocess.Popen:
     with open(tmp_path / "stdout", "ab") as o, open(tmp_path / "stderr", "ab") as e:
         # SIGINT at its default: a job a non-interactive shell starts in the background (CI's `make test`)
         # inherits SIGINT ignored, and Python then installs no KeyboardInterrupt for it
-        return subprocess.Popen([sys.executable, "-m", "rjcad", "sweep", str(f), "--out", str(out), "--build",
-                                 "--workers", "2", *extra], stdout=o, stderr=e,
-                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        return subprocess.Popen(
+            [sys.executable, "-m", "rjcad", "sweep", str(f), "--out", str(out), "--build", "--workers", "2", *extra],
+            stdout=o,
+            stderr=e,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
 
 
 def _rows_logged(out: Path) -> int:

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from rjcad.io import untrusted
 from rjcad.errors import ParameterError, RjcadError, quote
+from rjcad.io import untrusted
 
 DEG = math.pi / 180
 BIG_INT = "1" + "0" * 400
@@ -38,12 +38,15 @@ def error_line(r, *words: str) -> str:
 # ---------------------------------------------------------------- the module
 
 
-@pytest.mark.parametrize("raw, words", [
-    (b"\xff\xfea\x00=\x001\x00", "UTF-16 text; save the TOML file as UTF-8"),
-    (b"a = 1\n\x00\x01\x02", "holds NUL bytes: a binary file, not a TOML file"),
-    (b'a = "\xe9"\n', "not a UTF-8 text file (byte 0xe9 on line 1)"),
-    (b"\xef\xbb\xbfa = 1\r\nb = 2\r\n", None),     # a BOM and CRLF are fine
-])
+@pytest.mark.parametrize(
+    "raw, words",
+    [
+        (b"\xff\xfea\x00=\x001\x00", "UTF-16 text; save the TOML file as UTF-8"),
+        (b"a = 1\n\x00\x01\x02", "holds NUL bytes: a binary file, not a TOML file"),
+        (b'a = "\xe9"\n', "not a UTF-8 text file (byte 0xe9 on line 1)"),
+        (b"\xef\xbb\xbfa = 1\r\nb = 2\r\n", None),  # a BOM and CRLF are fine
+    ],
+)
 def test_decoding(tmp_path, raw, words):
     f = tmp_path / "x.toml"
     f.write_bytes(raw)
@@ -67,16 +70,19 @@ def test_size_missing_and_directory(tmp_path, monkeypatch):
         untrusted.read_toml(tmp_path)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("a = " + "[" * 3000 + "]" * 3000, "nested deeper than 32"),          # tomllib's recursion
-    ("[" + ".".join(["t"] * 40) + "]\nx = 1", "nests deeper than 32"),   # parsed, then measured
-    ("x = " + "{a = " * 3000 + "1" + "}" * 3000, "nested deeper than 32"),
-    (f"[k]\nstiffness = {BIG_INT}", "k.stiffness = <an integer of 401 digits> is invalid: must fit a float"),
-    ("x = " + "9" * 5000, "not valid TOML"),                              # beyond Python's 4300 digits
-    ("[k]\nv = [1, nan]", "k.v[2] = nan is invalid: must be a finite number"),
-    ("v = -inf", "v = -inf is invalid: must be a finite number"),
-    ("v = 1e400", "v = inf is invalid"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("a = " + "[" * 3000 + "]" * 3000, "nested deeper than 32"),  # tomllib's recursion
+        ("[" + ".".join(["t"] * 40) + "]\nx = 1", "nests deeper than 32"),  # parsed, then measured
+        ("x = " + "{a = " * 3000 + "1" + "}" * 3000, "nested deeper than 32"),
+        (f"[k]\nstiffness = {BIG_INT}", "k.stiffness = <an integer of 401 digits> is invalid: must fit a float"),
+        ("x = " + "9" * 5000, "not valid TOML"),  # beyond Python's 4300 digits
+        ("[k]\nv = [1, nan]", "k.v[2] = nan is invalid: must be a finite number"),
+        ("v = -inf", "v = -inf is invalid: must be a finite number"),
+        ("v = 1e400", "v = inf is invalid"),
+    ],
+)
 def test_toml_structure(tmp_path, text, words):
     f = tmp_path / "x.toml"
     f.write_text(text)
@@ -86,14 +92,17 @@ def test_toml_structure(tmp_path, text, words):
     assert msg.startswith(f"{f}: ") and words in msg and len(msg) < 300 and "\n" not in msg
 
 
-@pytest.mark.parametrize("text, words", [
-    ("[" * 5000 + "]" * 5000, "nested deeper than 32"),
-    ('{"a": {"b": [1, NaN]}}', "a.b[2] = nan is invalid: must be a finite number"),
-    ('{"a": 1e400}', "a = inf is invalid"),
-    ('{"a": Infinity}', "a = inf is invalid"),
-    ('{"a": ' + BIG_INT + "}", "a = <an integer of 401 digits>"),
-    ("{not json", "not valid JSON (Expecting property name enclosed in double quotes at line 1, column 2)"),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("[" * 5000 + "]" * 5000, "nested deeper than 32"),
+        ('{"a": {"b": [1, NaN]}}', "a.b[2] = nan is invalid: must be a finite number"),
+        ('{"a": 1e400}', "a = inf is invalid"),
+        ('{"a": Infinity}', "a = inf is invalid"),
+        ('{"a": ' + BIG_INT + "}", "a = <an integer of 401 digits>"),
+        ("{not json", "not valid JSON (Expecting property name enclosed in double quotes at line 1, column 2)"),
+    ],
+)
 def test_json_structure(tmp_path, text, words):
     f = tmp_path / "x.json"
     f.write_text(text)
@@ -136,6 +145,7 @@ def test_a_long_parameter_name_keeps_its_key():
 
 # ---------------------------------------------------------------- every command's files
 
+
 def _campaign(folder, top=90.0, radians=False, file="exp1.csv", write_csv=True):
     """A one-experiment bar campaign: 3 triangles 0 → ``top`` deg, torque = 5.2·(θ + 70°) ± 0.3 N·mm of friction;
     the theta_deg column in radians if ``radians``."""
@@ -150,8 +160,10 @@ def _campaign(folder, top=90.0, radians=False, file="exp1.csv", write_csv=True):
         rows = "\n".join(f"{0.01 * i:.2f},{a:.6f},{b:.6f}" for i, (a, b) in enumerate(zip(column, torque)))
         (folder / file).write_text("t_s,theta_deg,torque_nmm\n" + rows + "\n")
     toml = folder / "campaign.toml"
-    toml.write_text('[design]\nstiffness_nmm_per_rad = 5.2\npreload_deg = 70\npulley_radius_mm = 6\n'
-                    f'[[experiment]]\nfile = "{file}"\ndrive = "bar"\n')
+    toml.write_text(
+        "[design]\nstiffness_nmm_per_rad = 5.2\npreload_deg = 70\npulley_radius_mm = 6\n"
+        f'[[experiment]]\nfile = "{file}"\ndrive = "bar"\n'
+    )
     return toml
 
 
@@ -204,6 +216,7 @@ def test_huge_string_values_are_quoted_short(tmp_path, cli):
 
 # ---------------------------------------------------------------- manifests (rjcad check --manifest)
 
+
 @pytest.fixture
 def two_boxes(tmp_path):
     """A two-body STL (boxes of 1000 and 500 mm³, 2 mm apart) and a sound manifest for it."""
@@ -212,10 +225,15 @@ def two_boxes(tmp_path):
     b.apply_translation((12, 0, 0))
     stl = tmp_path / "two.stl"
     trimesh.util.concatenate([a, b]).export(stl)
-    manifest = {"schema_version": 1, "printer": "generic-0.4", "clearance_mm": 0.25,
-                "bodies": [{"name": "a", "volume_mm3": 1000.0}, {"name": "b", "volume_mm3": 500.0}],
-                "joints": [{"parent": "a", "child": "b", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1],
-                            "rotation_deg": 10.0}]}
+    manifest = {
+        "schema_version": 1,
+        "printer": "generic-0.4",
+        "clearance_mm": 0.25,
+        "bodies": [{"name": "a", "volume_mm3": 1000.0}, {"name": "b", "volume_mm3": 500.0}],
+        "joints": [
+            {"parent": "a", "child": "b", "axis_point_mm": [0, 0, 0], "axis_dir": [0, 0, 1], "rotation_deg": 10.0}
+        ],
+    }
     return stl, manifest
 
 
@@ -226,6 +244,7 @@ def _edit(path):
             target = target[k]
         if path[-1] in target and isinstance(target, dict):
             del target[path[-1]]
+
     return edit
 
 
@@ -234,8 +253,11 @@ MANIFESTS = [  # (name, edit of the JSON object or the file's bytes, words the e
     ("binary garbage", bytes(range(256)) * 8, "NUL bytes"),
     ("UTF-16", lambda m: json.dumps(m).encode("utf-16"), "UTF-16"),
     ("no volume", _edit(["bodies", 0, "volume_mm3"]), "bodies[1].volume_mm3 is required"),
-    ("string volume", lambda m: m["bodies"][1].update(volume_mm3="500"),
-     "bodies[2].volume_mm3 must be a finite number"),
+    (
+        "string volume",
+        lambda m: m["bodies"][1].update(volume_mm3="500"),
+        "bodies[2].volume_mm3 must be a finite number",
+    ),
     ("no bodies", _edit(["bodies"]), "bodies is required with an STL mesh"),
     ("no axis", _edit(["joints", 0, "axis_dir"]), "joints[1].axis_dir is required for the motion check"),
     ("zero axis", lambda m: m["joints"][0].update(axis_dir=[0, 0, 0]), "joints[1].axis_dir must be a non-zero"),
@@ -271,16 +293,19 @@ def test_a_sound_manifest_passes(cli, tmp_path, two_boxes):
     assert {c["name"]: c["passed"] for c in json.loads(r.out)["checks"]}["motion"] is True
 
 
-@pytest.mark.parametrize("option, value, words", [
-    ("--clearance", "-1", "--clearance = -1 mm is invalid: must be in [0.1, 5] mm"),
-    ("--clearance", "0", "--clearance = 0 mm"),
-    ("--clearance", "nan", "--clearance = nan mm"),
-    ("--clearance", "inf", "--clearance = inf mm"),
-    ("--clearance", "6", "--clearance = 6 mm"),
-    ("--clearance", "0.2", "must be >= 0.25 mm on generic-0.4"),
-    ("--allowance", "nan", "--allowance = nan mm is invalid: must be in [0, 0.05] mm"),
-    ("--allowance", "-0.01", "--allowance = -0.01 mm"),
-])
+@pytest.mark.parametrize(
+    "option, value, words",
+    [
+        ("--clearance", "-1", "--clearance = -1 mm is invalid: must be in [0.1, 5] mm"),
+        ("--clearance", "0", "--clearance = 0 mm"),
+        ("--clearance", "nan", "--clearance = nan mm"),
+        ("--clearance", "inf", "--clearance = inf mm"),
+        ("--clearance", "6", "--clearance = 6 mm"),
+        ("--clearance", "0.2", "must be >= 0.25 mm on generic-0.4"),
+        ("--allowance", "nan", "--allowance = nan mm is invalid: must be in [0, 0.05] mm"),
+        ("--allowance", "-0.01", "--allowance = -0.01 mm"),
+    ],
+)
 def test_check_float_options_are_validated_first(cli, tmp_path, two_boxes, option, value, words):
     stl, _ = two_boxes
     r = cli("check", stl, option, value)
@@ -289,6 +314,7 @@ def test_check_float_options_are_validated_first(cli, tmp_path, two_boxes, optio
 
 
 # ---------------------------------------------------------------- values accepted that should not be
+
 
 def test_clearance_below_the_printers_minimum_gap_is_refused(cli, tmp_path):
     r = cli("joint", "--clearance", "0.2", "--out", tmp_path / "j")
@@ -314,10 +340,13 @@ def _warned(cli, args):
 
 
 def test_tiny_values_give_no_warning(cli):
-    for args in (["spring", "--stiffness", "5e-324"], ["spring", "--stiffness", "5", "--rotation", "1e-300"],
-                 ["spring", "--stiffness", "5", "--max-outer-radius", "5e-324"],
-                 ["simulate", "joint", "--rotation", "60", "--preload", "1e300"]):
-        r, caught = _warned(cli, ["--debug"] + args)   # --debug shows warnings: the cause is fixed, not hidden
+    for args in (
+        ["spring", "--stiffness", "5e-324"],
+        ["spring", "--stiffness", "5", "--rotation", "1e-300"],
+        ["spring", "--stiffness", "5", "--max-outer-radius", "5e-324"],
+        ["simulate", "joint", "--rotation", "60", "--preload", "1e300"],
+    ):
+        r, caught = _warned(cli, ["--debug"] + args)  # --debug shows warnings: the cause is fixed, not hidden
         assert r.code == 2 and caught == [], caught
         r = cli(args)
         assert r.code == 2
@@ -358,8 +387,11 @@ SWEEPS = [  # (file text, the key the error names)
     ("[params.material]\nrange = [1, 2]\nsteps = 2\n", "params.material.range"),
     ("[fixed]\nmaterial = 'pla'\n[params.material]\nvalues = ['pla']\n", "fixed.material"),
     ("[params]\nrotation_deg = 3\n", "params.rotation_deg = 3 is invalid: must be a table"),
-    ("[params.stiffness_nmm_per_rad]\nrange = [2, 4]\nsteps = 100000\n[params.rotation_deg]\nrange = [20, 90]\n"
-     "steps = 1000\n", "params.rotation_deg = 1000 is invalid: makes the grid 100000000 designs"),
+    (
+        "[params.stiffness_nmm_per_rad]\nrange = [2, 4]\nsteps = 100000\n[params.rotation_deg]\nrange = [20, 90]\n"
+        "steps = 1000\n",
+        "params.rotation_deg = 1000 is invalid: makes the grid 100000000 designs",
+    ),
 ]
 
 
@@ -378,10 +410,12 @@ def test_bad_designs_are_rows_with_their_error(tmp_path):
 
     from rjcad import sweep as sw
 
-    spec = sw.SweepSpec.from_dict({"params": {"clearance_mm": {"values": [-3.0, 0.2, 0.3]},
-                                              "link_length_mm": {"values": [40.0, -1.0]}}})
-    rows = {(r["clearance_mm"], r["link_length_mm"]): r
-            for r in sw.run_sweep(spec, tmp_path, stream=io.StringIO()).rows}
+    spec = sw.SweepSpec.from_dict(
+        {"params": {"clearance_mm": {"values": [-3.0, 0.2, 0.3]}, "link_length_mm": {"values": [40.0, -1.0]}}}
+    )
+    rows = {
+        (r["clearance_mm"], r["link_length_mm"]): r for r in sw.run_sweep(spec, tmp_path, stream=io.StringIO()).rows
+    }
     assert rows[(-3.0, 40.0)]["status"] == "failed" and "clearance_mm = -3 mm" in rows[(-3.0, 40.0)]["error"]
     assert rows[(0.2, 40.0)]["status"] == "failed" and ">= 0.25 mm on generic-0.4" in rows[(0.2, 40.0)]["error"]
     assert rows[(0.3, -1.0)]["status"] == "failed" and "link_length_mm = -1 mm" in rows[(0.3, -1.0)]["error"]
@@ -389,6 +423,7 @@ def test_bad_designs_are_rows_with_their_error(tmp_path):
 
 
 # ---------------------------------------------------------------- identify: units and where the data lie
+
 
 def test_radians_in_a_degree_column_are_refused(cli, tmp_path):
     from rjcad.identify.data import load_campaign
@@ -399,13 +434,13 @@ def test_radians_in_a_degree_column_are_refused(cli, tmp_path):
     error_line(r, "exp1.csv: column theta_deg looks like radians", "±1.57", "theta_deg must be in degrees")
     # a small motion in degrees, against friction larger than its spring torque, is not radians
     assert load_campaign(_campaign(tmp_path / "small", top=3.0)).experiments
-    r = cli("identify", _campaign(tmp_path / "small_rad", top=3.0 / DEG, radians=True))   # 3 rad: 172°
+    r = cli("identify", _campaign(tmp_path / "small_rad", top=3.0 / DEG, radians=True))  # 3 rad: 172°
     assert r.code == 2
     error_line(r, "looks like radians", "±3.00")
 
 
 def test_identify_reads_only_files_in_the_campaigns_folder(cli, tmp_path):
-    _campaign(tmp_path, file="outside.csv")                # a good data file, one level up
+    _campaign(tmp_path, file="outside.csv")  # a good data file, one level up
     for name in ("/etc/passwd", "../../../../../../../etc/passwd", "../outside.csv", "link.csv"):
         toml = _campaign(tmp_path / "c", file=name, write_csv=False)
         if name == "link.csv":
@@ -428,12 +463,15 @@ def test_bench_campaigns_in_degrees_pass_and_in_radians_are_refused(tmp_path, ef
     from rjcad.identify.catalogue import CATALOGUE
     from rjcad.identify.data import load_campaign
 
-    chosen, params, design = {"paper": (list(PAPER_PRESET["effects"]), PAPER_PRESET["params"], PAPER_PRESET["design"]),
-                              "all": ([e.id for e in CATALOGUE], {}, None), "none": ([], {}, None)}[effects]
+    chosen, params, design = {
+        "paper": (list(PAPER_PRESET["effects"]), PAPER_PRESET["params"], PAPER_PRESET["design"]),
+        "all": ([e.id for e in CATALOGUE], {}, None),
+        "none": ([], {}, None),
+    }[effects]
     write_campaign(tmp_path, chosen, params, design=design, seed=2, samples=600, rotation_deg=rotation)
     assert len(load_campaign(tmp_path / "campaign.toml").experiments) == 5
     if rotation < 60:
-        return   # in radians it moves less than 1 "degree": refused as too small a motion already
+        return  # in radians it moves less than 1 "degree": refused as too small a motion already
     for csv in tmp_path.glob("*.csv"):
         lines = csv.read_text().splitlines()
         rows = [line.split(",") for line in lines[1:]]

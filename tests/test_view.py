@@ -9,9 +9,11 @@ import pytest
 
 from rjcad.view import chains, tendon_owner
 
-JOINTS = [{"parent": "base", "child": "link1", "axis_point_mm": [0.0, 0, 0], "axis_dir": [0, 0, 1]},
-          {"parent": "link1", "child": "link2", "axis_point_mm": [40.0, 0, 0], "axis_dir": [0, 0, 1]},
-          {"parent": "link2", "child": "distal", "axis_point_mm": [80.0, 0, 0], "axis_dir": [0, 0, 1]}]
+JOINTS = [
+    {"parent": "base", "child": "link1", "axis_point_mm": [0.0, 0, 0], "axis_dir": [0, 0, 1]},
+    {"parent": "link1", "child": "link2", "axis_point_mm": [40.0, 0, 0], "axis_dir": [0, 0, 1]},
+    {"parent": "link2", "child": "distal", "axis_point_mm": [80.0, 0, 0], "axis_dir": [0, 0, 1]},
+]
 
 
 def test_each_body_moves_with_the_joints_between_the_root_and_it():
@@ -55,8 +57,9 @@ open(sys.argv[1], "w").write(json.dumps(top))
 def imported(root, tmp_path, *argv) -> set[str]:
     """Top-level packages a new process has imported after running `rjcad ARGV`."""
     out = tmp_path / "modules.json"
-    subprocess.run([sys.executable, "-c", IMPORTS, str(out), *argv], cwd=root, check=True, capture_output=True,
-                   timeout=120)
+    subprocess.run(
+        [sys.executable, "-c", IMPORTS, str(out), *argv], cwd=root, check=True, capture_output=True, timeout=120
+    )
     return set(json.loads(out.read_text()))
 
 
@@ -84,6 +87,12 @@ def test_the_joint_build_imports_no_matplotlib_and_check_no_cad(root, tmp_path):
     mods = imported(root, tmp_path, "joint", "--out", str(tmp_path / "joint"))
     assert "cadquery" in mods and "vtkmodules" in mods and "matplotlib" not in mods
     assert (tmp_path / "joint" / "joint.png").stat().st_size > 10_000
-    check = imported(root, tmp_path, "check", str(tmp_path / "joint" / "joint.3mf"), "--manifest",
-                     str(tmp_path / "joint" / "joint.json"))
+    check = imported(
+        root,
+        tmp_path,
+        "check",
+        str(tmp_path / "joint" / "joint.3mf"),
+        "--manifest",
+        str(tmp_path / "joint" / "joint.json"),
+    )
     assert "trimesh" in check and not check & {"cadquery", "OCP", "vtk", "vtkmodules", "matplotlib"}

@@ -35,8 +35,9 @@ def wind(p, theta_max, steps):
 
     d = p.spring
     EI = d.youngs_modulus * d.width * d.thickness**3 / 12
-    return rod.solve_rod(X, {0: (0.0, 0.0, 0.0), -1: path}, EI=EI, EA=EI * 12 / d.thickness**2,
-                         steps=steps, tangents=tang)
+    return rod.solve_rod(
+        X, {0: (0.0, 0.0, 0.0), -1: path}, EI=EI, EA=EI * 12 / d.thickness**2, steps=steps, tangents=tang
+    )
 
 
 def strip_manifold(P, t, z0, z1):

@@ -63,8 +63,19 @@ KS = np.arange(-3, 9)
 RHO_ARM = 2.0 ** (KS / 2.0)
 # Turns per arm: finer where the one-turn ripple (where the outer end sits relative to the
 # inner tab) is strong, coarser at many turns where it fades.
-TURNS = np.unique(np.round(np.concatenate([np.arange(0.5, 4.0, 1 / 16), np.arange(4.0, 8.0, 1 / 8),
-                                           np.arange(8.0, 14.0, 1 / 6), np.arange(14.0, 20.0 + 1e-9, 1 / 4)]), 9))
+TURNS = np.unique(
+    np.round(
+        np.concatenate(
+            [
+                np.arange(0.5, 4.0, 1 / 16),
+                np.arange(4.0, 8.0, 1 / 8),
+                np.arange(8.0, 14.0, 1 / 6),
+                np.arange(14.0, 20.0 + 1e-9, 1 / 4),
+            ]
+        ),
+        9,
+    )
+)
 TURNS_RANGE = {1: (1.0, 20.0), 2: (0.5, 10.0)}
 RHO_K = {1: np.arange(-1, 9), 2: np.arange(-3, 7)}  # grid index k of each table's r_in/p axis
 
@@ -271,8 +282,14 @@ def _solve(rho, turns, end, sense, theta, per_turn=PER_TURN, t_over_p=T_OVER_P):
         c, s = math.cos(lam * ang), math.sin(lam * ang)
         return (c * x - s * y - x, s * x + c * y - y, lam * ang if end == "clamped" else None)
 
-    sol = rod.solve_rod(X, {0: (0.0, 0.0, 0.0), -1: path}, EI=t_over_p**3 / 12.0, EA=t_over_p,
-                        steps=theta[1:] / theta[-1], tangents=tang)
+    sol = rod.solve_rod(
+        X,
+        {0: (0.0, 0.0, 0.0), -1: path},
+        EI=t_over_p**3 / 12.0,
+        EA=t_over_p,
+        steps=theta[1:] / theta[-1],
+        tangents=tang,
+    )
     return sol, a
 
 
@@ -321,8 +338,12 @@ def windup(rho, turns, end, sense, need=(True, True), theta=THETA, per_turn=PER_
             X, tg = sol.positions(k), sol.tangents(k)
             T = _torque(sol, k, sgn)
             running = (np.nanmin(out[:k, 0]), np.nanmin(out[:k, 1]))
-            out[k] = (*coil_distances(X, tg, a, running), hub_distance(X, tg, a, rho),
-                      np.abs(sol.moment[k]).max() / T, T / (k0 * done[k]))
+            out[k] = (
+                *coil_distances(X, tg, a, running),
+                hub_distance(X, tg, a, rho),
+                np.abs(sol.moment[k]).max() / T,
+                T / (k0 * done[k]),
+            )
         last = len(done) - 1
         h1, h2 = np.min(out[: last + 1, 0]), np.min(out[: last + 1, 1])
         stopped = (h1 < H_STOP or not need[0]) and (2 * h2 < H_STOP or not need[1])
@@ -339,9 +360,9 @@ def _accumulate(out, last, stopped):
         done[:, col] = np.minimum.accumulate(done[:, col])
     done[:, 3] = np.maximum.accumulate(done[:, 3])
     if last < len(out) - 1:
-        out[last + 1:] = out[last] if stopped else np.nan
+        out[last + 1 :] = out[last] if stopped else np.nan
         if stopped:
-            out[last + 1:, :2] = 0.0
+            out[last + 1 :, :2] = 0.0
     return out
 
 
@@ -350,8 +371,10 @@ def _accumulate(out, last, stopped):
 
 def _needs(k, turns):
     """Which tables use the solve at grid r_in/P = 2^(k/2), turns: (arms=1, arms=2)."""
-    return (k in RHO_K[1] and TURNS_RANGE[1][0] - 1e-9 <= turns <= TURNS_RANGE[1][1] + 1e-9,
-            k in RHO_K[2] and TURNS_RANGE[2][0] - 1e-9 <= turns <= TURNS_RANGE[2][1] + 1e-9)
+    return (
+        k in RHO_K[1] and TURNS_RANGE[1][0] - 1e-9 <= turns <= TURNS_RANGE[1][1] + 1e-9,
+        k in RHO_K[2] and TURNS_RANGE[2][0] - 1e-9 <= turns <= TURNS_RANGE[2][1] + 1e-9,
+    )
 
 
 def _grid_task(task):
@@ -366,9 +389,14 @@ def build(jobs: int = 1, log=print, ks=KS, turns=TURNS) -> dict:
     """Solve the grid; returns the arrays of the file (tables as floats, margins absent)."""
     tasks = [(end, sense, int(k), float(n)) for end in ENDS for sense in SENSES for k in ks for n in turns]
     results = _map(_grid_task, tasks, jobs, log)
-    out = {"rho_arm": 2.0 ** (ks / 2.0), "turns": turns, "theta": THETA,
-           "domain_rho": np.array([2.0**-0.5, 16.0]),
-           "domain_turns_1": np.array(TURNS_RANGE[1]), "domain_turns_2": np.array(TURNS_RANGE[2])}
+    out = {
+        "rho_arm": 2.0 ** (ks / 2.0),
+        "turns": turns,
+        "theta": THETA,
+        "domain_rho": np.array([2.0**-0.5, 16.0]),
+        "domain_turns_1": np.array(TURNS_RANGE[1]),
+        "domain_turns_2": np.array(TURNS_RANGE[2]),
+    }
     it = iter(results)
     for end in ENDS:
         for sense in SENSES:
@@ -389,6 +417,7 @@ def _map(fn, tasks, jobs, log):
     t0, results = time.perf_counter(), []
     if jobs > 1:
         import multiprocessing
+
         with multiprocessing.Pool(jobs, initializer=_nice) as pool:
             for i, r in enumerate(pool.imap(fn, tasks, chunksize=4)):
                 results.append(r)
@@ -402,6 +431,7 @@ def _map(fn, tasks, jobs, log):
 
 def _nice():
     import os
+
     os.nice(10)
 
 
@@ -418,6 +448,7 @@ def write(arrays: dict, path) -> None:
     """
     import io
     import zipfile
+
     stored = {k: np.asarray(v) for k, v in arrays.items()}
     keys = [f"{end}_{sense}" for end in ENDS for sense in SENSES]
     stack = np.stack([stored[k] for k in keys])
@@ -425,8 +456,9 @@ def write(arrays: dict, path) -> None:
     scale = np.maximum((np.nanmax(stack, axis=(0, 1, 2, 3)) - lo) / 65534.0, 1e-12)
     for k in keys:
         v = stored[k]
-        stored[k] = np.where(np.isfinite(v), np.round((np.where(np.isfinite(v), v, lo) - lo) / scale),
-                             65535).astype(np.uint16)
+        stored[k] = np.where(np.isfinite(v), np.round((np.where(np.isfinite(v), v, lo) - lo) / scale), 65535).astype(
+            np.uint16
+        )
     stored["q_offset"], stored["q_scale"] = lo, scale
     with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as zf:
         for key in sorted(stored):
@@ -456,25 +488,36 @@ def validation_tasks(per_table: int, seed: int):
         for sense in SENSES:
             for arms in (1, 2):
                 for _ in range(per_table):
-                    tasks.append((end, sense, arms, float(2.0 ** rng.uniform(-0.5, 4.0)),
-                                  float(np.exp(rng.uniform(*np.log(TURNS_RANGE[arms])))),
-                                  float(rng.uniform(0.1, 0.9))))
+                    tasks.append(
+                        (
+                            end,
+                            sense,
+                            arms,
+                            float(2.0 ** rng.uniform(-0.5, 4.0)),
+                            float(np.exp(rng.uniform(*np.log(TURNS_RANGE[arms])))),
+                            float(rng.uniform(0.1, 0.9)),
+                        )
+                    )
     return tasks
 
 
 def errors(task, truth, path):
     """Surrogate (no margin) − rod over THETA_FINE: h, q, tau (+ = surrogate high), m (+ = surrogate low), c."""
     from rjcad.spring import surrogate as sg
+
     end, sense, arms, rho, turns, _ = task
     out, c, _ = truth
     kw = dict(end=end, sense=sense, arms=arms, path=path)
     h_true = arms * out[:, 0 if arms == 1 else 1]
     h, spread = sg.gap_lookup(THETA_FINE, rho, turns, **kw)
     open_ = h_true >= H_STOP  # only where a design may still be accepted
-    e = {"h": np.where(open_ | (h >= H_STOP), h - h_true, np.nan), "spread": spread,
-         "q": np.where(open_, sg.hub_ratio_min(THETA_FINE, rho, turns, margin=False, **kw) - arms * out[:, 2], np.nan),
-         "m": np.where(open_, out[:, 3] - sg.stress_factor(rho, turns, THETA_FINE, margin=False, **kw), np.nan),
-         "tau": np.where(open_, sg.torque_ratio(THETA_FINE, rho, turns, **kw) - out[:, 4], np.nan)}
+    e = {
+        "h": np.where(open_ | (h >= H_STOP), h - h_true, np.nan),
+        "spread": spread,
+        "q": np.where(open_, sg.hub_ratio_min(THETA_FINE, rho, turns, margin=False, **kw) - arms * out[:, 2], np.nan),
+        "m": np.where(open_, out[:, 3] - sg.stress_factor(rho, turns, THETA_FINE, margin=False, **kw), np.nan),
+        "tau": np.where(open_, sg.torque_ratio(THETA_FINE, rho, turns, **kw) - out[:, 4], np.nan),
+    }
     e["c"] = float(sg.stiffness_ratio(rho, turns, end=end, arms=arms, path=path) - c)
     return e
 
@@ -519,9 +562,13 @@ def margins_from(errs, tasks):
                         continue
                     i, j = np.unravel_index(np.nanargmax(np.abs(E) if col in ("tau", "c") else E), E.shape)
                     task = tasks[sel[i]]
-                    worst[f"{col}_{name}"] = dict(error=float(E[i, j]), r_in_over_p=task[3], turns=task[4],
-                                                  t_over_p=task[5],
-                                                  theta_deg=None if col == "c" else float(np.degrees(THETA_FINE[j])))
+                    worst[f"{col}_{name}"] = dict(
+                        error=float(E[i, j]),
+                        r_in_over_p=task[3],
+                        turns=task[4],
+                        t_over_p=task[5],
+                        theta_deg=None if col == "c" else float(np.degrees(THETA_FINE[j])),
+                    )
                     if col == "h":
                         S = np.array([errs[i]["spread"] for i in sel])
                         mean, out[f"beta_h_{name}"], out[f"margin_h_{name}"] = _fit_h(E, S)
@@ -533,8 +580,11 @@ def margins_from(errs, tasks):
 
 def main(argv=None) -> None:
     import json
+
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "rjcad" / "data" / "spring_surrogate.npz"))
+    ap.add_argument(
+        "--out", default=str(Path(__file__).resolve().parents[1] / "rjcad" / "data" / "spring_surrogate.npz")
+    )
     ap.add_argument("--jobs", type=int, default=1, help="worker processes (niced)")
     ap.add_argument("--validate", type=int, default=60, help="random rod solves per (end, sense, arms) for the margins")
     ap.add_argument("--seed", type=int, default=2026)
@@ -552,8 +602,17 @@ def main(argv=None) -> None:
     arrays["meta"] = np.array([PER_TURN, T_OVER_P, H_STOP, SAFETY, FLOOR, args.validate, args.seed], float)
     write(arrays, args.out)
     tmp.unlink()
-    print(json.dumps({"build_s": round(t_build, 1), "validate_s": round(time.perf_counter() - t0 - t_build, 1),
-                      "file_bytes": Path(args.out).stat().st_size, "worst": worst}, indent=1))
+    print(
+        json.dumps(
+            {
+                "build_s": round(t_build, 1),
+                "validate_s": round(time.perf_counter() - t0 - t_build, 1),
+                "file_bytes": Path(args.out).stat().st_size,
+                "worst": worst,
+            },
+            indent=1,
+        )
+    )
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ an STL's triangles sorted, coordinates to 1e-6 mm; a STEP file without its heade
 holds dates and its XML random UUIDs). A PNG is compared by its pixels, so that dropping the
 matplotlib version from its metadata is not a change. Everything else is byte for byte.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -40,11 +41,29 @@ COMMANDS = {
     "finger": ["finger", "templates/finger.toml", "--out", "{tmp}/finger"],
     "joint": ["joint", "--out", "{tmp}/joint"],
     "spring": ["spring", "--config", "templates/spring.toml", "--json"],
-    "spring_clamped": ["spring", "--stiffness", "8", "--rotation", "60", "--preload", "45", "--end", "clamped",
-                       "--material", "petg", "--json"],
+    "spring_clamped": [
+        "spring",
+        "--stiffness",
+        "8",
+        "--rotation",
+        "60",
+        "--preload",
+        "45",
+        "--end",
+        "clamped",
+        "--material",
+        "petg",
+        "--json",
+    ],
     "spring_table": ["spring", "--config", "templates/spring.toml"],
-    "identify": ["identify", "examples/paper_campaign/campaign.toml", "--json", "{tmp}/identify.json",
-                 "--report", "{tmp}/identify"],
+    "identify": [
+        "identify",
+        "examples/paper_campaign/campaign.toml",
+        "--json",
+        "{tmp}/identify.json",
+        "--report",
+        "{tmp}/identify",
+    ],
     "life": ["life", "--json"],
 }
 
@@ -89,8 +108,9 @@ def digest(data: bytes, name: str, v0: bool = False) -> str:
         data = data[:84] + _sorted_triangles(tri["v"])
     if name.endswith(".3mf"):
         scene = trimesh.load(io.BytesIO(data), file_type="3mf", process=False)
-        data = b"".join(n.encode() + _sorted_triangles(g.triangles.reshape(-1, 9))
-                        for n, g in sorted(scene.geometry.items()))
+        data = b"".join(
+            n.encode() + _sorted_triangles(g.triangles.reshape(-1, 9)) for n, g in sorted(scene.geometry.items())
+        )
     return hashlib.sha256(data).hexdigest()
 
 

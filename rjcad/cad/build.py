@@ -10,17 +10,17 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
-from collections.abc import Callable
 
 import numpy as np
 
 from rjcad.cad import mesh_export as mx
+from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 from rjcad.io.manifest import JointEntry, Manifest
 from rjcad.io.outputs import check_writable
-from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 
 if TYPE_CHECKING:
     import trimesh
@@ -31,23 +31,33 @@ if TYPE_CHECKING:
 #: The joint's body colours (preview and GLB).
 JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
 
-GAPS_NOTE = ("radial gaps print side by side in XY; axial gaps are Z steps and use "
-             "max(clearance, the printer's vertical minimum)")
+GAPS_NOTE = (
+    "radial gaps print side by side in XY; axial gaps are Z steps and use "
+    "max(clearance, the printer's vertical minimum)"
+)
 
 
-def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float],
-                axis_dir: list[float]) -> JointEntry:
+def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float], axis_dir: list[float]) -> JointEntry:
     """Manifest entry of a joint built from ``p`` (the tendon's moment arm and wrap are measured later)."""
     spring = p.spring.to_dict()
     return JointEntry(
-        parent=parent, child=child, axis_point_mm=axis_point, axis_dir=axis_dir,
+        parent=parent,
+        child=child,
+        axis_point_mm=axis_point,
+        axis_dir=axis_dir,
         joint_stiffness_nmm_per_rad=spring["joint_stiffness_nmm_per_rad"],
-        requested_stiffness_nmm_per_rad=p.stiffness, spring=spring,
-        preload_deg=math.degrees(p.preload), rotation_deg=math.degrees(p.rotation),
-        link_length_mm=p.link_length, z_mid_mm=p.z_mid, height_mm=p.height,
-        extra={"spring_end": end_fitting_entry(p),
-               "layout": p.desktop.summary() if p.layout == "desktop" else {"layout": "stacked"},
-               "springs": p.springs},
+        requested_stiffness_nmm_per_rad=p.stiffness,
+        spring=spring,
+        preload_deg=math.degrees(p.preload),
+        rotation_deg=math.degrees(p.rotation),
+        link_length_mm=p.link_length,
+        z_mid_mm=p.z_mid,
+        height_mm=p.height,
+        extra={
+            "spring_end": end_fitting_entry(p),
+            "layout": p.desktop.summary() if p.layout == "desktop" else {"layout": "stacked"},
+            "springs": p.springs,
+        },
     )
 
 
@@ -56,46 +66,62 @@ def end_fitting_entry(p: JointParams) -> dict:
     h_s, c = p.seat_height, p.clearance_mm
     common = {
         "end": p.end_condition,
-        "spiral": (f"printed winding {'counter-clockwise' if p.layout == 'desktop' else 'clockwise'} outwards "
-                   "(seen from +Z); preload and flexion unwind it"),
+        "spiral": (
+            f"printed winding {'counter-clockwise' if p.layout == 'desktop' else 'clockwise'} outwards "
+            "(seen from +Z); preload and flexion unwind it"
+        ),
         "seat_height_mm": h_s,
         "push_out_mm": h_s + c,
         "wound_radius_mm": p.wound_radius,
     }
     if p.end_condition == "clamped":
         a = math.degrees(p.socket_tilt)
-        return {**common,
-                "fitting": "key in a socket: a rigid key on the strip's outer end (clockwise of its ray) between "
-                           "two tines and against a base on the moving link, holding the end's position and angle",
-                "key_width_mm": p.key_width, "key_root_radius_mm": p.key_root_radius,
-                "key_tip_radius_mm": p.key_tip_radius, "engagement_mm": KEY_ENGAGEMENT,
-                "slot_width_mm": p.key_width + 2 * c, "rotational_play_deg": a, "tine_tilt_deg": a,
-                "bearing": "the spring's moment on the key (about T, one sense over the whole range) turns it "
-                           f"clockwise in its slot by the play ({a:.1f} deg, about 2c/l): its tip corner bears on the "
-                           "clockwise tine, its counter-clockwise face on the counter-clockwise tine's inner end; the "
-                           "tines are tilted by the play, so the bearing key sits at its modelled pose; the end's "
-                           "small outward force puts its tip on the base"}
-    return {**common,
-            "fitting": "closed ring around the post, free to turn",
-            "ring_inner_radius_mm": p.post_radius + c, "ring_wall_mm": p.hook_wall,
-            "pin_offset_mm": p.post_ring_radius - p.spring.centreline_outer_radius,
-            "bearing": "the post pulls the ring counter-clockwise; the pin sits pin_offset_mm radially outside the "
-                       "strip's end, on a rigid stub (the rod model's pin is at the strip's end)"}
+        return {
+            **common,
+            "fitting": "key in a socket: a rigid key on the strip's outer end (clockwise of its ray) between "
+            "two tines and against a base on the moving link, holding the end's position and angle",
+            "key_width_mm": p.key_width,
+            "key_root_radius_mm": p.key_root_radius,
+            "key_tip_radius_mm": p.key_tip_radius,
+            "engagement_mm": KEY_ENGAGEMENT,
+            "slot_width_mm": p.key_width + 2 * c,
+            "rotational_play_deg": a,
+            "tine_tilt_deg": a,
+            "bearing": "the spring's moment on the key (about T, one sense over the whole range) turns it "
+            f"clockwise in its slot by the play ({a:.1f} deg, about 2c/l): its tip corner bears on the "
+            "clockwise tine, its counter-clockwise face on the counter-clockwise tine's inner end; the "
+            "tines are tilted by the play, so the bearing key sits at its modelled pose; the end's "
+            "small outward force puts its tip on the base",
+        }
+    return {
+        **common,
+        "fitting": "closed ring around the post, free to turn",
+        "ring_inner_radius_mm": p.post_radius + c,
+        "ring_wall_mm": p.hook_wall,
+        "pin_offset_mm": p.post_ring_radius - p.spring.centreline_outer_radius,
+        "bearing": "the post pulls the ring counter-clockwise; the pin sits pin_offset_mm radially outside the "
+        "strip's end, on a rigid stub (the rod model's pin is at the strip's end)",
+    }
 
 
 def seating_text(p: JointParams) -> str:
     """What the user does after printing, one sentence."""
     if p.layout == "desktop":
         lift = p.seat_height + p.clearance_mm
-        return (f"lift the spring's key out of the bed plane (into the cup) by {lift:.1f} mm, "
-                f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
-                "drop between the tines of its socket on the cup")
-    what, where = ("key", "between the tines of its socket") if p.end_condition == "clamped" else \
-        ("ring", "around its post")
-    return (f"for each spring, push its {what} out of the spring's plane (away from the joint's middle) by "
-            f"{p.seat_height + p.clearance_mm:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
-            f"(seen from +Z, the flexion sense: this unwinds the spiral) and let it spring back {where} "
-            "on the moving link")
+        return (
+            f"lift the spring's key out of the bed plane (into the cup) by {lift:.1f} mm, "
+            f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
+            "drop between the tines of its socket on the cup"
+        )
+    what, where = (
+        ("key", "between the tines of its socket") if p.end_condition == "clamped" else ("ring", "around its post")
+    )
+    return (
+        f"for each spring, push its {what} out of the spring's plane (away from the joint's middle) by "
+        f"{p.seat_height + p.clearance_mm:.1f} mm, turn it {math.degrees(p.preload):g} deg counter-clockwise "
+        f"(seen from +Z, the flexion sense: this unwinds the spiral) and let it spring back {where} "
+        "on the moving link"
+    )
 
 
 def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
@@ -104,16 +130,23 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
     if p.layout == "desktop":
         z = p.desktop.seat + 0.5 * (p.spring.width - p.desktop.seat)
         return [
-            (f"z = {z:.2f}: spring on the bed (ccw out), key printed {deg:g}° ccw of its socket (at -X)",
-             (0, 0, z), (0, 0, 1)),
+            (
+                f"z = {z:.2f}: spring on the bed (ccw out), key printed {deg:g}° ccw of its socket (at -X)",
+                (0, 0, z),
+                (0, 0, 1),
+            ),
             ("section through the tendon: band, groove, arm, support pin, channels", (0, 0, p.z_mid), (0, 0, 1)),
             ("section y = 0: spring, cup and 50° roof, hub with flare, band and arm", (0, 0, 0), (0, 1, 0)),
         ]
     fitting = ("key", "socket") if p.end_condition == "clamped" else ("ring", "post")
     z = p.spring.width - p.seat_height / 2
     return [
-        (f"z = {z:.2f}: bottom spring (clockwise out), its {fitting[0]} printed {deg:g}° clockwise of its "
-         f"{fitting[1]}", (0, 0, z), (0, 0, 1)),
+        (
+            f"z = {z:.2f}: bottom spring (clockwise out), its {fitting[0]} printed {deg:g}° clockwise of its "
+            f"{fitting[1]}",
+            (0, 0, z),
+            (0, 0, 1),
+        ),
         ("section through the eye band: eye, tendon groove, support pin, channels", (0, 0, p.z_mid), (0, 0, 1)),
         ("section y = 0: the stack spring | cheek | eye | cheek | spring", (0, 0, 0), (0, 1, 0)),
     ]
@@ -185,20 +218,32 @@ def build(p: JointParams, cad=None) -> JointBuild:
             "z_eye_mm": list(p.z_eye),
             "post_radius_mm": p.post_ring_radius,
             "note": "axis +Z through axis_point_mm; ground link to -X, moving link to +X; "
-                    "flexion is positive about +Z; bottom on z = 0",
+            "flexion is positive about +Z; bottom on z = 0",
         },
         "mesh": _mesh_summary(meshes),
         "print": {
-            "orientation": ("as exported: joint axis vertical (Z); the spring, the cup and both link blocks on the bed"
-                            if p.layout == "desktop" else
-                            "as exported: joint axis vertical (Z), bottom spring on the bed"),
+            "orientation": (
+                "as exported: joint axis vertical (Z); the spring, the cup and both link blocks on the bed"
+                if p.layout == "desktop"
+                else "as exported: joint axis vertical (Z), bottom spring on the bed"
+            ),
             "post_print": seating_text(p),
         },
     }
-    manifest = Manifest("joint", [entry], measured.bodies, material=p.material, printer=p.printer,
-                        clearance_mm=p.clearance_mm, extra=extra)
-    timings = {"build_s": shape.timings["build_s"], "tessellate_s": shape.timings["triangulate_s"] + t1 - t0,
-               "measure_s": measured.timings["arm_wrap_s"] + t2 - t1}
+    manifest = Manifest(
+        "joint",
+        [entry],
+        measured.bodies,
+        material=p.material,
+        printer=p.printer,
+        clearance_mm=p.clearance_mm,
+        extra=extra,
+    )
+    timings = {
+        "build_s": shape.timings["build_s"],
+        "tessellate_s": shape.timings["triangulate_s"] + t1 - t0,
+        "measure_s": measured.timings["arm_wrap_s"] + t2 - t1,
+    }
     return JointBuild(p, source.solids, meshes, manifest, shape.tendon, source.step, timings)
 
 
@@ -219,8 +264,10 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             b.meshes,
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
             f"{math.degrees(p.preload):g}° preload, {p.material}; tendon path in red",
-            lines=[b.tendon], colours=JOINT_COLOURS,
-            sections=preview_sections(p))
+            lines=[b.tendon],
+            colours=JOINT_COLOURS,
+            sections=preview_sections(p),
+        )
     t3 = time.perf_counter()
     files[f"{name}.step"] = b.step(name)
     t4 = time.perf_counter()
@@ -273,8 +320,9 @@ def build_finger_model(fp) -> FingerBuild:
     joints = []
     for i, p in enumerate(fp.joints):
         entry = joint_entry(p, names[i], names[i + 1], [fp.axis_x[i], 0.0, 0.0], [0.0, 0.0, 1.0])
-        entry.tendon_moment_arm_mm = ex.measure_moment_arm(solids[names[i + 1]], p.z_mid, p.tendon_line_diameter,
-                                                           axis_point=entry.axis_point_mm)
+        entry.tendon_moment_arm_mm = ex.measure_moment_arm(
+            solids[names[i + 1]], p.z_mid, p.tendon_line_diameter, axis_point=entry.axis_point_mm
+        )
         entry.tendon_wrap_angle_rad = ex.measure_wrap_angle(solids[names[i]], p.tendon_diameter / 2)
         joints.append(entry)
     path = np.array(tendon_path(fp))
@@ -292,17 +340,24 @@ def build_finger_model(fp) -> FingerBuild:
         "gaps_mm": {"radial_pin_eye": p0.gap_xy, "axial_stack": p0.gap_z, "note": GAPS_NOTE},
         "mesh": _mesh_summary(meshes),
         "frame": "joint 1's axis is +Z through the origin; the finger extends along +X; flexion is positive "
-                 "about +Z (towards +Y, the tendon side); every body stands on z = 0",
+        "about +Z (towards +Y, the tendon side); every body stands on z = 0",
     }
-    manifest = Manifest("finger", joints, body_entries(solids, p0.material_spec.density_g_cm3),
-                        material=p0.material, printer=p0.printer, clearance_mm=p0.clearance_mm, extra=extra)
+    manifest = Manifest(
+        "finger",
+        joints,
+        body_entries(solids, p0.material_spec.density_g_cm3),
+        material=p0.material,
+        printer=p0.printer,
+        clearance_mm=p0.clearance_mm,
+        extra=extra,
+    )
     t3 = time.perf_counter()
-    return FingerBuild(fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1,
-                                                      "measure_s": t3 - t2})
+    return FingerBuild(
+        fp, solids, meshes, manifest, {"build_s": t1 - t0, "tessellate_s": t2 - t1, "measure_s": t3 - t2}
+    )
 
 
-def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False,
-                        gravity=None) -> dict[str, bytes | str]:
+def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gravity=None) -> dict[str, bytes | str]:
     """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
     from rjcad.cad import export as ex
 
@@ -319,9 +374,11 @@ def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False,
         ks = ", ".join(f"{j.joint_stiffness_nmm_per_rad:.2f}" for j in b.manifest.joints)
         p0 = fp.joints[0]
         files["finger.png"] = ex.preview_png(
-            b.meshes, f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
+            b.meshes,
+            f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
             lines=[np.array(b.manifest.extra["tendon_path_mm"])],
-            sections=finger_sections(fp))
+            sections=finger_sections(fp),
+        )
     t2 = time.perf_counter()
     b.timings.update({"exports_s": t1 - t0, "png_s": t2 - t1})
     files["finger.json"] = json.dumps(b.manifest.to_json(), indent=2) + "\n"
@@ -337,20 +394,30 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
     p0 = fp.joints[0]
     if p0.layout == "desktop":
         z = min(p.spring.width for p in fp.joints) / 2
-        return [(f"section z = {z:.2f}: the springs on the bed, keys printed {math.degrees(p0.preload):g}° ccw "
-                 "of their sockets", (0, 0, z), (0, 0, 1)),
-                ("section through the tendon plane: bands, arms, tendon path, support pins", (0, 0, p0.z_mid),
-                 (0, 0, 1)),
-                ("section y = 0: cups, roofs, hubs and arms", (0, 0, 0), (0, 1, 0))]
+        return [
+            (
+                f"section z = {z:.2f}: the springs on the bed, keys printed {math.degrees(p0.preload):g}° ccw "
+                "of their sockets",
+                (0, 0, z),
+                (0, 0, 1),
+            ),
+            ("section through the tendon plane: bands, arms, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
+            ("section y = 0: cups, roofs, hubs and arms", (0, 0, 0), (0, 1, 0)),
+        ]
     z = p0.spring.width - p0.seat_height / 2
-    return [(f"section z = {z:.2f}: joint 1's bottom spring, its "
-             f"{'key and socket' if p0.end_condition == 'clamped' else 'ring and post'}", (0, 0, z), (0, 0, 1)),
-            ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
-            ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0))]
+    return [
+        (
+            f"section z = {z:.2f}: joint 1's bottom spring, its "
+            f"{'key and socket' if p0.end_condition == 'clamped' else 'ring and post'}",
+            (0, 0, z),
+            (0, 0, 1),
+        ),
+        ("section at joint 1's eye band: eyes, tendon path, support pins", (0, 0, p0.z_mid), (0, 0, 1)),
+        ("section y = 0: the joint stacks", (0, 0, 0), (0, 1, 0)),
+    ]
 
 
-def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False,
-                 gravity=None) -> FingerBuild:
+def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False, gravity=None) -> FingerBuild:
     """Build the finger and write finger.{stl,3mf,step,glb,png,json} (and with ``mjcf`` finger.xml and one STL per
     body) into ``out_dir`` (as one set).
 

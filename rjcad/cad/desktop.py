@@ -52,15 +52,29 @@ def cup_profile(p: JointParams) -> list[tuple[float, float]]:
     bore (a cone meeting the bore would end in a knife edge no road can print)."""
     L = p.desktop
     r_land = L.R_bore + ROOF_LAND
-    return [(L.R_ci, 0.0), (L.R_co, 0.0), (L.R_co, L.roof_top(L.R_co)), (r_land, L.roof_top(r_land)),
-            (L.R_bore, L.roof_top(r_land)), (L.R_bore, L.roof_under(L.R_bore)), (L.R_ci, L.z_w0)]
+    return [
+        (L.R_ci, 0.0),
+        (L.R_co, 0.0),
+        (L.R_co, L.roof_top(L.R_co)),
+        (r_land, L.roof_top(r_land)),
+        (L.R_bore, L.roof_top(r_land)),
+        (L.R_bore, L.roof_under(L.R_bore)),
+        (L.R_ci, L.z_w0),
+    ]
 
 
 def hub_profile(p: JointParams) -> list[tuple[float, float]]:
     """(r, z) of the hub: shaft through the spring, flare under the roof, collar in the bore, band."""
     L = p.desktop
-    return [(0.0, 0.0), (L.r_h, 0.0), (L.r_h, L.flare_bottom), (L.R_flare, L.flare_top(L.R_flare)),
-            (L.R_band, L.flare_top(L.R_band)), (L.R_band, L.height), (0.0, L.height)]
+    return [
+        (0.0, 0.0),
+        (L.r_h, 0.0),
+        (L.r_h, L.flare_bottom),
+        (L.R_flare, L.flare_top(L.R_flare)),
+        (L.R_band, L.flare_top(L.R_band)),
+        (L.R_band, L.height),
+        (0.0, L.height),
+    ]
 
 
 def lug_parts(p: JointParams) -> list[cq.Shape]:
@@ -71,11 +85,13 @@ def lug_parts(p: JointParams) -> list[cq.Shape]:
     x0, x1, y0 = L.lug_span
     y1 = y0 + LUG_WIDTH
     r1 = L.R_co - 0.05
-    zone = revolved([(x0 - 0.3, L.roof_top(x0) - 0.5), (r1, L.roof_top(r1) - 0.5), (r1, L.lug_top),
-                     (x0 - 0.3, L.lug_top)])
+    zone = revolved(
+        [(x0 - 0.3, L.roof_top(x0) - 0.5), (r1, L.roof_top(r1) - 0.5), (r1, L.lug_top), (x0 - 0.3, L.lug_top)]
+    )
     ext = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, -y1, -1.0))
     flex = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, y0, -1.0)).rotate(
-        ORIGIN, Z, math.degrees(p.rotation))
+        ORIGIN, Z, math.degrees(p.rotation)
+    )
     return [zone.intersect(ext), zone.intersect(flex)]
 
 
@@ -139,8 +155,11 @@ def groove_cut(p: JointParams) -> cq.Shape:
     rise = (R_out - R_e) * T
     start = 60.0
     end = min(90.0 + math.degrees(p.rotation) + 40.0, 300.0)
-    return revolved([(R_e, zt - gh), (R_out, zt - gh - rise), (R_out, zt + gh + rise), (R_e, zt + gh)],
-                    angle=end - start, start=start)
+    return revolved(
+        [(R_e, zt - gh), (R_out, zt - gh - rise), (R_out, zt + gh + rise), (R_e, zt + gh)],
+        angle=end - start,
+        start=start,
+    )
 
 
 def moving_cuts(p: JointParams) -> list[cq.Shape]:

@@ -35,8 +35,9 @@ if TYPE_CHECKING:
     import trimesh
 
 
-def triangulate(shape: cq.Shape, tolerance: float = MESH_TOLERANCE,
-                angular_tolerance: float = MESH_ANGULAR_TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
+def triangulate(
+    shape: cq.Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
+) -> tuple[np.ndarray, np.ndarray]:
     """Vertices (V, 3) [mm] and triangles (F, 3) of a shape's faces, unmerged: the arrays CadQuery's
     ``Shape.tessellate`` gives (same meshing, face order and winding). The faces are meshed in parallel
     (OCCT meshes each face on its own once the edges are shared: the same triangles as one thread) and each
@@ -65,8 +66,9 @@ def triangulate(shape: cq.Shape, tolerance: float = MESH_TOLERANCE,
     return np.concatenate(verts), np.concatenate(tris)
 
 
-def to_mesh(shape: cq.Shape, tolerance: float = MESH_TOLERANCE,
-            angular_tolerance: float = MESH_ANGULAR_TOLERANCE) -> trimesh.Trimesh:
+def to_mesh(
+    shape: cq.Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
+) -> trimesh.Trimesh:
     """Tessellate a solid into a trimesh with merged vertices (watertight when the B-rep is)."""
     return mesh_of(*triangulate(shape, tolerance, angular_tolerance))
 
@@ -82,8 +84,9 @@ def segment_inside(shape: cq.Shape, start, end) -> list[tuple[float, float]]:
     return sorted(spans)
 
 
-def measure_moment_arm(moving: cq.Shape, z_mid: float, line_diameter: float,
-                       axis_point=(0.0, 0.0, 0.0), direction=(0.0, 1.0, 0.0)) -> float:
+def measure_moment_arm(
+    moving: cq.Shape, z_mid: float, line_diameter: float, axis_point=(0.0, 0.0, 0.0), direction=(0.0, 1.0, 0.0)
+) -> float:
     """Tendon moment arm: radius where a ray from the axis leaves the eye (groove bottom) + line radius [mm]."""
     o = cq.Vector(axis_point[0], axis_point[1], z_mid)
     d = cq.Vector(*direction).normalized()
@@ -105,8 +108,10 @@ def channel_axes(shape: cq.Shape, radius: float, tol: float = 1e-4) -> list[tupl
         ax = cyl.Axis()
         d = np.array([ax.Direction().X(), ax.Direction().Y(), ax.Direction().Z()])
         c = np.array(f.Center().toTuple())
-        if any(abs(abs(float(np.dot(d, d2))) - 1.0) < 1e-9 and np.linalg.norm(np.cross(c - p2, d2)) < radius * 2
-               for p2, d2 in axes):
+        if any(
+            abs(abs(float(np.dot(d, d2))) - 1.0) < 1e-9 and np.linalg.norm(np.cross(c - p2, d2)) < radius * 2
+            for p2, d2 in axes
+        ):
             continue  # the same run, split into several faces
         axes.append((c, d))
     return axes

@@ -73,13 +73,16 @@ def m3_hole_heights(p: JointParams) -> tuple[float, float]:
 def base_body(fp: FingerParams) -> cq.Shape:
     """Fork of joint 1, the base block with two M3 through holes (along Y) and the entry channel."""
     p = fp.joints[0]
-    body = _fuse(ground_side(p) + [link_block(-fp.base_length, -p.ground_block_start, p.link_width, p.height)],
-                 "base fuse")
+    body = _fuse(
+        ground_side(p) + [link_block(-fp.base_length, -p.ground_block_start, p.link_width, p.height)], "base fuse"
+    )
     x_h = -fp.base_length + 5.0
     # teardrop holes (a round hole's crown is a flat overhang the length of the hole)
-    holes = [h for z in m3_hole_heights(p)
-             for h in tube_path([(x_h, -p.link_width / 2 - 1, z), (x_h, p.link_width / 2 + 1, z)],
-                                M3_CLEARANCE_DIAMETER / 2)]
+    holes = [
+        h
+        for z in m3_hole_heights(p)
+        for h in tube_path([(x_h, -p.link_width / 2 - 1, z), (x_h, p.link_width / 2 + 1, z)], M3_CLEARANCE_DIAMETER / 2)
+    ]
     cuts = tube_path(ground_channel_points(p, fp.base_length), p.tendon_diameter / 2) + holes + ground_side_cuts(p)
     return _one_solid(body.cut(*cuts), "base cuts")
 
@@ -91,8 +94,11 @@ def link_body(p: JointParams, q: JointParams) -> cq.Shape:
     W = max(p.link_width, q.link_width)
     parts = moving_side(p) + [link_block(p.block_start, L - q.ground_block_start, W, H)] + _moved(ground_side(q), L)
     body = _fuse(parts, "link fuse")
-    cuts = (moving_side_cuts(p, H) + tube_path(link_channel_points(p, q, L), p.tendon_diameter / 2)
-            + _moved(ground_side_cuts(q), L))
+    cuts = (
+        moving_side_cuts(p, H)
+        + tube_path(link_channel_points(p, q, L), p.tendon_diameter / 2)
+        + _moved(ground_side_cuts(q), L)
+    )
     body = _one_solid(body.cut(*cuts), "link cuts")
     return _fuse([body, support_pin(p)], "link support pin")
 

@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import cadquery as cq
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from rjcad.design.params import JointParams
 from rjcad.cad import desktop
 from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # also re-exported
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
+from rjcad.design.params import JointParams
 
 Z = cq.Vector(0, 0, 1)
 ORIGIN = cq.Vector(0, 0, 0)
@@ -175,8 +175,7 @@ def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, flo
 def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
     """Ground body of a module: fork parts plus the block from x = −reach to −X_g, with its channel."""
     reach = p.link_length if reach is None else reach
-    body = _fuse(ground_side(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)],
-                 "ground fuse")
+    body = _fuse(ground_side(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)], "ground fuse")
     cuts = ground_side_cuts(p)
     if channel:
         cuts += tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)

@@ -12,8 +12,8 @@ import numpy as np
 from rjcad.cad import export as ex
 from rjcad.cad.joint import JointSolids, build_joint, ground_channel_points, moving_channel_points, strip_volume
 from rjcad.cad.results import JointMeasures, JointShape
-from rjcad.io.manifest import BodyEntry
 from rjcad.design.params import JointParams
+from rjcad.io.manifest import BodyEntry
 
 
 def body_entries(solids: dict, density_g_cm3: float) -> list[BodyEntry]:
@@ -63,8 +63,13 @@ class LocalJoint:
             t1 = time.perf_counter()
             tri = {"ground": ex.triangulate(s.ground), "moving": ex.triangulate(s.moving)}
             t2 = time.perf_counter()
-            self._shape = JointShape(tri, tendon_polyline(p), list(s.axis_point), list(s.axis_dir),
-                                     {"build_s": t1 - t0, "triangulate_s": t2 - t1})
+            self._shape = JointShape(
+                tri,
+                tendon_polyline(p),
+                list(s.axis_point),
+                list(s.axis_dir),
+                {"build_s": t1 - t0, "triangulate_s": t2 - t1},
+            )
         return self._shape
 
     def measures(self) -> JointMeasures:

@@ -88,39 +88,60 @@ def threemf_bytes(meshes: dict[str, trimesh.Trimesh], name: str = "assembly") ->
         tris.append("".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in (f + nv).tolist()))
         parts.append((part, nf, nf + len(f) - 1))
         nv, nf = nv + len(v), nf + len(f)
-    model = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-             '<model unit="millimeter" xml:lang="en-US" '
-             'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
-             f'<resources><object id="1" name="{_q(name)}" type="model"><mesh>'
-             f'<vertices>{"".join(verts)}</vertices><triangles>{"".join(tris)}</triangles>'
-             '</mesh></object></resources>\n<build><item objectid="1"/></build>\n</model>\n')
-    config = ['<?xml version="1.0" encoding="UTF-8"?>', "<config>", ' <object id="1" instances_count="1">',
-              f'  <metadata type="object" key="name" value="{_q(name)}"/>']
+    model = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<model unit="millimeter" xml:lang="en-US" '
+        'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
+        f'<resources><object id="1" name="{_q(name)}" type="model"><mesh>'
+        f"<vertices>{''.join(verts)}</vertices><triangles>{''.join(tris)}</triangles>"
+        '</mesh></object></resources>\n<build><item objectid="1"/></build>\n</model>\n'
+    )
+    config = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        "<config>",
+        ' <object id="1" instances_count="1">',
+        f'  <metadata type="object" key="name" value="{_q(name)}"/>',
+    ]
     for part, first, last in parts:
-        config += [f'  <volume firstid="{first}" lastid="{last}">',
-                   f'   <metadata type="volume" key="name" value="{_q(part)}"/>',
-                   '   <metadata type="volume" key="volume_type" value="ModelPart"/>', "  </volume>"]
+        config += [
+            f'  <volume firstid="{first}" lastid="{last}">',
+            f'   <metadata type="volume" key="name" value="{_q(part)}"/>',
+            '   <metadata type="volume" key="volume_type" value="ModelPart"/>',
+            "  </volume>",
+        ]
     config += [" </object>", "</config>", ""]
-    types = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-             '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
-             '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
-             '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
-             '<Default Extension="config" ContentType="text/xml"/></Types>\n')
-    rels = ('<?xml version="1.0" encoding="UTF-8"?>\n'
-            '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
-            '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
-            'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>\n')
+    types = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+        '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+        '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+        '<Default Extension="config" ContentType="text/xml"/></Types>\n'
+    )
+    rels = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+        '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+        'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>\n'
+    )
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w") as z:
-        for entry, text in (("[Content_Types].xml", types), ("_rels/.rels", rels), ("3D/3dmodel.model", model),
-                            (THREEMF_PARTS_CONFIG, "\n".join(config))):
+        for entry, text in (
+            ("[Content_Types].xml", types),
+            ("_rels/.rels", rels),
+            ("3D/3dmodel.model", model),
+            (THREEMF_PARTS_CONFIG, "\n".join(config)),
+        ):
             z.writestr(_zip_entry(entry), text)
     return buf.getvalue()
 
 
-def preview_png(meshes: dict[str, trimesh.Trimesh], title: str, lines: Sequence[np.ndarray] = (),
-                colours: dict[str, str] | None = None,
-                sections: Sequence[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = ()) -> bytes:
+def preview_png(
+    meshes: dict[str, trimesh.Trimesh],
+    title: str,
+    lines: Sequence[np.ndarray] = (),
+    colours: dict[str, str] | None = None,
+    sections: Sequence[tuple[str, tuple[float, float, float], tuple[float, float, float]]] = (),
+) -> bytes:
     """Preview: a shaded, depth-correct isometric view plus plane sections (label, origin, normal); PNG bytes
     (rendered off-screen by ``rjcad.cad.render``)."""
     from rjcad.cad.render import preview_png as render
@@ -140,16 +161,17 @@ def glb_bytes(meshes: dict[str, trimesh.Trimesh], colours: dict[str, str] | None
     for i, (name, m) in enumerate(meshes.items()):
         colour = (colours or {}).get(name, PALETTE[i % len(PALETTE)])
         linear = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb(colour)]  # glTF: linear
-        mat = trimesh.visual.material.PBRMaterial(name=name, baseColorFactor=[*linear, 1.0],
-                                                  metallicFactor=0.0, roughnessFactor=0.7)
-        body = trimesh.Trimesh(m.vertices, m.faces, process=False,
-                               visual=trimesh.visual.TextureVisuals(material=mat))
+        mat = trimesh.visual.material.PBRMaterial(
+            name=name, baseColorFactor=[*linear, 1.0], metallicFactor=0.0, roughnessFactor=0.7
+        )
+        body = trimesh.Trimesh(m.vertices, m.faces, process=False, visual=trimesh.visual.TextureVisuals(material=mat))
         scene.add_geometry(body, node_name=name, geom_name=name)
     return scene.export(file_type="glb")
 
 
-def write_outputs(out_dir: str | os.PathLike, files: dict[str, bytes | str],
-                  remove: tuple[str, ...] = ()) -> list[Path]:
+def write_outputs(
+    out_dir: str | os.PathLike, files: dict[str, bytes | str], remove: tuple[str, ...] = ()
+) -> list[Path]:
     """Write the files as one set (``rjcad.io.outputs.write_set``: all or none, an earlier run untouched);
     everything is built before the first write. ``remove``: names of the set this run does not write."""
     return write_set(out_dir, files, remove)

@@ -24,8 +24,13 @@ def _teardrop_wire(c: cq.Vector, side: cq.Vector, radius: float) -> cq.Wire:
     tangent faces between separate tool solids, which OCC's cut mishandles)."""
     u, v, h = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF), radius / math.cos(CHANNEL_ROOF)
     left, right, apex = c - side * u + Z * v, c + side * u + Z * v, c + Z * h
-    return cq.Wire.assembleEdges([cq.Edge.makeThreePointArc(left, c - Z * radius, right),
-                                  cq.Edge.makeLine(right, apex), cq.Edge.makeLine(apex, left)])
+    return cq.Wire.assembleEdges(
+        [
+            cq.Edge.makeThreePointArc(left, c - Z * radius, right),
+            cq.Edge.makeLine(right, apex),
+            cq.Edge.makeLine(apex, left),
+        ]
+    )
 
 
 def _horizontal(a, b) -> bool:
@@ -45,8 +50,11 @@ def _keep_side(solid: cq.Shape, at: cq.Vector, normal: cq.Vector) -> cq.Shape:
     t = Z.cross(n).normalized()
     corner = at - t * (big / 2) - Z * (big / 2)
     box = cq.Solid.extrudeLinear(
-        cq.Face.makeFromWires(cq.Wire.makePolygon([corner, corner + t * big, corner + t * big + Z * big,
-                                                   corner + Z * big], close=True)), n * big)
+        cq.Face.makeFromWires(
+            cq.Wire.makePolygon([corner, corner + t * big, corner + t * big + Z * big, corner + Z * big], close=True)
+        ),
+        n * big,
+    )
     return solid.cut(box)
 
 

@@ -39,9 +39,13 @@ class CadProcessError(RuntimeError):
 def usable() -> bool:
     """True if a forked CAD process would help and is safe: fork is available (Linux), this process has one
     thread and no CadQuery yet, and ``RJCAD_CAD_PROCESS`` is not 0."""
-    return (os.environ.get(ENV, "1") != "0" and sys.platform.startswith("linux")
-            and "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
-            and "cadquery" not in sys.modules)
+    return (
+        os.environ.get(ENV, "1") != "0"
+        and sys.platform.startswith("linux")
+        and "fork" in multiprocessing.get_all_start_methods()
+        and threading.active_count() == 1
+        and "cadquery" not in sys.modules
+    )
 
 
 class CadProcess:
@@ -88,8 +92,9 @@ class CadProcess:
             kind, value = self._conn.recv()
         except (EOFError, OSError):  # closed, or reset by a child that died
             self._proc.join(5)
-            raise CadProcessError(f"the CAD process ended without an answer (exit code {self._proc.exitcode})") \
-                from None
+            raise CadProcessError(
+                f"the CAD process ended without an answer (exit code {self._proc.exitcode})"
+            ) from None
         if kind == "error":
             exc, text = value
             exc.add_note(f"in the CAD process:\n{text}")

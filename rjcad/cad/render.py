@@ -27,7 +27,7 @@ TITLE_PX = 40
 def rgb(colour: str) -> tuple[float, float, float]:
     """'#rrggbb' → (r, g, b) in [0, 1]."""
     c = colour.lstrip("#")
-    r, g, b = (int(c[i:i + 2], 16) / 255.0 for i in (0, 2, 4))
+    r, g, b = (int(c[i : i + 2], 16) / 255.0 for i in (0, 2, 4))
     return r, g, b
 
 
@@ -72,8 +72,9 @@ def _cells(V, conn: np.ndarray, per_cell: int):
     conn = np.ascontiguousarray(conn, dtype=np.int64)
     offsets = np.arange(0, conn.size + 1, per_cell, dtype=np.int64)
     cells = V.vtkCellArray()
-    cells.SetData(V.np.numpy_to_vtkIdTypeArray(offsets, deep=True),
-                  V.np.numpy_to_vtkIdTypeArray(conn.ravel(), deep=True))
+    cells.SetData(
+        V.np.numpy_to_vtkIdTypeArray(offsets, deep=True), V.np.numpy_to_vtkIdTypeArray(conn.ravel(), deep=True)
+    )
     return cells
 
 
@@ -171,14 +172,14 @@ def section_panel(V, ren, meshes: dict, colours: dict[str, str], lines, origin, 
         segs = trimesh.intersections.mesh_plane(m, nrm, org)
         if len(segs):
             pts = segs.reshape(-1, 3)
-            ren.AddActor(_actor(V, polydata(V, pts, lines=np.arange(len(pts)).reshape(-1, 2)), colours[name],
-                                width=1.5))
+            ren.AddActor(
+                _actor(V, polydata(V, pts, lines=np.arange(len(pts)).reshape(-1, 2)), colours[name], width=1.5)
+            )
     for pts in lines:
         pts = np.asarray(pts, dtype=float)
         pts = pts - np.outer((pts - org) @ nrm, nrm) + nrm * 0.01  # onto the plane, just in front
         dense = _dashes(pts, max(0.5, float(np.ptp(bounds, axis=0).max()) / 120))
-        ren.AddActor(_actor(V, polydata(V, dense, lines=np.arange(len(dense)).reshape(-1, 2)), TENDON,
-                            width=1.5))
+        ren.AddActor(_actor(V, polydata(V, dense, lines=np.arange(len(dense)).reshape(-1, 2)), TENDON, width=1.5))
     _look_along(ren.GetActiveCamera(), nrm, org, bounds)
     ren.ResetCameraClippingRange()
 
@@ -211,8 +212,7 @@ def _dashes(pts: np.ndarray, dash: float) -> np.ndarray:
     return np.column_stack([np.interp(at, s, pts[:, k]) for k in range(3)])
 
 
-def preview_png(meshes: dict, title: str, lines=(), colours: dict[str, str] | None = None,
-                sections=()) -> bytes:
+def preview_png(meshes: dict, title: str, lines=(), colours: dict[str, str] | None = None, sections=()) -> bytes:
     """PNG bytes of the preview: the isometric view and the ``sections`` (label, origin, normal)."""
     V = _vtk()
     colours = {n: (colours or {}).get(n, PALETTE[i % len(PALETTE)]) for i, n in enumerate(meshes)}

@@ -26,9 +26,18 @@ def _pt(r: float, phi: float) -> cq.Vector:
     return cq.Vector(r * math.cos(phi), r * math.sin(phi), 0.0)
 
 
-def spiral_side(r_in: float, pitch: float, turns: float, phi0: float, offset: float,
-                arcs_per_turn: int = 6, backwards: bool = False, hand: int = CLOCKWISE,
-                a_start: float = 0.0, a_end: float | None = None) -> list[cq.Edge]:
+def spiral_side(
+    r_in: float,
+    pitch: float,
+    turns: float,
+    phi0: float,
+    offset: float,
+    arcs_per_turn: int = 6,
+    backwards: bool = False,
+    hand: int = CLOCKWISE,
+    a_start: float = 0.0,
+    a_end: float | None = None,
+) -> list[cq.Edge]:
     """Arcs through r(a) + offset at φ0 + hand·a, for a from ``a_start`` to ``a_end`` (2πn), or back [rad]."""
     k = pitch / (2 * math.pi)
     a_end = 2 * math.pi * turns if a_end is None else a_end
@@ -41,14 +50,19 @@ def spiral_side(r_in: float, pitch: float, turns: float, phi0: float, offset: fl
         if backwards:
             a, b = b, a
         m = 0.5 * (a + b)
-        edges.append(cq.Edge.makeThreePointArc(
-            _pt(r_in + k * a + offset, phi0 + hand * a), _pt(r_in + k * m + offset, phi0 + hand * m),
-            _pt(r_in + k * b + offset, phi0 + hand * b)))
+        edges.append(
+            cq.Edge.makeThreePointArc(
+                _pt(r_in + k * a + offset, phi0 + hand * a),
+                _pt(r_in + k * m + offset, phi0 + hand * m),
+                _pt(r_in + k * b + offset, phi0 + hand * b),
+            )
+        )
     return edges
 
 
-def strip_solid(design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int = 6,
-                hand: int = CLOCKWISE, extend: float = 0.0) -> cq.Solid:
+def strip_solid(
+    design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int = 6, hand: int = CLOCKWISE, extend: float = 0.0
+) -> cq.Solid:
     """The spiral strip alone (no tab, no key), extruded over z ∈ [z0, z0 + b].
 
     ``extend`` [mm] prolongs the strip past both end rays (arc length ≈ extend at each end).
@@ -69,8 +83,7 @@ def strip_solid(design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int
     return cq.Solid.extrudeLinear(face, cq.Vector(0, 0, design.width)).translate(cq.Vector(0, 0, z0))
 
 
-def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height: float,
-               side: float = 0.0) -> cq.Solid:
+def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height: float, side: float = 0.0) -> cq.Solid:
     """Box from radius r0 to r1 along the ray at angle φ, ``width`` across it.
 
     ``side`` shifts the box across the ray (+ = counter-clockwise side) by that many mm.
@@ -79,8 +92,9 @@ def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height
     return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(phi))
 
 
-def line_box(u: float, v: float, angle: float, s: tuple[float, float], q: tuple[float, float],
-             z0: float, height: float) -> cq.Solid:
+def line_box(
+    u: float, v: float, angle: float, s: tuple[float, float], q: tuple[float, float], z0: float, height: float
+) -> cq.Solid:
     """Box in the frame whose origin is (u, v) and whose x axis points at ``angle`` [rad]:
     s[0]..s[1] along that axis, q[0]..q[1] across it (+ = to its left), z0..z0 + height."""
     box = cq.Solid.makeBox(s[1] - s[0], q[1] - q[0], height, cq.Vector(s[0], q[0], z0))
@@ -91,4 +105,5 @@ def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float,
     """A closed ring, the annulus [r_inner, r_outer] around the point at radius ``centre_r`` on the ray φ."""
     c = _pt(centre_r, phi)
     return cq.Solid.makeCylinder(r_outer, height, cq.Vector(c.x, c.y, z0)).cut(
-        cq.Solid.makeCylinder(r_inner, height, cq.Vector(c.x, c.y, z0)))
+        cq.Solid.makeCylinder(r_inner, height, cq.Vector(c.x, c.y, z0))
+    )

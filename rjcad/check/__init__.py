@@ -20,9 +20,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from rjcad.check.copies import simplified
 from rjcad.check.feature import CONE_HALF_ANGLE, FEATURE_SAMPLES, check_bed, check_min_feature, feature_sizes
 from rjcad.check.load import body_volume, load_bodies, load_manifest, name_bodies
-from rjcad.check.copies import simplified
 from rjcad.check.mesh_checks import check_bodies, check_clearance, check_manifold, check_watertight
 from rjcad.check.motion import check_motion, motion_joints, subtree
 from rjcad.check.overhang import check_overhang
@@ -32,11 +32,33 @@ from rjcad.io.manifest import Manifest
 from rjcad.materials import get_printer
 
 __all__ = [
-    "BadInput", "CheckResult", "Report", "run_checks", "format_table", "load_bodies", "load_manifest", "name_bodies",
-    "check_watertight", "check_manifold", "check_bodies", "check_clearance", "check_motion", "check_min_feature",
-    "check_bed", "check_overhang", "check_slicer", "start_slicer", "finish_slicer", "GCODE_CACHE", "feature_sizes",
-    "motion_joints", "subtree", "prusa_config",
-    "DEFAULT_ALLOWANCE", "FEATURE_SAMPLES", "CONE_HALF_ANGLE",
+    "BadInput",
+    "CheckResult",
+    "Report",
+    "run_checks",
+    "format_table",
+    "load_bodies",
+    "load_manifest",
+    "name_bodies",
+    "check_watertight",
+    "check_manifold",
+    "check_bodies",
+    "check_clearance",
+    "check_motion",
+    "check_min_feature",
+    "check_bed",
+    "check_overhang",
+    "check_slicer",
+    "start_slicer",
+    "finish_slicer",
+    "GCODE_CACHE",
+    "feature_sizes",
+    "motion_joints",
+    "subtree",
+    "prusa_config",
+    "DEFAULT_ALLOWANCE",
+    "FEATURE_SAMPLES",
+    "CONE_HALF_ANGLE",
 ]
 
 #: Tessellation allowance on measured gaps and walls [mm].
@@ -56,9 +78,15 @@ def _bodies_of(source) -> tuple[list, list[str] | None, str | None]:
     return meshes, names, "body names given"
 
 
-def run_checks(source, manifest: Manifest | dict | str | Path | None = None, clearance: float | None = None,
-               printer: str | None = None, slicer: str | None = None, allowance: float = DEFAULT_ALLOWANCE,
-               bodies: int | None = None) -> Report:
+def run_checks(
+    source,
+    manifest: Manifest | dict | str | Path | None = None,
+    clearance: float | None = None,
+    printer: str | None = None,
+    slicer: str | None = None,
+    allowance: float = DEFAULT_ALLOWANCE,
+    bodies: int | None = None,
+) -> Report:
     """Run every check on a mesh file, or on a list of trimesh bodies; returns the report."""
     man = load_manifest(manifest)
     meshes, names, how = _bodies_of(source)
@@ -88,15 +116,19 @@ def _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance) -
     rep.checks.append(man_check)
     rep.checks.append(check_bodies(meshes, expected))
     rep.checks[-1].detail += f"; {how}: " + ", ".join(
-        f"{n} {abs(body_volume(m)):.0f} mm³" for n, m in zip(names, meshes))
+        f"{n} {abs(body_volume(m)):.0f} mm³" for n, m in zip(names, meshes)
+    )
     if rep.checks[0].passed and man_check.passed:
         copies = simplified(mans)  # shared by clearance and motion
         rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance, copies))
         rep.checks.append(check_motion(meshes, names, mans, man, clearance, prn, copies))
     else:
         rep.checks += [skipped(n, "skipped: needs watertight, manifold bodies") for n in ("clearance", "motion")]
-    rep.checks.append(check_min_feature(meshes, names, prn, allowance) if rep.checks[0].passed else
-                      skipped("min_feature", "skipped: needs watertight bodies"))
+    rep.checks.append(
+        check_min_feature(meshes, names, prn, allowance)
+        if rep.checks[0].passed
+        else skipped("min_feature", "skipped: needs watertight bodies")
+    )
     rep.checks.append(check_bed(meshes, prn))
     rep.checks.append(check_overhang(meshes, names, prn))
     return rep

@@ -39,8 +39,9 @@ def _cone(n: np.ndarray, half_angle: float) -> list[np.ndarray]:
 FACING_ANGLE = math.radians(10)
 
 
-def _ray_lengths(mesh: trimesh.Trimesh, origins: np.ndarray, dirs: np.ndarray,
-                 facing: np.ndarray | None = None) -> np.ndarray:
+def _ray_lengths(
+    mesh: trimesh.Trimesh, origins: np.ndarray, dirs: np.ndarray, facing: np.ndarray | None = None
+) -> np.ndarray:
     """Distance to the first hit of each ray on ``mesh`` (inf when none). With ``facing`` (normals at the
     origins), a hit counts only on a face within FACING_ANGLE of antiparallel to the origin's normal."""
     out = np.full(len(origins), np.inf)
@@ -119,21 +120,37 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
                 worst_gap = (float(margin[k]), float(gap[k]), pts[k], (name, float(lim[k]), bool(vertical[k])))
     wall_ok = worst_wall[0] >= printer.min_wall_mm - allowance
     gap_ok = worst_gap[0] >= -allowance
-    detail = (f"thinnest wall {worst_wall[0]:.3f} mm in {worst_wall[2]} (min wall {printer.min_wall_mm} mm); ")
+    detail = f"thinnest wall {worst_wall[0]:.3f} mm in {worst_wall[2]} (min wall {printer.min_wall_mm} mm); "
     if worst_gap[1] is not None:
         name, lim, vert = worst_gap[3]
-        detail += (f"narrowest gap inside a body {worst_gap[1]:.3f} mm in {name} "
-                   f"({'vertical' if vert else 'horizontal'}, min {lim} mm); ")
+        detail += (
+            f"narrowest gap inside a body {worst_gap[1]:.3f} mm in {name} "
+            f"({'vertical' if vert else 'horizontal'}, min {lim} mm); "
+        )
     detail += f"{FEATURE_SAMPLES} ray-cone samples per body, allowance {allowance} mm"
     if tips:
-        detail += (f"; {tips} samples at tips excused (thinner than the minimum wall over less than a nozzle's "
-                   f"footprint: {printer.nozzle_mm} mm on some side)")
+        detail += (
+            f"; {tips} samples at tips excused (thinner than the minimum wall over less than a nozzle's "
+            f"footprint: {printer.nozzle_mm} mm on some side)"
+        )
     if not wall_ok:
-        return CheckResult("min_feature", False, round(worst_wall[0], 4), printer.min_wall_mm,
-                           point(worst_wall[1]), "wall too thin: " + detail)
+        return CheckResult(
+            "min_feature",
+            False,
+            round(worst_wall[0], 4),
+            printer.min_wall_mm,
+            point(worst_wall[1]),
+            "wall too thin: " + detail,
+        )
     if not gap_ok:
-        return CheckResult("min_feature", False, round(worst_gap[1], 4), worst_gap[3][1], point(worst_gap[2]),
-                           "gap inside a body too narrow: " + detail)
+        return CheckResult(
+            "min_feature",
+            False,
+            round(worst_gap[1], 4),
+            worst_gap[3][1],
+            point(worst_gap[2]),
+            "gap inside a body too narrow: " + detail,
+        )
     return CheckResult("min_feature", True, round(worst_wall[0], 4), printer.min_wall_mm, None, detail)
 
 
@@ -145,6 +162,8 @@ def check_bed(bodies, printer: Printer) -> CheckResult:
     vol = np.asarray(printer.build_volume_mm)
     fits = printer.fits(*ext)
     on_bed = abs(lo[2]) < 1e-3
-    detail = (f"extent {ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm in a {vol[0]:g} × {vol[1]:g} × {vol[2]:g} mm "
-              f"volume; " + ("lies on z = 0" if on_bed else f"bottom at z = {lo[2]:.3f}: move it by {-lo[2]:.3f} mm"))
+    detail = (
+        f"extent {ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm in a {vol[0]:g} × {vol[1]:g} × {vol[2]:g} mm "
+        f"volume; " + ("lies on z = 0" if on_bed else f"bottom at z = {lo[2]:.3f}: move it by {-lo[2]:.3f} mm")
+    )
     return CheckResult("bed", bool(fits), point(ext), [float(v) for v in vol], None if fits else point(lo), detail)

@@ -37,7 +37,7 @@ _AXIS_OF = np.full(256, -1, dtype=np.int64)
 for _k, _a in enumerate(_AXES):
     _AXIS_OF[ord(_a)] = _AXIS_OF[ord(_a.lower())] = _k
 #: Powers of ten, exact in float64.
-_POW10 = np.array([float(10 ** k) for k in range(23)])
+_POW10 = np.array([float(10**k) for k in range(23)])
 
 
 @dataclass
@@ -216,7 +216,7 @@ def _decimals(buf: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     value = mantissa / _POW10[np.minimum(frac, 22)]
     out[plain] = np.where(neg, -value, value)[plain]
     for k in np.flatnonzero(~plain).tolist():
-        out[k] = _float(buf[lo[k]:hi[k]].tobytes().decode(errors="replace"))
+        out[k] = _float(buf[lo[k] : hi[k]].tobytes().decode(errors="replace"))
     return out
 
 
@@ -284,12 +284,15 @@ def parse_gcode(text: str) -> Toolpaths:
     starts = np.r_[0, ends[:-1] + 1].astype(np.int64)
     n = len(starts)
     head = np.minimum(starts[:, None] + np.arange(3), max(len(buf) - 1, 0))
-    plain = ((ends - starts >= 3) & np.all(buf[head] == np.frombuffer(b"G1 ", dtype=np.uint8), axis=1)
-             if len(buf) else np.zeros(0, bool))
+    plain = (
+        (ends - starts >= 3) & np.all(buf[head] == np.frombuffer(b"G1 ", dtype=np.uint8), axis=1)
+        if len(buf)
+        else np.zeros(0, bool)
+    )
     plain[np.searchsorted(starts, np.flatnonzero(buf == 59), side="right") - 1] = False  # a comment: read in Python
     ev = _Events()
     for i in np.flatnonzero(~plain & (ends > starts)).tolist():
-        ev.line(i, raw[starts[i]:ends[i]].decode(errors="replace"))
+        ev.line(i, raw[starts[i] : ends[i]].decode(errors="replace"))
     words = _plain_moves(buf, starts, ends, plain)
     g92 = {a: np.full(n, np.nan) for a in _AXES}
     for i, w in ev.words.items():
@@ -322,10 +325,19 @@ def parse_gcode(text: str) -> Toolpaths:
     used, first, kind = np.unique(kind_line, return_index=True, return_inverse=True)
     rank = np.argsort(np.argsort(first))  # kinds numbered in the order of their first extrusion
     text_of = {v: k for k, v in names.items()}
-    cols = dict(x0=before["X"][rows], y0=before["Y"][rows], x1=x[rows], y1=y[rows], z=z[rows],
-                width=_fill(ev.width, n, math.nan)[rows], height=_fill(ev.height, n, math.nan)[rows],
-                de=de[rows], obj=obj[rows], kind=rank[kind].reshape(-1),
-                path=np.cumsum(new_path))
+    cols = dict(
+        x0=before["X"][rows],
+        y0=before["Y"][rows],
+        x1=x[rows],
+        y1=y[rows],
+        z=z[rows],
+        width=_fill(ev.width, n, math.nan)[rows],
+        height=_fill(ev.height, n, math.nan)[rows],
+        de=de[rows],
+        obj=obj[rows],
+        kind=rank[kind].reshape(-1),
+        path=np.cumsum(new_path),
+    )
     kinds = [text_of[int(k)] for _, k in sorted(zip(rank, used))]
     if ev.arcs:
         cols = _split_arcs(cols, rows, ev, rel_xyz)
@@ -365,8 +377,20 @@ def _toolpaths(cols: dict, objects: list[str], kinds: list[str], filament: float
     below = np.searchsorted(layers, np.round(z, 4)) - 1
     h_guess = np.where(below >= 0, np.round(z, 4) - layers[np.maximum(below, 0)], np.round(z, 4))
     height = np.where(np.isnan(cols["height"]), h_guess, cols["height"])
-    area = de * math.pi * filament ** 2 / 4 / np.maximum(length, 1e-9)
+    area = de * math.pi * filament**2 / 4 / np.maximum(length, 1e-9)
     from_e = area / np.maximum(height, 1e-9) + height * (1 - math.pi / 4)
     width = np.where(np.isnan(cols["width"]), from_e, cols["width"])
-    return Toolpaths(x0, y0, x1, y1, z, width, height, np.asarray(cols["obj"], dtype=int),
-                     np.asarray(cols["kind"], dtype=int), np.asarray(cols["path"], dtype=int), objects, kinds)
+    return Toolpaths(
+        x0,
+        y0,
+        x1,
+        y1,
+        z,
+        width,
+        height,
+        np.asarray(cols["obj"], dtype=int),
+        np.asarray(cols["kind"], dtype=int),
+        np.asarray(cols["path"], dtype=int),
+        objects,
+        kinds,
+    )

@@ -12,7 +12,6 @@ import trimesh
 from rjcad.check.report import BadInput
 from rjcad.io.manifest import Manifest, ManifestError
 
-
 #: Where a 3MF names the parts of an object (PrusaSlicer's per-object config; rjcad writes it).
 PARTS_CONFIG = "Metadata/Slic3r_PE_model.config"
 
@@ -53,7 +52,7 @@ def _scene_bodies(scene: trimesh.Scene, parts: dict) -> tuple[list[trimesh.Trime
             bodies.append(trimesh.Trimesh(verts, geom.faces, process=True))
             continue
         for part, first, last in ranges:
-            faces = geom.faces[first:last + 1]
+            faces = geom.faces[first : last + 1]
             used = np.unique(faces)
             remap = np.full(len(verts), -1, dtype=np.int64)
             remap[used] = np.arange(len(used))
@@ -106,8 +105,7 @@ def load_manifest(manifest: Manifest | dict | str | Path | None) -> Manifest | N
     return None if manifest is None else Manifest.coerce(manifest)
 
 
-def name_bodies(bodies: list[trimesh.Trimesh], names: list[str] | None,
-                manifest: Manifest | dict | None) -> list[str]:
+def name_bodies(bodies: list[trimesh.Trimesh], names: list[str] | None, manifest: Manifest | dict | None) -> list[str]:
     """Names for the bodies: the 3MF's, or the manifest's matched by volume (within 2 %)."""
     manifest = load_manifest(manifest)
     if manifest is None or manifest.bodies is None:
@@ -125,8 +123,9 @@ def name_bodies(bodies: list[trimesh.Trimesh], names: list[str] | None,
         name, vol = b.name, float(b.volume_mm3)
         best = min(free, key=lambda i: abs(abs(body_volume(bodies[i])) - vol), default=None)
         if best is None or abs(abs(body_volume(bodies[best])) - vol) > 0.02 * vol:
-            raise BadInput(f"manifest names body '{name}' ({vol:.0f} mm³) that the mesh lacks: "
-                           f"no body within 2 % of that volume")
+            raise BadInput(
+                f"manifest names body '{name}' ({vol:.0f} mm³) that the mesh lacks: no body within 2 % of that volume"
+            )
         out[best] = name
         free.discard(best)
     return out

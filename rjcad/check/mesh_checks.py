@@ -14,8 +14,12 @@ from rjcad.check.report import CheckResult, point
 
 def to_manifold(mesh: trimesh.Trimesh) -> m3.Manifold:
     """manifold3d solid from a merged-vertex mesh, in double precision (Mesh64)."""
-    return m3.Manifold(m3.Mesh64(vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float64),
-                                 tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64)))
+    return m3.Manifold(
+        m3.Mesh64(
+            vert_properties=np.ascontiguousarray(mesh.vertices, dtype=np.float64),
+            tri_verts=np.ascontiguousarray(mesh.faces, dtype=np.uint64),
+        )
+    )
 
 
 def _edge_defects(mesh: trimesh.Trimesh) -> tuple[np.ndarray, bool]:
@@ -74,13 +78,18 @@ def check_watertight(bodies, names) -> CheckResult:
                 where = flip if flip is not None else b.vertices[b.faces[0]].mean(axis=0)
             bad.append((n, len(open_edges), wound, inside_out, where))
     if not bad:
-        return CheckResult("watertight", True, 0, 0, None,
-                           f"{len(bodies)} bodies closed, consistently wound, facing outwards")
+        return CheckResult(
+            "watertight", True, 0, 0, None, f"{len(bodies)} bodies closed, consistently wound, facing outwards"
+        )
     n, k, wind, inside_out, where = bad[0]
-    what = (f"{n}: inside out (closed and consistently wound, but its normals point inwards: volume < 0)"
-            if inside_out else f"{n}: {k} edges not shared by exactly two faces" + ("" if wind else ", winding inconsistent"))
-    return CheckResult("watertight", False, k, 0, point(where),
-                       what + (f"; {len(bad)} bodies affected" if len(bad) > 1 else ""))
+    what = (
+        f"{n}: inside out (closed and consistently wound, but its normals point inwards: volume < 0)"
+        if inside_out
+        else f"{n}: {k} edges not shared by exactly two faces" + ("" if wind else ", winding inconsistent")
+    )
+    return CheckResult(
+        "watertight", False, k, 0, point(where), what + (f"; {len(bad)} bodies affected" if len(bad) > 1 else "")
+    )
 
 
 def check_manifold(bodies, names) -> tuple[CheckResult, list[m3.Manifold]]:
@@ -103,8 +112,14 @@ def check_manifold(bodies, names) -> tuple[CheckResult, list[m3.Manifold]]:
 def check_bodies(bodies, expected: int | None) -> CheckResult:
     if expected is None:
         return CheckResult("bodies", None, len(bodies), None, None, "skipped: no manifest and no --bodies")
-    return CheckResult("bodies", len(bodies) == expected, len(bodies), expected, None,
-                       f"{len(bodies)} separate bodies, {expected} expected")
+    return CheckResult(
+        "bodies",
+        len(bodies) == expected,
+        len(bodies),
+        expected,
+        None,
+        f"{len(bodies)} separate bodies, {expected} expected",
+    )
 
 
 def _closest_points(a: trimesh.Trimesh, b: trimesh.Trimesh, gap: float) -> np.ndarray:
@@ -150,8 +165,9 @@ def _pairs(bodies, search: float):
                 yield i, j
 
 
-def check_clearance(bodies, names, mans, clearance: float, allowance: float,
-                    copies: Copies | None = None) -> CheckResult:
+def check_clearance(
+    bodies, names, mans, clearance: float, allowance: float, copies: Copies | None = None
+) -> CheckResult:
     """Every pair of bodies: min gap ≥ clearance − allowance and no overlap.
 
     Each pair is screened on the coarse copies (``rjcad.check.copies``); pairs that come near are intersected
@@ -175,8 +191,9 @@ def check_clearance(bodies, names, mans, clearance: float, allowance: float,
         coarse.append(g)
     if overlap is not None:
         vol, (i, j), where = overlap
-        return CheckResult("clearance", False, 0.0, limit, point(where),
-                           f"{names[i]} and {names[j]} overlap by {vol:.3f} mm³")
+        return CheckResult(
+            "clearance", False, 0.0, limit, point(where), f"{names[i]} and {names[j]} overlap by {vol:.3f} mm³"
+        )
     tight = (math.inf, None)
     for k in candidates(coarse) if coarse else []:
         i, j = pairs[k]
@@ -187,5 +204,11 @@ def check_clearance(bodies, names, mans, clearance: float, allowance: float,
         return CheckResult("clearance", True, search, limit, None, f"no two bodies within {search:.2f} mm")
     gap, (i, j) = tight
     where = _closest_points(bodies[i], bodies[j], gap)
-    return CheckResult("clearance", bool(gap >= limit), round(float(gap), 4), round(limit, 4), point(where),
-                       f"tightest pair {names[i]}–{names[j]}: {gap:.3f} mm (allowance {allowance} mm for tessellation)")
+    return CheckResult(
+        "clearance",
+        bool(gap >= limit),
+        round(float(gap), 4),
+        round(limit, 4),
+        point(where),
+        f"tightest pair {names[i]}–{names[j]}: {gap:.3f} mm (allowance {allowance} mm for tessellation)",
+    )

@@ -72,8 +72,7 @@ def _groups(k: int, joints, names) -> tuple[list[int], list[int]]:
     return mi, si
 
 
-def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: Printer,
-                copies: Copies | None = None):
+def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: Printer, copies: Copies | None = None):
     """Sweep joint k over 0..rotation.
 
     Each pose is screened on the coarse copies (``rjcad.check.copies``): copies apart prove the bodies apart
@@ -102,8 +101,15 @@ def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: 
             first = float(a)
         if a_i % every == 0 or a_i == len(angles) - 1:
             sampled.append((0.0 if vol > 0 else min_gap(sta_c, posed_c, clearance + 1.0), float(a)))
-    gap = _smallest_gap(sampled, [copies.fine[i] for i in mi], [copies.fine[i] for i in si], pt, d,
-                        clearance + 1.0, copies.same(mi + si))
+    gap = _smallest_gap(
+        sampled,
+        [copies.fine[i] for i in mi],
+        [copies.fine[i] for i in si],
+        pt,
+        d,
+        clearance + 1.0,
+        copies.same(mi + si),
+    )
     detail = f"joint {k + 1}: {len(angles)} poses, step {math.degrees(step):.3f}° (lever {lever:.1f} mm)"
     return worst, first, gap, detail
 
@@ -120,8 +126,15 @@ def _smallest_gap(sampled, mov_f, sta_f, pt, d, search: float, same: bool) -> tu
     return best
 
 
-def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearance: float,
-                 printer: Printer, copies: Copies | None = None) -> CheckResult:
+def check_motion(
+    bodies,
+    names,
+    mans,
+    manifest: Manifest | dict | None,
+    clearance: float,
+    printer: Printer,
+    copies: Copies | None = None,
+) -> CheckResult:
     """Each joint's subtree swept over 0..rotation about its axis never intersects the other bodies.
 
     Step Δθ = 0.5·min(clearance, min wall)/lever, the lever being the farthest moving vertex from the
@@ -139,8 +152,9 @@ def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearanc
     details = []
     copies = simplified(mans) if copies is None else copies
     for k in range(len(joints)):
-        (vol, a, posed), first_a, (g, g_a), detail = sweep_joint(k, joints, bodies, names, mans, clearance, printer,
-                                                                 copies)
+        (vol, a, posed), first_a, (g, g_a), detail = sweep_joint(
+            k, joints, bodies, names, mans, clearance, printer, copies
+        )
         if vol > worst[0]:
             worst = (vol, k, a, posed)
         if first is None and first_a is not None:
@@ -152,11 +166,22 @@ def check_motion(bodies, names, mans, manifest: Manifest | dict | None, clearanc
         vol, k, a, posed = worst
         inter = _union([mans[i] for i, nm in enumerate(names) if nm not in subtree(joints, k)]) ^ posed
         where = np.asarray(inter.to_mesh().vert_properties)[:, :3].mean(axis=0)
-        return CheckResult("motion", False, round(math.degrees(a), 2), 0.0, point(where),
-                           f"joint {k + 1} collides, worst at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap), "
-                           f"first contact at joint {first[0] + 1}, {math.degrees(first[1]):.1f}°; "
-                           + "; ".join(details))
+        return CheckResult(
+            "motion",
+            False,
+            round(math.degrees(a), 2),
+            0.0,
+            point(where),
+            f"joint {k + 1} collides, worst at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap), "
+            f"first contact at joint {first[0] + 1}, {math.degrees(first[1]):.1f}°; " + "; ".join(details),
+        )
     g, k, a = smallest
-    return CheckResult("motion", True, round(float(g), 4), 0.0, None,
-                       f"free over the whole range; smallest sampled gap {g:.3f} mm at joint {k + 1}, "
-                       f"{math.degrees(a):.1f}°; " + "; ".join(details))
+    return CheckResult(
+        "motion",
+        True,
+        round(float(g), 4),
+        0.0,
+        None,
+        f"free over the whole range; smallest sampled gap {g:.3f} mm at joint {k + 1}, "
+        f"{math.degrees(a):.1f}°; " + "; ".join(details),
+    )

@@ -156,8 +156,10 @@ def _regions(grid: _Grid, cell: float):
     r = np.concatenate([a for a, _ in straight])
     c = np.concatenate([b for _, b in straight])
     _, labels = connected_components(coo_matrix((np.ones(len(r)), (r, c)), shape=(n, n)), directed=False)
-    diag = [(a[labels[a] == labels[b]], b[labels[a] == labels[b]]) for a, b in
-            steps(((1, 1), (1, -1)), cell * math.sqrt(2) + 1e-3)]
+    diag = [
+        (a[labels[a] == labels[b]], b[labels[a] == labels[b]])
+        for a, b in steps(((1, 1), (1, -1)), cell * math.sqrt(2) + 1e-3)
+    ]
     rows = np.concatenate([r] + [a for a, _ in diag])
     cols = np.concatenate([c] + [b for _, b in diag])
     w = np.concatenate([np.full(len(r), cell)] + [np.full(len(a), cell * math.sqrt(2)) for a, _ in diag])
@@ -265,9 +267,13 @@ def _analyse_body(mesh: trimesh.Trimesh, cell: float, depth: float, lip: float) 
     extent = np.hypot(hi_i - lo_i + 1, hi_j - lo_j + 1) * cell
     src = np.nonzero(anchored | (border & ~held[region]))[0]
     start = np.where(anchored[src], cell / 2, extent[region[src]])
-    g = coo_matrix((np.concatenate([graph.data, graph.data, start]),
-                    (np.concatenate([graph.row, graph.col, np.full(len(src), n)]),
-                     np.concatenate([graph.col, graph.row, src]))), shape=(n + 1, n + 1)).tocsr()
+    g = coo_matrix(
+        (
+            np.concatenate([graph.data, graph.data, start]),
+            (np.concatenate([graph.row, graph.col, np.full(len(src), n)]), np.concatenate([graph.col, graph.row, src])),
+        ),
+        shape=(n + 1, n + 1),
+    ).tocsr()
     reach = dijkstra(g, directed=True, indices=n)[:n]
     bridged = np.zeros(n, dtype=bool)
     # a sample on an anchored chord ≤ MAX_BRIDGE_MM lies within half of it from an anchor (octile metric: +8 %)
@@ -275,7 +281,7 @@ def _analyse_body(mesh: trimesh.Trimesh, cell: float, depth: float, lip: float) 
     order = np.argsort(region, kind="stable")
     bounds = np.searchsorted(region[order], np.arange(region.max() + 2))
     for r in np.nonzero(held)[0]:
-        idx = order[bounds[r]:bounds[r + 1]]
+        idx = order[bounds[r] : bounds[r + 1]]
         bridged[idx] = _bridged_region(gi[idx], gj[idx], anchor_cells.get(r, set()), cell, test[idx])
     return _Body(gi, gj, z, region, reach, bridged), bed_area
 
@@ -302,8 +308,9 @@ def _below(scene: trimesh.Trimesh, face_body: np.ndarray, pts: np.ndarray) -> tu
     if not len(pts):
         return dist, body
     origins = pts - [0.0, 0.0, 1e-4]
-    locs, ray, tri = scene.ray.intersects_location(origins, np.tile([0.0, 0.0, -1.0], (len(pts), 1)),
-                                                   multiple_hits=False)
+    locs, ray, tri = scene.ray.intersects_location(
+        origins, np.tile([0.0, 0.0, -1.0], (len(pts), 1)), multiple_hits=False
+    )
     dist[ray] = origins[ray, 2] - locs[:, 2] + 1e-4
     body[ray] = face_body[tri]
     return dist, body
@@ -331,8 +338,11 @@ def _classify(k, name, b: _Body, scene, face_body, names, cell, lip) -> tuple[di
     for r in np.unique(b.region[bad]):
         idx = bad[b.region[bad] == r]
         w = idx[np.argmax(b.reach[idx])]
-        under = ("nothing: the bed is %.2f mm below" % b.z[w]) if hit[w] < 0 else (
-            f"{'its own body' if hit[w] == k else names[hit[w]]} {dist[w]:.2f} mm below")
+        under = (
+            ("nothing: the bed is %.2f mm below" % b.z[w])
+            if hit[w] < 0
+            else (f"{'its own body' if hit[w] == k else names[hit[w]]} {dist[w]:.2f} mm below")
+        )
         fails.append(_Failure(name, CATEGORIES[cat[w]], float(b.reach[w]), pts[w], under))
     return areas, fails
 
@@ -352,16 +362,26 @@ def check_overhang(bodies, names, printer: Printer) -> CheckResult:
         table.append((name, areas))
         fails += body_fails
     summary = "; ".join(f"{n}: " + ", ".join(f"{c} {a[c]:.0f}" for c in CATEGORIES) for n, a in table)
-    rules = (f"downward = flatter than {math.degrees(OVERHANG_ANGLE):g}° from horizontal; bridges ≤ {MAX_BRIDGE_MM:g} mm "
-             f"anchored at both ends on the same body, lips ≤ {lip:g} mm; ≥ {OPEN_BELOW_MM:g} mm open above another "
-             f"body; grid {cell:g} mm")
+    rules = (
+        f"downward = flatter than {math.degrees(OVERHANG_ANGLE):g}° from horizontal; bridges ≤ {MAX_BRIDGE_MM:g} mm "
+        f"anchored at both ends on the same body, lips ≤ {lip:g} mm; ≥ {OPEN_BELOW_MM:g} mm open above another "
+        f"body; grid {cell:g} mm"
+    )
     bad_area = sum(a["other body"] + a["air"] for _, a in table)
     if not fails:
         return CheckResult("overhang", True, 0.0, 0.0, None, f"areas [mm²] {summary}; {rules}")
     w = max(fails, key=lambda f: f.reach)
-    text = (f"worst: {w.body}, {w.category}, {w.reach:.1f} mm from its body's nearest support; under it: "
-            f"{w.under}; {len(fails)} failing places; areas [mm²] {summary}; {rules}")
+    text = (
+        f"worst: {w.body}, {w.category}, {w.reach:.1f} mm from its body's nearest support; under it: "
+        f"{w.under}; {len(fails)} failing places; areas [mm²] {summary}; {rules}"
+    )
     if printer.soluble_support:
-        return CheckResult("overhang", None, round(bad_area, 1), 0.0, point(w.where),
-                           f"skipped: {printer.key} prints soluble support under these; without it: {text}")
+        return CheckResult(
+            "overhang",
+            None,
+            round(bad_area, 1),
+            0.0,
+            point(w.where),
+            f"skipped: {printer.key} prints soluble support under these; without it: {text}",
+        )
     return CheckResult("overhang", False, round(bad_area, 1), 0.0, point(w.where), text)

@@ -58,8 +58,15 @@ def format_table(rep: Report) -> str:
     rows = [("check", "result", "value", "limit", "where [mm]")]
     for c in rep.checks:
         res = "skipped" if c.passed is None else ("pass" if c.passed else "FAIL")
-        rows.append((c.name, res, "" if c.value is None else str(c.value), "" if c.limit is None else str(c.limit),
-                     "" if c.where is None else str(c.where)))
+        rows.append(
+            (
+                c.name,
+                res,
+                "" if c.value is None else str(c.value),
+                "" if c.limit is None else str(c.limit),
+                "" if c.where is None else str(c.where),
+            )
+        )
     w = [max(len(r[i]) for r in rows) for i in range(5)]
     lines = ["  ".join(r[i].ljust(w[i]) for i in range(5)).rstrip() for r in rows]
     lines.insert(1, "  ".join("-" * x for x in w))

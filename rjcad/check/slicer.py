@@ -38,25 +38,27 @@ def prusa_config(printer: Printer) -> str:
     """PrusaSlicer settings for the check: the printer's nozzle, layers and roads; supports off (see module)."""
     x, y, z = printer.build_volume_mm
     w = printer.extrusion_width_mm
-    return "\n".join([
-        f"nozzle_diameter = {printer.nozzle_mm}",
-        f"layer_height = {printer.layer_height_mm}",
-        f"first_layer_height = {printer.layer_height_mm}",
-        f"extrusion_width = {w}",
-        f"first_layer_extrusion_width = {w}",
-        f"bed_shape = 0x0,{x:g}x0,{x:g}x{y:g},0x{y:g}",
-        f"max_print_height = {z:g}",
-        "support_material = 0",
-        "thick_bridges = 0",
-        "fill_density = 100%",
-        "fill_pattern = rectilinear",
-        "skirts = 0",
-        "brim_width = 0",
-        "gcode_label_objects = 1",
-        "seam_position = rear",  # the default seam placer costs seconds and changes no road's support
-        "resolution = 0.01",  # contour simplification [mm]: within the meshes' own tessellation error
-        "",
-    ])
+    return "\n".join(
+        [
+            f"nozzle_diameter = {printer.nozzle_mm}",
+            f"layer_height = {printer.layer_height_mm}",
+            f"first_layer_height = {printer.layer_height_mm}",
+            f"extrusion_width = {w}",
+            f"first_layer_extrusion_width = {w}",
+            f"bed_shape = 0x0,{x:g}x0,{x:g}x{y:g},0x{y:g}",
+            f"max_print_height = {z:g}",
+            "support_material = 0",
+            "thick_bridges = 0",
+            "fill_density = 100%",
+            "fill_pattern = rectilinear",
+            "skirts = 0",
+            "brim_width = 0",
+            "gcode_label_objects = 1",
+            "seam_position = rear",  # the default seam placer costs seconds and changes no road's support
+            "resolution = 0.01",  # contour simplification [mm]: within the meshes' own tessellation error
+            "",
+        ]
+    )
 
 
 #: G-code of this process's slicings: sha256 of what PrusaSlicer is given (its path, the settings file, each
@@ -94,9 +96,22 @@ class Slicing:
         ini = Path(d, "check.ini")
         ini.write_text(config)
         self.log = open(Path(d, "log.txt"), "w+")
-        self.proc = subprocess.Popen([exe, "--export-gcode", "--merge", "--dont-arrange", "--load", str(ini),
-                                      "--output", str(self.gcode), *files], stdout=self.log, stderr=subprocess.STDOUT,
-                                     text=True)
+        self.proc = subprocess.Popen(
+            [
+                exe,
+                "--export-gcode",
+                "--merge",
+                "--dont-arrange",
+                "--load",
+                str(ini),
+                "--output",
+                str(self.gcode),
+                *files,
+            ],
+            stdout=self.log,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
 
     def wait(self) -> tuple[str | None, str, float]:
         """(G-code text or None, error message, seconds the slicing took)."""
@@ -109,8 +124,11 @@ class Slicing:
                 return None, f"PrusaSlicer did not finish within {self.timeout:g} s", self.timeout
             secs = time.perf_counter() - self.t0
             self.log.seek(0)
-            errors = [ln for ln in self.log.read().splitlines()
-                      if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln]
+            errors = [
+                ln
+                for ln in self.log.read().splitlines()
+                if "error" in ln.lower() and "[trace]" not in ln or "what():" in ln
+            ]
             if code != 0 or not self.gcode.exists() or self.gcode.stat().st_size == 0 or errors:
                 return None, "PrusaSlicer failed: " + (errors[-1].strip() if errors else f"exit code {code}"), secs
             GCODE_CACHE[self.key] = (self.gcode.read_text(), secs)
@@ -139,13 +157,16 @@ def _moved(tp, bodies, names, offset) -> str | None:
         xs, ys = np.r_[tp.x0[sel], tp.x1[sel]] - offset[0], np.r_[tp.y0[sel], tp.y1[sel]] - offset[1]
         off = np.abs(np.array([xs.min(), ys.min(), xs.max(), ys.max()]) - np.r_[b.bounds[0][:2], b.bounds[1][:2]])
         if off.max() > POSITION_TOL_MM:
-            return (f"PrusaSlicer moved {name}: its roads' extent is {off.max():.2f} mm off its modelled one "
-                    "(the check needs the bodies where they were modelled)")
+            return (
+                f"PrusaSlicer moved {name}: its roads' extent is {off.max():.2f} mm off its modelled one "
+                "(the check needs the bodies where they were modelled)"
+            )
     return None
 
 
 def _describe(a: Analysis, offset: np.ndarray) -> tuple[str, list[float] | None]:
     """The failures in words, and the worst place in model coordinates."""
+
     def back(p):
         return point(np.asarray(p) - offset)
 
@@ -155,16 +176,19 @@ def _describe(a: Analysis, offset: np.ndarray) -> tuple[str, list[float] | None]
         worst = max(a.failures, key=lambda r: r.length)
         where = back(worst.where)
         n_layers = len({r.layer for r in a.failures})
-        parts.append(f"{len(a.failures)} stretches of filament on nothing in {n_layers} layers; first failing layer "
-                     f"{first.layer} (z = {first.z:.2f}): {first.body}, {first.length:.1f} mm anchored at "
-                     f"{first.anchors} end(s), at {back(first.where)}, under it {first.under}; worst (where): "
-                     f"{worst.body} in layer {worst.layer}, {worst.length:.1f} mm anchored at {worst.anchors} end(s), "
-                     f"under it {worst.under}")
+        parts.append(
+            f"{len(a.failures)} stretches of filament on nothing in {n_layers} layers; first failing layer "
+            f"{first.layer} (z = {first.z:.2f}): {first.body}, {first.length:.1f} mm anchored at "
+            f"{first.anchors} end(s), at {back(first.where)}, under it {first.under}; worst (where): "
+            f"{worst.body} in layer {worst.layer}, {worst.length:.1f} mm anchored at {worst.anchors} end(s), "
+            f"under it {worst.under}"
+        )
     return "; ".join(parts), where
 
 
-def check_slicer(bodies, names, printer: Printer, slicer: str | None, allowance: float = 0.02,
-                 timeout: float = 600) -> CheckResult:
+def check_slicer(
+    bodies, names, printer: Printer, slicer: str | None, allowance: float = 0.02, timeout: float = 600
+) -> CheckResult:
     """Slice with supports off and read the G-code back (skipped, with the reason, without PrusaSlicer)."""
     return finish_slicer(start_slicer(bodies, names, printer, slicer, timeout), bodies, names, printer, allowance)
 
@@ -177,23 +201,44 @@ def start_slicer(bodies, names, printer: Printer, slicer: str | None, timeout: f
         raise BadInput(f"--slicer {slicer!r}: the only slicer supported is 'prusa'")
     exe = shutil.which("prusa-slicer")
     if exe is None:
-        return CheckResult("slicer", None, None, None, None,
-                           "skipped: prusa-slicer is not installed (Debian: apt-get install prusa-slicer)")
+        return CheckResult(
+            "slicer",
+            None,
+            None,
+            None,
+            None,
+            "skipped: prusa-slicer is not installed (Debian: apt-get install prusa-slicer)",
+        )
     lo = np.min([b.bounds[0] for b in bodies], axis=0)
     hi = np.max([b.bounds[1] for b in bodies], axis=0)
     for b, name in zip(bodies, names):
         if b.bounds[0][2] - lo[2] > BED_TOL_MM:
-            return CheckResult("slicer", False, "mid-air", "on the bed", point(b.vertices[np.argmin(b.vertices[:, 2])]),
-                               f"{name} starts at z = {b.bounds[0][2] - lo[2]:.2f} mm above the bed: it would start "
-                               "in mid-air (a slicer drops each object onto the bed, so no slice can show it)")
+            return CheckResult(
+                "slicer",
+                False,
+                "mid-air",
+                "on the bed",
+                point(b.vertices[np.argmin(b.vertices[:, 2])]),
+                f"{name} starts at z = {b.bounds[0][2] - lo[2]:.2f} mm above the bed: it would start "
+                "in mid-air (a slicer drops each object onto the bed, so no slice can show it)",
+            )
     bed = np.asarray(printer.build_volume_mm[:2])
     ext = hi - lo
     if np.any(ext > np.asarray(printer.build_volume_mm)):
-        turn = " (turned 90° it would: turn it)" if ext[1] <= bed[0] and ext[0] <= bed[1] and ext[2] <= \
-            printer.build_volume_mm[2] else ""
-        return CheckResult("slicer", False, "does not fit", [float(v) for v in printer.build_volume_mm], None,
-                           f"the bodies ({ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm) do not fit the "
-                           f"{printer.key} build volume as placed{turn}; not sliced")
+        turn = (
+            " (turned 90° it would: turn it)"
+            if ext[1] <= bed[0] and ext[0] <= bed[1] and ext[2] <= printer.build_volume_mm[2]
+            else ""
+        )
+        return CheckResult(
+            "slicer",
+            False,
+            "does not fit",
+            [float(v) for v in printer.build_volume_mm],
+            None,
+            f"the bodies ({ext[0]:.1f} × {ext[1]:.1f} × {ext[2]:.1f} mm) do not fit the "
+            f"{printer.key} build volume as placed{turn}; not sliced",
+        )
     offset = np.r_[bed / 2 - (lo[:2] + hi[:2]) / 2, -lo[2]]
     return Slicing(exe, bodies, printer, offset, timeout)
 
@@ -218,22 +263,33 @@ def finish_slicer(started, bodies, names, printer: Printer, allowance: float = 0
     text, where = _describe(a, offset)
     gap_ok = a.min_gap >= printer.min_gap_mm - allowance
     pair = sorted(a.gap_pair or (), key=names.index)
-    gap = (f"closest bodies {'–'.join(pair)}: {a.min_gap:.3f} mm in layer {a.gap_layer} at "
-           f"{point(np.asarray(a.gap_where) - offset)} (minimum {printer.min_gap_mm} mm, allowance {allowance} mm)"
-           if a.gap_pair else "no two bodies' roads within reach of each other")
+    gap = (
+        f"closest bodies {'–'.join(pair)}: {a.min_gap:.3f} mm in layer {a.gap_layer} at "
+        f"{point(np.asarray(a.gap_where) - offset)} (minimum {printer.min_gap_mm} mm, allowance {allowance} mm)"
+        if a.gap_pair
+        else "no two bodies' roads within reach of each other"
+    )
     if not gap_ok and where is None:
         where = point(np.asarray(a.gap_where) - offset)
-    how = (f"{version.group(1) if version else 'PrusaSlicer'}, supports off, {printer.nozzle_mm} mm nozzle, "
-           f"{printer.layer_height_mm} mm layers, thick bridges off, 100 % infill; {a.layers} layers; "
-           f"sliced in {t_slice:.1f} s{' (G-code from this run’s cache)' if started.cached else ''}, "
-           f"G-code read in {t_read:.1f} s")
+    how = (
+        f"{version.group(1) if version else 'PrusaSlicer'}, supports off, {printer.nozzle_mm} mm nozzle, "
+        f"{printer.layer_height_mm} mm layers, thick bridges off, 100 % infill; {a.layers} layers; "
+        f"sliced in {t_slice:.1f} s{' (G-code from this run’s cache)' if started.cached else ''}, "
+        f"G-code read in {t_read:.1f} s"
+    )
     bridges = f"{a.bridges} bridges excused (longest {a.longest_bridge:.1f} mm)"
     if a.failures and printer.soluble_support:
         text = f"not failing: {printer.key} prints soluble support under these; " + text
     passed = (not a.failures or printer.soluble_support) and gap_ok
     fail_layers = len({r.layer for r in a.failures})
-    return CheckResult("slicer", passed, fail_layers, 0, where,
-                       "; ".join(x for x in (text, gap, bridges, print_estimate(gcode), how) if x))
+    return CheckResult(
+        "slicer",
+        passed,
+        fail_layers,
+        0,
+        where,
+        "; ".join(x for x in (text, gap, bridges, print_estimate(gcode), how) if x),
+    )
 
 
 def print_estimate(gcode: str) -> str:
@@ -247,5 +303,7 @@ def print_estimate(gcode: str) -> str:
     if t:
         parts.append(f"estimated print time {t.group(1).strip()}")
     if mm:
-        parts.append(f"filament {float(mm.group(1)) / 1000:.2f} m" + (f" ({float(cm3.group(1)):.1f} cm³)" if cm3 else ""))
+        parts.append(
+            f"filament {float(mm.group(1)) / 1000:.2f} m" + (f" ({float(cm3.group(1)):.1f} cm³)" if cm3 else "")
+        )
     return ", ".join(parts) + (" at 100 % infill" if parts else "")

@@ -87,8 +87,12 @@ class _Layer:
     def near(self, other: "_Layer", reach: float) -> np.ndarray:
         """Indices of this layer's samples within ``reach`` of the other's bounding box (the only ones that can
         lie within ``reach`` of its samples)."""
-        return np.flatnonzero((self.x >= other.lo[0] - reach) & (self.x <= other.hi[0] + reach) &
-                              (self.y >= other.lo[1] - reach) & (self.y <= other.hi[1] + reach))
+        return np.flatnonzero(
+            (self.x >= other.lo[0] - reach)
+            & (self.x <= other.hi[0] + reach)
+            & (self.y >= other.lo[1] - reach)
+            & (self.y <= other.hi[1] + reach)
+        )
 
 
 def _sample(tp: Toolpaths, idx: np.ndarray) -> _Layer:
@@ -102,8 +106,14 @@ def _sample(tp: Toolpaths, idx: np.ndarray) -> _Layer:
     start = np.r_[True, path[1:] != path[:-1]]
     base = np.maximum.accumulate(np.where(start, cum, -np.inf))
     seg = idx[rep]
-    return _Layer(tp.x0[seg] + t * (tp.x1[seg] - tp.x0[seg]), tp.y0[seg] + t * (tp.y1[seg] - tp.y0[seg]),
-                  tp.width[seg], path[rep], (cum - base)[rep] + t * length[rep], seg)
+    return _Layer(
+        tp.x0[seg] + t * (tp.x1[seg] - tp.x0[seg]),
+        tp.y0[seg] + t * (tp.y1[seg] - tp.y0[seg]),
+        tp.width[seg],
+        path[rep],
+        (cum - base)[rep] + t * length[rep],
+        seg,
+    )
 
 
 def _supported(cur: _Layer, prev: _Layer | None, h: float, enclosed: bool = True) -> np.ndarray:
@@ -165,11 +175,11 @@ def _judge_runs(a: Analysis, cur: _Layer, ok, k, z, h, history, names, lz) -> No
     """Excuse bridges and lips; record every other unsupported run as a failure."""
     for s0, s1, bef, aft in zip(*_runs(cur, ok)):
         length = float(cur.s[s1] - cur.s[s0] + SAMPLE_MM)
-        w = float(cur.w[s0:s1 + 1].max())
+        w = float(cur.w[s0 : s1 + 1].max())
         if length <= LIP_ROADS * w:
             continue
         lo, hi = (s0 - 1 if bef else s0), (s1 + 1 if aft else s1)
-        pts = np.stack([cur.x[lo:hi + 1], cur.y[lo:hi + 1]], axis=1)
+        pts = np.stack([cur.x[lo : hi + 1], cur.y[lo : hi + 1]], axis=1)
         chord = pts[-1] - pts[0]
         rel = pts - pts[0]
         dev = np.abs(chord[0] * rel[:, 1] - chord[1] * rel[:, 0]) / max(float(np.hypot(*chord)), 1e-9)
@@ -182,10 +192,22 @@ def _judge_runs(a: Analysis, cur: _Layer, ok, k, z, h, history, names, lz) -> No
                 continue
         far = (s0 + s1) // 2 if (bef and aft) else (s1 if bef else s0)
         under_body, open_gap = _below(np.array([[cur.x[far], cur.y[far]]]), w, z, h, history, k)
-        under = (f"{'its own body' if under_body == k else names[under_body]} {open_gap:.2f} mm below"
-                 if under_body >= 0 else f"nothing within {OPEN_BELOW_MM:g} mm below")
-        a.failures.append(Run(lz, z, names[k], length, int(bef) + int(aft),
-                              (float(cur.x[far]), float(cur.y[far]), round(z - h / 2, 3)), under))
+        under = (
+            f"{'its own body' if under_body == k else names[under_body]} {open_gap:.2f} mm below"
+            if under_body >= 0
+            else f"nothing within {OPEN_BELOW_MM:g} mm below"
+        )
+        a.failures.append(
+            Run(
+                lz,
+                z,
+                names[k],
+                length,
+                int(bef) + int(aft),
+                (float(cur.x[far]), float(cur.y[far]), round(z - h / 2, 3)),
+                under,
+            )
+        )
 
 
 def _seg_distance(tp: Toolpaths, i: int, j: int) -> float:
@@ -205,7 +227,7 @@ def _gaps(a: Analysis, tp: Toolpaths, cur: dict, z: float, h: float, lz: int, na
     """Closest approach of every two bodies' roads in this layer."""
     objs = sorted(cur)
     for m, oa in enumerate(objs):
-        for ob in objs[m + 1:]:
+        for ob in objs[m + 1 :]:
             la, lb = cur[oa], cur[ob]
             reach = la.w_max / 2 + lb.w_max / 2 + min_gap + 0.5
             near = la.near(lb, reach)
@@ -234,7 +256,7 @@ def analyse(tp: Toolpaths, names: list[str], min_gap: float) -> Analysis:
     a = Analysis(layers=len(z_layers))
     history: deque = deque(maxlen=int(math.ceil(OPEN_BELOW_MM / 0.05)) + 2)
     for L, z in enumerate(z_layers):
-        idx = order[bounds[L]:bounds[L + 1]]
+        idx = order[bounds[L] : bounds[L + 1]]
         idx = idx[tp.obj[idx] >= 0]
         h = float(np.median(tp.height[idx])) if len(idx) else 0.0
         cur = {int(o): _sample(tp, idx[tp.obj[idx] == o]) for o in np.unique(tp.obj[idx])}

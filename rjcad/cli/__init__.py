@@ -35,10 +35,19 @@ from rjcad.errors import RjcadError
 #: Command name → ``module:attribute`` in rjcad.cli; a command's module is imported only when it runs
 #: (or when ``--help`` lists them all), so a command pays only for its own imports.
 COMMANDS = {
-    "spring": "spring:spring", "joint": "build:joint", "finger": "build:finger", "view": "view:view",
-    "sweep": "sweep:sweep", "check": "check:check", "simulate": "simulate:simulate",
-    "finger-design": "simulate:finger_design", "paper-finger": "simulate:paper_finger", "life": "life:life",
-    "bench": "identify:bench", "identify": "identify:identify", "mjcf": "mjcf:mjcf",
+    "spring": "spring:spring",
+    "joint": "build:joint",
+    "finger": "build:finger",
+    "view": "view:view",
+    "sweep": "sweep:sweep",
+    "check": "check:check",
+    "simulate": "simulate:simulate",
+    "finger-design": "simulate:finger_design",
+    "paper-finger": "simulate:paper_finger",
+    "life": "life:life",
+    "bench": "identify:bench",
+    "identify": "identify:identify",
+    "mjcf": "mjcf:mjcf",
 }
 
 
@@ -149,7 +158,7 @@ def _run(args: list[str], debug: bool) -> None:
     """Run the command line ``args``; exit with its code."""
     try:
         with warnings.catch_warnings():
-            if not debug:   # a stray library warning is not the user's business; --debug shows it
+            if not debug:  # a stray library warning is not the user's business; --debug shows it
                 warnings.simplefilter("ignore")
             rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
     except RjcadError as e:

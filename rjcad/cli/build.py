@@ -14,15 +14,30 @@ if TYPE_CHECKING:
 #: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
 FIELDS = requirement(
     after_printer=(
-        Field("--clearance", "clearance_mm", float, "Clearance between the bodies [mm] (default: desktop, the material's print-in-place "
-              "clearance, PLA 0.35, ABS 0.40, PETG 0.45; stacked 0.25)."),
-        Field("--layout", "layout", str, "desktop (default without soluble support: one spring on the bed under nested 50° "
-              "cones, no support) or stacked (the paper's, two springs; default on dimension-elite)."),
-        Field("--link-length", "link_length_mm", float, "Axis to link end, each link [mm] (default 40; at most half the "
-              "bed's longest side)."),
+        Field(
+            "--clearance",
+            "clearance_mm",
+            float,
+            "Clearance between the bodies [mm] (default: desktop, the material's print-in-place "
+            "clearance, PLA 0.35, ABS 0.40, PETG 0.45; stacked 0.25).",
+        ),
+        Field(
+            "--layout",
+            "layout",
+            str,
+            "desktop (default without soluble support: one spring on the bed under nested 50° "
+            "cones, no support) or stacked (the paper's, two springs; default on dimension-elite).",
+        ),
+        Field(
+            "--link-length",
+            "link_length_mm",
+            float,
+            "Axis to link end, each link [mm] (default 40; at most half the bed's longest side).",
+        ),
         Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
-        Field("--tendon-moment-arm", "tendon_moment_arm_mm", float,
-              "Tendon moment arm about the axis [mm] (default 6)."),
+        Field(
+            "--tendon-moment-arm", "tendon_moment_arm_mm", float, "Tendon moment arm about the axis [mm] (default 6)."
+        ),
         Field("--pin-radius", "pin_radius_mm", float, "Knuckle pin radius [mm] (default 2)."),
     ),
     stiffness="Joint stiffness, all springs [N·mm/rad] (default 5.2).",
@@ -40,8 +55,11 @@ def _viewer(b, files: dict) -> dict:
     from rjcad.paper import FINGER
     from rjcad.view import viewer_html
 
-    return {"finger.html": viewer_html(b.manifest.to_json(), files["finger.glb"], "rjcad finger: finger.json",
-                                       FINGER.stroke, DEFAULT_STEPS)}
+    return {
+        "finger.html": viewer_html(
+            b.manifest.to_json(), files["finger.glb"], "rjcad finger: finger.json", FINGER.stroke, DEFAULT_STEPS
+        )
+    }
 
 
 def _springs(n: int) -> str:
@@ -54,8 +72,14 @@ def _bodies(m: Manifest | dict[str, Any]) -> tuple[str, str, str]:
 
 @click.command()
 @design_options(FIELDS, "TOML design (see templates/joint.toml).")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/joint", show_default=True,
-              help="Output directory.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="out/joint",
+    show_default=True,
+    help="Output directory.",
+)
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, GLB, PNG preview and JSON manifest."""
@@ -67,8 +91,8 @@ def joint(config, out_dir, no_png, **options):
     # the rjcad program builds in a forked process that imports CadQuery while this one designs the spring
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
     with cad or contextlib.nullcontext():
-        from rjcad.io.outputs import check_writable
         from rjcad.design.params import JointParams
+        from rjcad.io.outputs import check_writable
 
         params = JointParams(**merge_config(options, config, FIELDS))
         check_writable(out_dir)  # before this process imports CadQuery or meshes
@@ -81,28 +105,43 @@ def joint(config, out_dir, no_png, **options):
 
 def print_joint(m: Manifest | dict[str, Any]) -> None:
     """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
-    print_table([
-        ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", _springs(m['spring'].get('springs', 2))),
-        ("spring b × t × L", f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × "
-                             f"{m['spring']['length_mm']:.1f}", "mm"),
-        ("spring outer radius", f"{m['spring']['outer_radius_mm']:.2f}", "mm"),
-        ("tendon moment arm", f"{m['tendon_moment_arm_mm']:.3f}", "mm (measured)"),
-        ("tendon wrap angle", f"{m['tendon_wrap_angle_rad']:.3f}", "rad in the ground channel (measured)"),
-        ("min gap between bodies", f"{m['measured_min_gap_mm']:.3f}", "mm (on the mesh)"),
-        _bodies(m),
-        ("triangles", f"{m['mesh']['triangles']}", ""),
-    ])
+    print_table(
+        [
+            ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", _springs(m["spring"].get("springs", 2))),
+            (
+                "spring b × t × L",
+                f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × {m['spring']['length_mm']:.1f}",
+                "mm",
+            ),
+            ("spring outer radius", f"{m['spring']['outer_radius_mm']:.2f}", "mm"),
+            ("tendon moment arm", f"{m['tendon_moment_arm_mm']:.3f}", "mm (measured)"),
+            ("tendon wrap angle", f"{m['tendon_wrap_angle_rad']:.3f}", "rad in the ground channel (measured)"),
+            ("min gap between bodies", f"{m['measured_min_gap_mm']:.3f}", "mm (on the mesh)"),
+            _bodies(m),
+            ("triangles", f"{m['mesh']['triangles']}", ""),
+        ]
+    )
 
 
 @click.command()
 @click.argument("template", required=False, type=click.Path(dir_okay=False))
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/finger", show_default=True,
-              help="Output directory.")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(file_okay=False),
+    default="out/finger",
+    show_default=True,
+    help="Output directory.",
+)
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 @click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
 @click.option("--mjcf", is_flag=True, help="Also write finger.xml (MuJoCo, SI units) and one STL per body.")
-@click.option("--gravity", default="horizontal-palm-down", show_default=True,
-              help="With --mjcf: gravity relative to the finger (see rjcad mjcf --help).")
+@click.option(
+    "--gravity",
+    default="horizontal-palm-down",
+    show_default=True,
+    help="With --mjcf: gravity relative to the finger (see rjcad mjcf --help).",
+)
 def finger(template, out_dir, no_png, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
@@ -125,9 +164,11 @@ def finger(template, out_dir, no_png, html, mjcf, gravity):
 
     b = write_finger(fp, out_dir, png=not no_png, more=_viewer if html else None, mjcf=mjcf, gravity=grav)
     m = b.manifest
-    click.echo(f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
-               f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
-               + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else ""))
+    click.echo(
+        f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
+        f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
+        + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else "")
+    )
     print_finger(m)
 
 
@@ -135,8 +176,8 @@ def _template(path: str):
     """The finger template ``path`` (read through rjcad.io.untrusted); a bad value names the file and its key."""
     from pathlib import Path
 
-    from rjcad.errors import ParameterError
     from rjcad.design.finger_params import FingerParams
+    from rjcad.errors import ParameterError
 
     try:
         return FingerParams.from_toml(path)
@@ -149,10 +190,15 @@ def _template(path: str):
 
 def print_finger(m: Manifest | dict[str, Any]) -> None:
     """Summary table of a finger manifest: each joint's K, arm and wrap, the tendon length, the bodies."""
-    rows = [(f"joint {i + 1} ({j['parent']} → {j['child']})",
-             f"K {j['joint_stiffness_nmm_per_rad']:.2f}  r {j['tendon_moment_arm_mm']:.2f}  "
-             f"wrap {j['tendon_wrap_angle_rad']:.3f}",
-             "N·mm/rad, mm, rad") for i, j in enumerate(m["joints"])]
+    rows = [
+        (
+            f"joint {i + 1} ({j['parent']} → {j['child']})",
+            f"K {j['joint_stiffness_nmm_per_rad']:.2f}  r {j['tendon_moment_arm_mm']:.2f}  "
+            f"wrap {j['tendon_wrap_angle_rad']:.3f}",
+            "N·mm/rad, mm, rad",
+        )
+        for i, j in enumerate(m["joints"])
+    ]
     rows.append(("tendon length at rest", f"{m['tendon_length_mm']:.1f}", "mm"))
     rows.append(_bodies(m))
     print_table(rows)

@@ -27,22 +27,37 @@ def _key_values(text: str, option: str) -> dict[str, float]:
 
 
 @click.command()
-@click.option("--effects", default="",
-              help="Comma-separated catalogue effects in the true model (none: the null case).")
+@click.option(
+    "--effects", default="", help="Comma-separated catalogue effects in the true model (none: the null case)."
+)
 @click.option("--param", "params", multiple=True, help="NAME=VALUE (JSON name, e.g. mu_j_mm=5); repeatable.")
 @click.option("--noise", default="", help="Noise σ per column, e.g. torque_nmm=0.1,tendon_force_n=0.02,theta_deg=0.1.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed (same seed, same files).")
 @click.option("--samples", type=int, default=3000, show_default=True, help="Samples per experiment (>= 100).")
 @click.option("--rotation", type=float, default=90.0, show_default=True, help="Joint rotation from rest [deg].")
-@click.option("--trajectory", type=click.Choice(["paper", "one-speed", "one-speed-holds", "two-speeds"]),
-              default="paper", show_default=True,
-              help="Angle path of every experiment: the paper-like three speeds with holds, or a simpler one.")
-@click.option("--paper", is_flag=True,
-              help=f"The paper's campaign: its design and measured parameters, F_n {JOINT.normal_load:g} N in A-C.")
-@click.option("--finger", "finger", is_flag=True,
-              help="A whole-finger campaign (tendon stroke and joint angles) instead of a joint's.")
-@click.option("--source", type=click.Path(dir_okay=False),
-              help="With --finger: the finger manifest (.json) or template (.toml); default: templates/finger.toml.")
+@click.option(
+    "--trajectory",
+    type=click.Choice(["paper", "one-speed", "one-speed-holds", "two-speeds"]),
+    default="paper",
+    show_default=True,
+    help="Angle path of every experiment: the paper-like three speeds with holds, or a simpler one.",
+)
+@click.option(
+    "--paper",
+    is_flag=True,
+    help=f"The paper's campaign: its design and measured parameters, F_n {JOINT.normal_load:g} N in A-C.",
+)
+@click.option(
+    "--finger",
+    "finger",
+    is_flag=True,
+    help="A whole-finger campaign (tendon stroke and joint angles) instead of a joint's.",
+)
+@click.option(
+    "--source",
+    type=click.Path(dir_okay=False),
+    help="With --finger: the finger manifest (.json) or template (.toml); default: templates/finger.toml.",
+)
 @click.option("--no-tension", is_flag=True, help="With --finger: no tendon_force_n column (no load cell).")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True, help="Campaign directory.")
 def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, finger, source, no_tension, out_dir):
@@ -61,10 +76,20 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
 
         if paper:
             raise click.BadParameter("--paper is a joint campaign; give --finger or --paper", param_hint="--paper")
-        truth = write_finger_campaign(out_dir, chosen, overrides, finger=source, seed=seed,
-                                      noise=_key_values(noise, "--noise"), samples=samples, tension=not no_tension)
-        click.echo(f"wrote {Path(out_dir) / 'campaign.toml'} (SYNTHETIC, {len(truth['experiments'])} experiments, "
-                   f"{samples} samples each, finger {truth['finger']})")
+        truth = write_finger_campaign(
+            out_dir,
+            chosen,
+            overrides,
+            finger=source,
+            seed=seed,
+            noise=_key_values(noise, "--noise"),
+            samples=samples,
+            tension=not no_tension,
+        )
+        click.echo(
+            f"wrote {Path(out_dir) / 'campaign.toml'} (SYNTHETIC, {len(truth['experiments'])} experiments, "
+            f"{samples} samples each, finger {truth['finger']})"
+        )
         return
     design = None
     if paper:
@@ -72,8 +97,17 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
             raise click.BadParameter("give either --paper or --effects", param_hint="--effects")
         chosen, design = list(PAPER_PRESET["effects"]), PAPER_PRESET["design"]
         overrides = {**PAPER_PRESET["params"], **overrides}
-    truth = write_campaign(out_dir, chosen, overrides, design=design, seed=seed, noise=_key_values(noise, "--noise"),
-                           samples=samples, rotation_deg=rotation, trajectory_name=trajectory)
+    truth = write_campaign(
+        out_dir,
+        chosen,
+        overrides,
+        design=design,
+        seed=seed,
+        noise=_key_values(noise, "--noise"),
+        samples=samples,
+        rotation_deg=rotation,
+        trajectory_name=trajectory,
+    )
     out = Path(out_dir)
     click.echo(f"wrote {out / 'campaign.toml'}")
     for e in truth["experiments"]:
@@ -86,17 +120,20 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
 @click.argument("campaign", type=click.Path(dir_okay=False))
 @click.option("--json", "json_out", type=click.Path(dir_okay=False), help="Write the result as JSON ('-': stdout).")
 @click.option("--report", "report_dir", type=click.Path(file_okay=False), help="Write report.md and PNG plots here.")
-@click.option("--allow-outside", is_flag=True,
-              help="Read data files outside the campaign file's folder (default: refused, symlinks followed).")
+@click.option(
+    "--allow-outside",
+    is_flag=True,
+    help="Read data files outside the campaign file's folder (default: refused, symlinks followed).",
+)
 def identify(campaign, json_out, report_dir, allow_outside):
     """What the design simulation gets wrong in measured data, which effects cause it, and the gain."""
     from pathlib import Path
 
-    from rjcad.io.config import write_json
     from rjcad.identify.campaign import load_campaign
     from rjcad.identify.report import write_report
     from rjcad.identify.result import to_json
     from rjcad.identify.select import identify as run
+    from rjcad.io.config import write_json
     from rjcad.io.outputs import check_writable
 
     places = ([Path(json_out).parent] if json_out and json_out != "-" else []) + ([report_dir] if report_dir else [])
@@ -148,9 +185,12 @@ def print_identification(js: dict) -> None:
     click.echo(f"found: {found}  (gain {js['gain']:.3g}x in RMSE, geometric mean over experiments)")
     if js.get("kind") == "finger-endpoint":
         for e in js["experiments"]:
-            click.echo(f"  {e['file']} at {e['tendon_mm']:g} mm: measured " + ", ".join(
-                f"{x:.1f}" for x in e["measured_deg"]) + " deg; final / noise " + ", ".join(
-                f"{x:.2g}" for x in e["final_over_noise"].values()))
+            click.echo(
+                f"  {e['file']} at {e['tendon_mm']:g} mm: measured "
+                + ", ".join(f"{x:.1f}" for x in e["measured_deg"])
+                + " deg; final / noise "
+                + ", ".join(f"{x:.2g}" for x in e["final_over_noise"].values())
+            )
         for a in js["ambiguous"]:
             click.echo(f"  explains it as well: {', '.join(a['effects'])} ({', '.join(a['params'])})")
         if js["ambiguous"]:
@@ -160,8 +200,9 @@ def print_identification(js: dict) -> None:
         return
     for s in js["steps"]:
         ho = "n/a" if s["heldout_rmse"] is None else f"{s['heldout_rmse']:.3g}"
-        click.echo(f"  {s['action']} {s['effect']}: dBIC {s['delta_bic']:+.4g}, held-out RMSE {ho} x noise "
-                   f"- {s['cause']}")
+        click.echo(
+            f"  {s['action']} {s['effect']}: dBIC {s['delta_bic']:+.4g}, held-out RMSE {ho} x noise - {s['cause']}"
+        )
     for name, value in js["params"].items():
         ci = js["param_ci95"].get(name)
         click.echo(f"  {name} = {value:.4g}" + (f"  [{ci[0]:.4g}, {ci[1]:.4g}]" if ci else "  (design)"))
@@ -173,11 +214,16 @@ def print_identification(js: dict) -> None:
         for line in joint_sentences(js):
             click.echo(f"  {line}")
         for a in js["ambiguous"]:
-            click.echo(f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by "
-                       f"{a['separate_by']}")
+            click.echo(
+                f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}"
+            )
         return
     for a in js.get("ambiguous", []):
-        click.echo(f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}")
+        click.echo(
+            f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}"
+        )
     for e in js["experiments"]:
-        click.echo(f"  {e['file']}: RMSE {e['rmse_design']:.4g} -> {e['rmse_final']:.4g} {e['quantity']} "
-                   f"(noise {e['noise']:.3g}, {e['samples_masked_at_reversals']} samples at reversals masked)")
+        click.echo(
+            f"  {e['file']}: RMSE {e['rmse_design']:.4g} -> {e['rmse_final']:.4g} {e['quantity']} "
+            f"(noise {e['noise']:.3g}, {e['samples_masked_at_reversals']} samples at reversals masked)"
+        )

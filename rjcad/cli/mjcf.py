@@ -8,16 +8,18 @@ import click
 
 from rjcad.errors import ParameterError, RjcadError
 
-GRAVITY_HELP = ("Gravity relative to the finger: horizontal-palm-down (default), horizontal-palm-up, "
-                "vertical-tip-down, vertical-tip-up, lying-as-printed, off, or the angle from the finger's axis "
-                "towards the palm [deg].")
+GRAVITY_HELP = (
+    "Gravity relative to the finger: horizontal-palm-down (default), horizontal-palm-up, "
+    "vertical-tip-down, vertical-tip-up, lying-as-printed, off, or the angle from the finger's axis "
+    "towards the palm [deg]."
+)
 
 
 def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str | None, pull: str) -> dict:
     """The MJCF (named ``xml_name``) and its body STLs for the manifest at ``manifest_path``, in memory."""
     from rjcad.io.manifest import Manifest
-    from rjcad.mjcf.export import check_identified, gravity_of, mesh_sources, mjcf_files, read_meshes
     from rjcad.io.untrusted import read_json
+    from rjcad.mjcf.export import check_identified, gravity_of, mesh_sources, mjcf_files, read_meshes
 
     man = Manifest.read(manifest_path)
     from rjcad.mjcf.export import check_manifest
@@ -38,14 +40,28 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
 
 @click.command()
 @click.argument("manifest", type=click.Path(dir_okay=False))
-@click.option("--out", "out_path", type=click.Path(dir_okay=False), default="finger.xml", show_default=True,
-              help="The MJCF to write; one STL per body is written beside it (<stem>_<body>.stl).")
-@click.option("--identified", type=click.Path(dir_okay=False),
-              help="An `rjcad identify` result of this finger: its pin friction (frictionloss), stiffness, preload.")
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    default="finger.xml",
+    show_default=True,
+    help="The MJCF to write; one STL per body is written beside it (<stem>_<body>.stl).",
+)
+@click.option(
+    "--identified",
+    type=click.Path(dir_okay=False),
+    help="An `rjcad identify` result of this finger: its pin friction (frictionloss), stiffness, preload.",
+)
 @click.option("--gravity", default="horizontal-palm-down", show_default=True, help=GRAVITY_HELP)
-@click.option("--pull", type=click.Choice(["groove", "path"]), default="groove", show_default=True,
-              help="What the `pull` actuator acts on: the fixed tendon of rjcad's model (constant moment arms) or "
-                   "the spatial tendon through the built path.")
+@click.option(
+    "--pull",
+    type=click.Choice(["groove", "path"]),
+    default="groove",
+    show_default=True,
+    help="What the `pull` actuator acts on: the fixed tendon of rjcad's model (constant moment arms) or "
+    "the spatial tendon through the built path.",
+)
 def mjcf(manifest, out_path, identified, gravity, pull):
     """Write the MuJoCo model (MJCF, SI units) of a finger built by `rjcad finger` (its manifest FINGER.json and,
     beside it, its per-body STLs or its 3MF)."""

@@ -11,9 +11,9 @@ from typing import NamedTuple
 
 import click
 
+from rjcad import DEG
 from rjcad.io.config import load_toml
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, MATERIALS, PRINTERS
-from rjcad import DEG
 
 
 class Field(NamedTuple):
@@ -44,8 +44,12 @@ REQUIREMENT = (
     Field("--material", "material", str, f"One of: {', '.join(MATERIALS)} (default {DEFAULT_MATERIAL})."),
     Field("--printer", "printer", str, f"One of: {', '.join(PRINTERS)} (default {DEFAULT_PRINTER})."),
     Field("--safety-factor", "safety_factor", float, "Safety factor on yield (default 1.5)."),
-    Field("--end", "end", str, "Outer end condition: clamped (default: position and angle held) or pinned "
-                               "(free to turn about its post)."),
+    Field(
+        "--end",
+        "end",
+        str,
+        "Outer end condition: clamped (default: position and angle held) or pinned (free to turn about its post).",
+    ),
 )
 
 

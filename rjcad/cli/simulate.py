@@ -10,10 +10,10 @@ import math
 
 import click
 
+from rjcad import DEG
 from rjcad.errors import ParameterError, quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
-from rjcad import DEG
 
 
 @click.group()
@@ -34,17 +34,24 @@ def _plot(path, draw):
 
 #: ``rjcad simulate joint``'s ranges: (low, high, unit); wide, but finite (the loop's exponentials overflow beyond).
 JOINT_LIMITS = {
-    "normal_load": (0.0, 1e3, "N"), "stiffness": (0.0, 1e4, "N·mm/rad"), "preload": (-360.0, 360.0, "deg"),
-    "mu_j": (0.0, 100.0, "mm"), "gamma_pos": (-1e4, 1e4, "N·mm/rad"), "gamma_neg": (-1e4, 1e4, "N·mm/rad"),
-    "beta_pos": (1.0, 100.0, ""), "beta_neg": (0.01, 1.0, ""), "pulley_radius": (0.01, 100.0, "mm"),
+    "normal_load": (0.0, 1e3, "N"),
+    "stiffness": (0.0, 1e4, "N·mm/rad"),
+    "preload": (-360.0, 360.0, "deg"),
+    "mu_j": (0.0, 100.0, "mm"),
+    "gamma_pos": (-1e4, 1e4, "N·mm/rad"),
+    "gamma_neg": (-1e4, 1e4, "N·mm/rad"),
+    "beta_pos": (1.0, 100.0, ""),
+    "beta_neg": (0.01, 1.0, ""),
+    "pulley_radius": (0.01, 100.0, "mm"),
 }
 
 
 @simulate.command("joint")
 @click.option("--drive", type=click.Choice(["bar", "tendon"]), default="bar", show_default=True)
 @click.option("--routed", is_flag=True, help="Tendon slides on its path in the base link (capstan).")
-@click.option("--normal-load", type=float, default=JOINT.normal_load, show_default=True,
-              help="Transverse load F_n [N].")
+@click.option(
+    "--normal-load", type=float, default=JOINT.normal_load, show_default=True, help="Transverse load F_n [N]."
+)
 @click.option("--stiffness", type=float, default=JOINT.stiffness, show_default=True, help="K_s [N·mm/rad].")
 @click.option("--preload", type=float, default=JOINT.preload / DEG, show_default=True, help="θ_0 [deg].")
 @click.option("--mu-j", type=float, default=JOINT.mu_j, show_default=True, help="Generalised pin friction μ_j [mm].")
@@ -52,42 +59,85 @@ JOINT_LIMITS = {
 @click.option("--gamma-neg", type=float, default=JOINT.gamma_neg, show_default=True, help="γ⁻ [N·mm/rad].")
 @click.option("--beta-pos", type=float, default=JOINT.beta_pos, show_default=True, help="β⁺ (pulling, ≥ 1).")
 @click.option("--beta-neg", type=float, default=JOINT.beta_neg, show_default=True, help="β⁻ (releasing, ≤ 1).")
-@click.option("--pulley-radius", type=float, default=JOINT.pulley_radius, show_default=True,
-              help="Tendon moment arm r [mm].")
+@click.option(
+    "--pulley-radius", type=float, default=JOINT.pulley_radius, show_default=True, help="Tendon moment arm r [mm]."
+)
 @click.option("--rotation", type=float, required=True, help="Cycle 0 → rotation → 0 [deg].")
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write the loop as a PNG.")
-def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_pos, gamma_neg, beta_pos, beta_neg,
-                   pulley_radius, rotation, as_json, plot):
+def simulate_joint(
+    drive,
+    routed,
+    normal_load,
+    stiffness,
+    preload,
+    mu_j,
+    gamma_pos,
+    gamma_neg,
+    beta_pos,
+    beta_neg,
+    pulley_radius,
+    rotation,
+    as_json,
+    plot,
+):
     """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7)."""
     import numpy as np
 
-    from rjcad.physics.joint import JointModel, Setup, cycle, loop_width, simulate as run, tendon_slack
-
+    from rjcad.physics.joint import JointModel, Setup, cycle, loop_width, tendon_slack
+    from rjcad.physics.joint import simulate as run
     from rjcad.validate import in_range
 
     if not 0 < rotation <= 360:
         raise click.BadParameter("must be in (0, 360] deg", param_hint="--rotation")
-    given = dict(normal_load=normal_load, stiffness=stiffness, preload=preload, mu_j=mu_j, gamma_pos=gamma_pos,
-                 gamma_neg=gamma_neg, beta_pos=beta_pos, beta_neg=beta_neg, pulley_radius=pulley_radius)
+    given = dict(
+        normal_load=normal_load,
+        stiffness=stiffness,
+        preload=preload,
+        mu_j=mu_j,
+        gamma_pos=gamma_pos,
+        gamma_neg=gamma_neg,
+        beta_pos=beta_pos,
+        beta_neg=beta_neg,
+        pulley_radius=pulley_radius,
+    )
     for name, (lo, hi, unit) in JOINT_LIMITS.items():
         in_range("--" + name.replace("_", "-"), given[name], lo, hi, unit=unit)
-    m = JointModel(stiffness=stiffness, preload=preload * DEG, mu_j=mu_j, gamma_pos=gamma_pos,
-                   gamma_neg=gamma_neg, beta_pos=beta_pos, beta_neg=beta_neg, pulley_radius=pulley_radius)
+    m = JointModel(
+        stiffness=stiffness,
+        preload=preload * DEG,
+        mu_j=mu_j,
+        gamma_pos=gamma_pos,
+        gamma_neg=gamma_neg,
+        beta_pos=beta_pos,
+        beta_neg=beta_neg,
+        pulley_radius=pulley_radius,
+    )
     setup = Setup(drive, normal_load, routed)
     th, d = cycle(rotation * DEG)
     y = run(m, setup, th, direction=d)
     slack = tendon_slack(m, setup, th, direction=d)
     if slack.any():
         rel = slack & (d < 0)
-        where = ("the whole release" if rel.sum() == (d < 0).sum() else
-                 f"{int(rel.sum())} of {int((d < 0).sum())} release samples" if rel.any() else
-                 f"{int(slack.sum())} samples")
-        below = (f" (the required force is negative below {math.degrees(th[rel].max()):.0f}° while releasing)"
-                 if rel.any() else "")
-        click.echo(f"rjcad: warning: the tendon is slack over {where}{below}: the joint is held by friction "
-                   "and the model's force there is 0; loop figures use the taut samples only", err=True)
+        where = (
+            "the whole release"
+            if rel.sum() == (d < 0).sum()
+            else f"{int(rel.sum())} of {int((d < 0).sum())} release samples"
+            if rel.any()
+            else f"{int(slack.sum())} samples"
+        )
+        below = (
+            f" (the required force is negative below {math.degrees(th[rel].max()):.0f}° while releasing)"
+            if rel.any()
+            else ""
+        )
+        click.echo(
+            f"rjcad: warning: the tendon is slack over {where}{below}: the joint is held by friction "
+            "and the model's force there is 0; loop figures use the taut samples only",
+            err=True,
+        )
     if plot:
+
         def draw(ax):
             for sgn, lab in ((1, "flexing"), (-1, "extending")):
                 k = d == sgn
@@ -95,20 +145,32 @@ def simulate_joint(drive, routed, normal_load, stiffness, preload, mu_j, gamma_p
             ax.set_xlabel("joint angle θ_j [deg]")
             ax.set_ylabel("torque [N·mm]" if drive == "bar" else "tendon force at the actuator [N]")
             ax.legend()
+
         _plot(plot, draw)
     if as_json:
         width = loop_width(th, y, d, ~slack)
-        out = {"theta_deg": [math.degrees(v) for v in th], "direction": [int(v) for v in d],
-               setup.quantity: y.tolist(), "slack": [bool(v) for v in slack], "slack_samples": int(slack.sum()),
-               "loop_width": width}
+        out = {
+            "theta_deg": [math.degrees(v) for v in th],
+            "direction": [int(v) for v in d],
+            setup.quantity: y.tolist(),
+            "slack": [bool(v) for v in slack],
+            "slack_samples": int(slack.sum()),
+            "loop_width": width,
+        }
         click.echo(json.dumps(out))
     else:
         width = loop_width(th, y, d, ~slack)
         taut = y[~slack] if (~slack).any() else y
-        text = (f"mean loop width {width:.3f}" + (" (taut samples only)" if slack.any() else "") if width is not None
-                else "no loop width: the tendon is slack on one branch at every angle")
-        click.echo(f"{setup.quantity}: {len(th)} samples, from {np.min(taut):.3f} to {np.max(taut):.3f}"
-                   + (f" where taut ({int(slack.sum())} slack)" if slack.any() else "") + f"; {text}")
+        text = (
+            f"mean loop width {width:.3f}" + (" (taut samples only)" if slack.any() else "")
+            if width is not None
+            else "no loop width: the tendon is slack on one branch at every angle"
+        )
+        click.echo(
+            f"{setup.quantity}: {len(th)} samples, from {np.min(taut):.3f} to {np.max(taut):.3f}"
+            + (f" where taut ({int(slack.sum())} slack)" if slack.any() else "")
+            + f"; {text}"
+        )
 
 
 #: Tendon stroke a finger simulation accepts [mm] (a finger closes within tens of mm) and the
@@ -124,8 +186,13 @@ MAX_MU_T = 2.0
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write θ_i(t_d) as a PNG.")
-@click.option("--engine", type=click.Choice(["rjcad", "mujoco"]), default="rjcad", show_default=True,
-              help="rjcad's solver, or MuJoCo (SOURCE may then also be an MJCF .xml).")
+@click.option(
+    "--engine",
+    type=click.Choice(["rjcad", "mujoco"]),
+    default="rjcad",
+    show_default=True,
+    help="rjcad's solver, or MuJoCo (SOURCE may then also be an MJCF .xml).",
+)
 @click.option("--compare", is_flag=True, help="Run both engines; overlay them in --plot (the JSON is --engine's).")
 def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare):
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
@@ -138,26 +205,42 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare)
     runs = {e: _finger_run(e, source, stroke, steps, mu_t) for e in (("rjcad", "mujoco") if compare else (engine,))}
     c = runs[engine]
     if plot:
+
         def draw(ax):
             for k, (name, run) in enumerate(runs.items()):
                 pull = np.array([p == "pull" for p in run.phase])
                 for i in range(run.theta.shape[1]):
                     tag = f"{name} " if compare else ""
-                    ax.plot(run.tendon_mm[pull], np.degrees(run.theta[pull, i]), color=f"C{i}", lw=1.6 - 0.7 * k,
-                            ls="-" if k == 0 else ":", label=f"{tag}θ{i + 1} pull")
-                    ax.plot(run.tendon_mm[~pull], np.degrees(run.theta[~pull, i]), color=f"C{i}", lw=1.6 - 0.7 * k,
-                            ls="--" if k == 0 else "-.", label=f"{tag}θ{i + 1} release")
+                    ax.plot(
+                        run.tendon_mm[pull],
+                        np.degrees(run.theta[pull, i]),
+                        color=f"C{i}",
+                        lw=1.6 - 0.7 * k,
+                        ls="-" if k == 0 else ":",
+                        label=f"{tag}θ{i + 1} pull",
+                    )
+                    ax.plot(
+                        run.tendon_mm[~pull],
+                        np.degrees(run.theta[~pull, i]),
+                        color=f"C{i}",
+                        lw=1.6 - 0.7 * k,
+                        ls="--" if k == 0 else "-.",
+                        label=f"{tag}θ{i + 1} release",
+                    )
             ax.set_xlabel("tendon displacement t_d [mm]")
             ax.set_ylabel("joint angle [deg]")
             ax.legend(fontsize=7, ncol=2 if compare else 1)
+
         _plot(plot, draw)
     if as_json:
         click.echo(json.dumps(c.to_dict()))
     else:
         for name, run in runs.items():
             end = np.degrees(run.theta[steps])
-            click.echo(f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
-                       f"deg, tension {run.tension[steps]:.2f} N")
+            click.echo(
+                f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
+                f"deg, tension {run.tension[steps]:.2f} N"
+            )
 
 
 def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
@@ -166,8 +249,9 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
 
     if engine == "mujoco":
         if mu_t > 0:
-            raise ParameterError("--mu-t", mu_t, "MuJoCo has no capstan (one tension along a tendon): use 0 with "
-                                                 "--engine mujoco")
+            raise ParameterError(
+                "--mu-t", mu_t, "MuJoCo has no capstan (one tension along a tendon): use 0 with --engine mujoco"
+            )
         from rjcad.cli.mjcf import mujoco_model
         from rjcad.mjcf.simulate import run_stroke
 
@@ -179,20 +263,29 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
 
     model = load_finger_model(source, mu_t=mu_t)
     if mu_t > 0 and not any(model.wrap):
-        raise ParameterError("--mu-t", mu_t, "has nothing to act on: this finger's joints carry no tendon wrap "
-                                             "angle (a template has none); give a finger manifest (.json) that "
-                                             "`rjcad finger` wrote, whose joints carry their measured wraps")
+        raise ParameterError(
+            "--mu-t",
+            mu_t,
+            "has nothing to act on: this finger's joints carry no tendon wrap "
+            "angle (a template has none); give a finger manifest (.json) that "
+            "`rjcad finger` wrote, whose joints carry their measured wraps",
+        )
     return simulate_stroke(model, stroke, steps=steps)
 
 
 @click.command("finger-design")
 @click.option("--target", required=True, help="End angles per joint [deg], e.g. 65,50,50.")
 @click.option("--stroke", type=float, required=True, help="Tendon displacement at the end [mm].")
-@click.option("--sequence", type=click.Choice(["simultaneous", "proximal-first"]), default="simultaneous",
-              show_default=True)
-@click.option("--base-stiffness", type=float, default=None,
-              help=f"Softest joint [N·mm/rad]; default {FINGER.designed_stiffness[0]:g}, "
-                   "rescaled if a spring would not be printable.")
+@click.option(
+    "--sequence", type=click.Choice(["simultaneous", "proximal-first"]), default="simultaneous", show_default=True
+)
+@click.option(
+    "--base-stiffness",
+    type=float,
+    default=None,
+    help=f"Softest joint [N·mm/rad]; default {FINGER.designed_stiffness[0]:g}, "
+    "rescaled if a spring would not be printable.",
+)
 @click.option("--material", default=DEFAULT_MATERIAL, show_default=True)
 @click.option("--printer", default=DEFAULT_PRINTER, show_default=True)
 @click.option("--out", "out_path", type=click.Path(dir_okay=False), required=True, help="Finger template to write.")
@@ -205,8 +298,9 @@ def finger_design(target, stroke, sequence, base_stiffness, material, printer, o
     try:
         angles = [float(v) for v in target.split(",")]
     except ValueError:
-        raise click.BadParameter(f"{quote(target)} is not a list of angles like 65,50,50",
-                                 param_hint="--target") from None
+        raise click.BadParameter(
+            f"{quote(target)} is not a list of angles like 65,50,50", param_hint="--target"
+        ) from None
     d = design_finger(angles, stroke, sequence, base_stiffness, material, printer)
     write_atomic(out_path, d.template(material, printer))
     rep = d.report()
@@ -222,19 +316,27 @@ def print_finger_design(rep: dict, out_path: str) -> None:
     for note in rep["notes"]:
         click.echo(f"  note: {note}")
     for i in range(len(rep["stiffness_nmm_per_rad"])):
-        click.echo(f"  joint {i + 1}: K {rep['stiffness_nmm_per_rad'][i]:.3f} N·mm/rad, preload "
-                   f"{rep['preload_deg'][i]:.1f} deg, arm {rep['tendon_moment_arm_mm'][i]:.2f} mm, "
-                   f"end error {rep['end_error_deg'][i]:+.3f} deg, starts at {rep['onset_tendon_mm'][i]:.2f} mm")
+        click.echo(
+            f"  joint {i + 1}: K {rep['stiffness_nmm_per_rad'][i]:.3f} N·mm/rad, preload "
+            f"{rep['preload_deg'][i]:.1f} deg, arm {rep['tendon_moment_arm_mm'][i]:.2f} mm, "
+            f"end error {rep['end_error_deg'][i]:+.3f} deg, starts at {rep['onset_tendon_mm'][i]:.2f} mm"
+        )
 
 
 @click.command("paper-finger")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="docs", show_default=True)
-@click.option("--manifest", type=click.Path(dir_okay=False),
-              help="Built finger manifest (out/finger/finger.json) for the design model's moment arms; "
-                   "default: the joint builder's design arm.")
-@click.option("--records", is_flag=True,
-              help="Also write paper-finger-records.md: SYNTHETIC full records of the families that fit the "
-                   "endpoint, identified blind (about a minute).")
+@click.option(
+    "--manifest",
+    type=click.Path(dir_okay=False),
+    help="Built finger manifest (out/finger/finger.json) for the design model's moment arms; "
+    "default: the joint builder's design arm.",
+)
+@click.option(
+    "--records",
+    is_flag=True,
+    help="Also write paper-finger-records.md: SYNTHETIC full records of the families that fit the "
+    "endpoint, identified blind (about a minute).",
+)
 def paper_finger(out_dir, manifest, records):
     """Regenerate docs/paper-finger.md: the paper's finger, the design model's error and its explanations."""
     from rjcad.physics.paper_finger import write_doc

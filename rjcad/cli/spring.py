@@ -6,24 +6,36 @@ import json
 
 import click
 
+from rjcad import DEG
 from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
 from rjcad.errors import RjcadError
 from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
-from rjcad import DEG
 
 #: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
 FIELDS = requirement() + (
-    Field("--springs", "springs", int, "Springs sharing the joint stiffness: 2 (default; the stacked layout, the "
-          "paper's) or 1 (the desktop layout's one spring on the bed)."),
-    Field("--min-gap", "min_gap_mm", float, "Gap the coils keep over the whole wind-up [mm] (default: the printer's "
-          "minimum gap; the desktop joint uses its clearance, e.g. 0.40 for ABS)."),
+    Field(
+        "--springs",
+        "springs",
+        int,
+        "Springs sharing the joint stiffness: 2 (default; the stacked layout, the "
+        "paper's) or 1 (the desktop layout's one spring on the bed).",
+    ),
+    Field(
+        "--min-gap",
+        "min_gap_mm",
+        float,
+        "Gap the coils keep over the whole wind-up [mm] (default: the printer's "
+        "minimum gap; the desktop joint uses its clearance, e.g. 0.40 for ABS).",
+    ),
     Field("--width-min", "width_min_mm", float, "Lower bound on spring width b [mm] (default 1)."),
     Field("--width-max", "width_max_mm", float, "Upper bound on spring width b [mm] (default 10)."),
-    Field("--inner-radius-min", "inner_radius_min_mm", float,
-          "Lower bound on the inner (pin) radius [mm] (default 3)."),
-    Field("--inner-radius-max", "inner_radius_max_mm", float,
-          "Upper bound on the inner (pin) radius [mm] (default 10)."),
+    Field(
+        "--inner-radius-min", "inner_radius_min_mm", float, "Lower bound on the inner (pin) radius [mm] (default 3)."
+    ),
+    Field(
+        "--inner-radius-max", "inner_radius_max_mm", float, "Upper bound on the inner (pin) radius [mm] (default 10)."
+    ),
     Field("--max-outer-radius", "max_outer_radius_mm", float, "Largest allowed outer radius [mm] (default 20)."),
     Field("--min-turns", "min_turns", float, "Fewest turns of the spiral (default 1)."),
     Field("--min-cycles", "min_cycles", float, "Required life: lower 90 % bound of the predicted cycles."),
@@ -45,9 +57,12 @@ def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
 @click.command()
 @design_options(FIELDS, "TOML file with the same keys (see templates/).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-@click.option("--plot", "plot", type=click.Path(dir_okay=False),
-              help="Write a PNG: torque against wind-up (rod model vs formula) and the wound shape with its "
-                   "tightest gap.")
+@click.option(
+    "--plot",
+    "plot",
+    type=click.Path(dir_okay=False),
+    help="Write a PNG: torque against wind-up (rod model vs formula) and the wound shape with its tightest gap.",
+)
 def spring(config, as_json, plot, **options):
     """Design the spiral springs of one joint (twin, or one with --springs 1; smallest outer radius), verified by
     the rod model."""
@@ -81,32 +96,48 @@ def print_design(design: SpringDesign) -> None:
     windup = d["rotation_deg"] + d["preload_deg"]
     share = "one spring" if req.springs == 1 else f"{req.springs} springs of {req.spring_stiffness:g}"
     both = "one spring" if req.springs == 1 else "both springs"
-    click.echo(f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
-               f"({share}), {d['rotation_deg']:g}° rotation, "
-               f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end, "
-               f"loaded unwinding; checked by the rod model")
-    print_table([
-        ("width b", f"{d['width_mm']:.3f}", "mm"),
-        ("thickness t", f"{d['thickness_mm']:.3f}", "mm"),
-        ("length L", f"{d['length_mm']:.2f}", "mm"),
-        ("inner radius r_in", f"{d['inner_radius_mm']:.3f}", "mm (centreline)"),
-        ("pitch p", f"{d['pitch_mm']:.4f}", "mm"),
-        ("turns n", f"{d['turns']:.3f}", ""),
-        ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
-        ("joint stiffness", f"{d['joint_stiffness_nmm_per_rad']:.4f}",
-         f"N·mm/rad ({both}, rod model, slope over the rotation)"),
-        ("formula stiffness", f"{d['formula_stiffness_nmm_per_rad']:.4f}",
-         f"N·mm/rad ({both}, c·E·b·t³/12L, {req.end})"),
-        ("peak stress", f"{d['peak_stress_mpa']:.2f}", f"MPa (rod model, over 0-{windup:g}° of wind-up)"),
-        ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
-        ("coil gap, wound", f"{d['min_coil_gap_mm']:.3f}",
-         f"mm (rod model, smallest over the wind-up, at {d['min_coil_gap_windup_deg']:.0f}°)"),
-        ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
-        ("first contact", *_contact(d)),
-        ("pin force", f"{d['pin_force_n']:.3f}", "N (largest reaction on the outer end's post, one spring)"),
-        ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
-        ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
-        ("predicted life", f"{d['predicted_cycles']:.3g}",
-         f"cycles (90 %: {d['predicted_cycles_interval'][0]:.2g}-{d['predicted_cycles_interval'][1]:.2g}; "
-         f"backlash {d['backlash_mm']:g} mm; see rjcad life)"),
-    ])
+    click.echo(
+        f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
+        f"({share}), {d['rotation_deg']:g}° rotation, "
+        f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end, "
+        f"loaded unwinding; checked by the rod model"
+    )
+    print_table(
+        [
+            ("width b", f"{d['width_mm']:.3f}", "mm"),
+            ("thickness t", f"{d['thickness_mm']:.3f}", "mm"),
+            ("length L", f"{d['length_mm']:.2f}", "mm"),
+            ("inner radius r_in", f"{d['inner_radius_mm']:.3f}", "mm (centreline)"),
+            ("pitch p", f"{d['pitch_mm']:.4f}", "mm"),
+            ("turns n", f"{d['turns']:.3f}", ""),
+            ("outer radius", f"{d['outer_radius_mm']:.3f}", "mm (envelope, hook excluded)"),
+            (
+                "joint stiffness",
+                f"{d['joint_stiffness_nmm_per_rad']:.4f}",
+                f"N·mm/rad ({both}, rod model, slope over the rotation)",
+            ),
+            (
+                "formula stiffness",
+                f"{d['formula_stiffness_nmm_per_rad']:.4f}",
+                f"N·mm/rad ({both}, c·E·b·t³/12L, {req.end})",
+            ),
+            ("peak stress", f"{d['peak_stress_mpa']:.2f}", f"MPa (rod model, over 0-{windup:g}° of wind-up)"),
+            ("allowed stress", f"{d['allowed_stress_mpa']:.2f}", f"MPa (yield / {req.safety_factor:g})"),
+            (
+                "coil gap, wound",
+                f"{d['min_coil_gap_mm']:.3f}",
+                f"mm (rod model, smallest over the wind-up, at {d['min_coil_gap_windup_deg']:.0f}°)",
+            ),
+            ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
+            ("first contact", *_contact(d)),
+            ("pin force", f"{d['pin_force_n']:.3f}", "N (largest reaction on the outer end's post, one spring)"),
+            ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
+            ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
+            (
+                "predicted life",
+                f"{d['predicted_cycles']:.3g}",
+                f"cycles (90 %: {d['predicted_cycles_interval'][0]:.2g}-{d['predicted_cycles_interval'][1]:.2g}; "
+                f"backlash {d['backlash_mm']:g} mm; see rjcad life)",
+            ),
+        ]
+    )

@@ -8,25 +8,35 @@ import click
 @click.command()
 @click.argument("sweep_file", type=click.Path(dir_okay=False))
 @click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/sweep", show_default=True)
-@click.option("--workers", type=click.IntRange(0, 256),
-              help="Local worker processes (default: the cores; 0 runs in this process).")
+@click.option(
+    "--workers",
+    type=click.IntRange(0, 256),
+    help="Local worker processes (default: the cores; 0 runs in this process).",
+)
 @click.option("--scheduler", help="Dask distributed scheduler address, e.g. tcp://host:8786.")
 @click.option("--build", is_flag=True, help="Build and check the joint of every feasible design.")
 @click.option("--keep-meshes", is_flag=True, help="With --build: keep each design's STL in OUT/meshes.")
-@click.option("--resume", is_flag=True, help="Keep the intact rows of an earlier run in OUT (results.csv, and the "
-              "log of an interrupted build) and compute the other designs.")
+@click.option(
+    "--resume",
+    is_flag=True,
+    help="Keep the intact rows of an earlier run in OUT (results.csv, and the "
+    "log of an interrupted build) and compute the other designs.",
+)
 def sweep(sweep_file, out_dir, workers, scheduler, build, keep_meshes, resume):
     """Sweep design parameters (analytic by default; --build for CAD + checks)."""
     from rjcad.sweep import SweepSpec, run_sweep
 
     spec = SweepSpec.from_toml(sweep_file)
     try:
-        res = run_sweep(spec, out_dir, build=build, workers=workers, scheduler=scheduler, resume=resume,
-                        keep_meshes=keep_meshes)
+        res = run_sweep(
+            spec, out_dir, build=build, workers=workers, scheduler=scheduler, resume=resume, keep_meshes=keep_meshes
+        )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the earlier outputs are untouched
         if build:
-            click.echo(f"sweep: stopped; the designs built so far are in {out_dir}/results.partial.jsonl: "
-                       "--resume continues from them")
+            click.echo(
+                f"sweep: stopped; the designs built so far are in {out_dir}/results.partial.jsonl: "
+                "--resume continues from them"
+            )
         raise
     print_sweep(res, out_dir)
 
@@ -38,6 +48,8 @@ def print_sweep(res, out_dir: str) -> None:
     status: dict[str, int] = {}
     for r in res.rows:
         status[r.get("status", "")] = status.get(r.get("status", ""), 0) + 1
-    click.echo(f"sweep: {len(res.rows)} designs ({res.computed} computed, {res.skipped} resumed) in "
-               f"{res.seconds:.2f} s; " + ", ".join(f"{k}: {v}" for k, v in sorted(status.items())))
+    click.echo(
+        f"sweep: {len(res.rows)} designs ({res.computed} computed, {res.skipped} resumed) in "
+        f"{res.seconds:.2f} s; " + ", ".join(f"{k}: {v}" for k, v in sorted(status.items()))
+    )
     click.echo(f"wrote {out_dir}/results.csv, pareto.png, summary.md")

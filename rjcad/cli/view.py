@@ -23,12 +23,23 @@ def check_view_options(stroke: float, mu_t: float) -> None:
 
 @click.command()
 @click.argument("manifest", type=click.Path(dir_okay=False))
-@click.option("--out", "out_path", type=click.Path(dir_okay=False), default=None,
-              help="HTML file to write (default: the manifest's name with .html).")
-@click.option("--stroke", type=float, default=FINGER.stroke, show_default=True,
-              help="Tendon stroke the slider runs over [mm].")
-@click.option("--steps", type=click.IntRange(10, 100000), default=DEFAULT_STEPS, show_default=True,
-              help="Samples of the closure over the stroke.")
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="HTML file to write (default: the manifest's name with .html).",
+)
+@click.option(
+    "--stroke", type=float, default=FINGER.stroke, show_default=True, help="Tendon stroke the slider runs over [mm]."
+)
+@click.option(
+    "--steps",
+    type=click.IntRange(10, 100000),
+    default=DEFAULT_STEPS,
+    show_default=True,
+    help="Samples of the closure over the stroke.",
+)
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
 def view(manifest, out_path, stroke, steps, mu_t):
     """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over

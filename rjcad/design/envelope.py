@@ -50,11 +50,12 @@ class WoundEnvelope:
         """Largest moving-frame radius at polar angles a0..a1 (rad, −π < a0 < a1 < π), one bin either side."""
         i0 = max(0, int((a0 + math.pi) // BIN) - 1)
         i1 = min(len(self.moving_profile) - 1, int((a1 + math.pi) // BIN) + 1)
-        return max(self.moving_profile[i0:i1 + 1])
+        return max(self.moving_profile[i0 : i1 + 1])
 
 
-def wound_states(r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float,
-                 end: str) -> tuple[np.ndarray, list[np.ndarray]]:
+def wound_states(
+    r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float, end: str
+) -> tuple[np.ndarray, list[np.ndarray]]:
     """Wind-up angles θ (K,) [rad] and the strip's centreline (N, 2) at each, in the ground frame [mm]."""
     windup = preload + rotation
     X, tangents, _ = rod.spiral_nodes(r_in, pitch, turns, preload - 2 * math.pi * turns, per_turn=PER_TURN)
@@ -80,8 +81,9 @@ def _densify(P: np.ndarray, k: int = 4) -> np.ndarray:
 
 
 @lru_cache(maxsize=1024)
-def wound_envelope(r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float,
-                   end: str) -> WoundEnvelope:
+def wound_envelope(
+    r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float, end: str
+) -> WoundEnvelope:
     """:class:`WoundEnvelope` of a spring (independent of E and b: the ends' motion is prescribed)."""
     theta, states = wound_states(r_in, pitch, turns, t, preload, rotation, end)
     profile = np.zeros(round(2 * math.pi / BIN))

@@ -56,6 +56,8 @@ def whole_mm(x: float, at_least: float = 0.0) -> float:
 
 def shortest_lengths(joints: Sequence[JointParams], at_least: float = PAPER_LINK_LENGTH) -> tuple[float, list[float]]:
     """(base, links): the shortest whole-millimetre lengths that hold ``joints``, links at least ``at_least``."""
-    links = [whole_mm(link_length_min(p, joints[i + 1] if i + 1 < len(joints) else None), at_least)
-             for i, p in enumerate(joints)]
+    links = [
+        whole_mm(link_length_min(p, joints[i + 1] if i + 1 < len(joints) else None), at_least)
+        for i, p in enumerate(joints)
+    ]
     return whole_mm(base_length_min(joints[0]), DEFAULT_BASE_LENGTH), links

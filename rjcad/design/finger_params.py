@@ -9,13 +9,13 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any
 
+from rjcad import DEG
+from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
+from rjcad.design.params import JOINT_DEFAULT_END, JointParams
+from rjcad.errors import ParameterError, RjcadError
 from rjcad.io import templates
 from rjcad.io.config import check_key as _typed
 from rjcad.io.config import load_toml
-from rjcad.errors import ParameterError, RjcadError
-from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
-from rjcad.design.params import JOINT_DEFAULT_END, JointParams
-from rjcad import DEG
 
 #: The paper's finger, as plain data in rjcad.io.templates (the builder's default).
 PAPER_FINGER = templates.PAPER_FINGER
@@ -40,8 +40,11 @@ class FingerParams:
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
         built, requested = cls.joints_from_dict(data)
         # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
-        base = (float(data["base_length_mm"]) if "base_length_mm" in data
-                else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH))
+        base = (
+            float(data["base_length_mm"])
+            if "base_length_mm" in data
+            else whole_mm(base_length_min(built[0]), DEFAULT_BASE_LENGTH)
+        )
         fp = cls(tuple(built), base, source, tuple(requested))
         fp.validate_lengths()
         return fp
@@ -57,10 +60,13 @@ class FingerParams:
         if not 1 <= len(joints) <= MAX_JOINTS:
             raise ParameterError("joint", len(joints), f"a finger needs 1 to {MAX_JOINTS} [[joint]] tables")
         common: dict[str, Any] = dict(
-            material=data.get("material", "absplus-p430"), printer=data.get("printer", "generic-0.4"),
-            clearance=float(data["clearance_mm"]) if "clearance_mm" in data else None, layout=data.get("layout"),
+            material=data.get("material", "absplus-p430"),
+            printer=data.get("printer", "generic-0.4"),
+            clearance=float(data["clearance_mm"]) if "clearance_mm" in data else None,
+            layout=data.get("layout"),
             tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
-            safety_factor=float(data.get("safety_factor", 1.5)), end=data.get("end", JOINT_DEFAULT_END),
+            safety_factor=float(data.get("safety_factor", 1.5)),
+            end=data.get("end", JOINT_DEFAULT_END),
         )
         built: list[JointParams] = []
         requested: list[dict[str, Any]] = []
@@ -76,21 +82,26 @@ class FingerParams:
                 rotation=float(merged.get("rotation_deg", 90)) * DEG,
                 preload=float(merged.get("preload_deg", 90)) * DEG,
                 link_length=float(merged.get("link_length_mm", 40)),
-                tendon_moment_arm=(float(merged["tendon_moment_arm_mm"])
-                                   if "tendon_moment_arm_mm" in merged else None),
+                tendon_moment_arm=(float(merged["tendon_moment_arm_mm"]) if "tendon_moment_arm_mm" in merged else None),
             )
             try:
                 built.append(JointParams(**kw, **common, standalone=False))
             except ParameterError as e:
-                name = {"stiffness": "stiffness_nmm_per_rad", "rotation": "rotation_deg",
-                        "preload": "preload_deg", "link_length": "link_length_mm",
-                        "tendon_moment_arm": "tendon_moment_arm_mm", "clearance": "clearance_mm",
-                        "tendon_diameter": "tendon_diameter_mm"}.get(e.parameter, e.parameter)
+                name = {
+                    "stiffness": "stiffness_nmm_per_rad",
+                    "rotation": "rotation_deg",
+                    "preload": "preload_deg",
+                    "link_length": "link_length_mm",
+                    "tendon_moment_arm": "tendon_moment_arm_mm",
+                    "clearance": "clearance_mm",
+                    "tendon_diameter": "tendon_diameter_mm",
+                }.get(e.parameter, e.parameter)
                 prefix = where if name in JOINT_KEYS else ""
                 raise ParameterError(f"{prefix}{name}", e.value, e.limit, unit=e.unit) from None
             except RjcadError as e:
-                raise RjcadError(f"{where}stiffness_nmm_per_rad = {kw['stiffness']:g}: no printable spring: {e}") \
-                    from None
+                raise RjcadError(
+                    f"{where}stiffness_nmm_per_rad = {kw['stiffness']:g}: no printable spring: {e}"
+                ) from None
             requested.append(merged)
         # one eye plane for the whole finger, so that the tendon runs straight: a joint with a narrower
         # spring gets thicker cheeks, b_max − b each, and all joints share z_mid and the height
@@ -115,13 +126,20 @@ class FingerParams:
         for i, p in enumerate(js, start=1):
             need = link_length_min(p, js[i] if i < len(js) else None)
             if p.link_length < need - 1e-9:
-                raise ParameterError(f"joint[{i}].link_length_mm", p.link_length, f"must be >= {need:.1f} mm for "
-                                     "these joints (their blocks, the slot, the tendon's channel)", unit="mm")
+                raise ParameterError(
+                    f"joint[{i}].link_length_mm",
+                    p.link_length,
+                    f"must be >= {need:.1f} mm for these joints (their blocks, the slot, the tendon's channel)",
+                    unit="mm",
+                )
         length, bed = self.base_length + sum(p.link_length for p in js), js[0].printer_spec.bed_length
         if length > bed + 1e-9:
-            raise ParameterError("base_length_mm + link_length_mm", length,
-                                 f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer}",
-                                 unit="mm")
+            raise ParameterError(
+                "base_length_mm + link_length_mm",
+                length,
+                f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer}",
+                unit="mm",
+            )
 
     @property
     def n(self) -> int:

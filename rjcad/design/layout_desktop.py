@@ -102,23 +102,23 @@ class JointLike(Protocol):
 class DesktopLayout:
     """The desktop layout's dimensions (see the module docstring); build with :meth:`of`."""
 
-    c: float            # clearance, normal to every pair of facing surfaces
-    b: float            # spring width (height on the bed)
-    r_h: float          # hub radius through the spring
-    seat: float         # tine height (from the bed); the key lifts by seat + c
-    R_ci: float         # cup inner radius
-    R_co: float         # cup outer radius
-    R_band: float       # band radius (tendon groove's rim), also the hub's radius in the roof's bore
-    R_bore: float       # roof's bore radius
-    R_flare: float      # flare's outer radius
-    z_w0: float         # roof underside at the cup wall
-    z_t: float          # tendon centreline height
+    c: float  # clearance, normal to every pair of facing surfaces
+    b: float  # spring width (height on the bed)
+    r_h: float  # hub radius through the spring
+    seat: float  # tine height (from the bed); the key lifts by seat + c
+    R_ci: float  # cup inner radius
+    R_co: float  # cup outer radius
+    R_band: float  # band radius (tendon groove's rim), also the hub's radius in the roof's bore
+    R_bore: float  # roof's bore radius
+    R_flare: float  # flare's outer radius
+    z_w0: float  # roof underside at the cup wall
+    z_t: float  # tendon centreline height
     z_band: tuple[float, float]  # tendon band (groove zone)
-    height: float       # module height H
-    w_arm: float        # arm half-width
-    X_m: float          # moving block start
-    X_g: float          # ground block start
-    w_web: float        # web half-width
+    height: float  # module height H
+    w_arm: float  # arm half-width
+    X_m: float  # moving block start
+    X_g: float  # ground block start
+    w_web: float  # web half-width
     groove_half: float  # groove's flat bottom half-height
     groove_depth: float
 
@@ -140,14 +140,20 @@ class DesktopLayout:
         # the cup holds the key and the wound spring, clears the flare's rim, and its roof holds the stop lugs
         # (LUG_WIDTH square at least, beside the arm at the clearance; see lug_span)
         lug_corner = math.hypot(R_bore + LUG_INSET[0] + LUG_WIDTH, w_arm + c + LUG_WIDTH) + LUG_INSET[1]
-        R_ci = max(math.hypot(p.key_tip_radius, p.key_width) + c + 0.1, p.wound_radius + p.gap_internal,
-                   R_f + c + FACET_MARGIN, lug_corner - wall)
+        R_ci = max(
+            math.hypot(p.key_tip_radius, p.key_width) + c + 0.1,
+            p.wound_radius + p.gap_internal,
+            R_f + c + FACET_MARGIN,
+            lug_corner - wall,
+        )
         R_co = R_ci + wall
         # roof underside z_ru(r) = z_w0 + (R_ci − r)·T; flare top = z_ru − cz; the flare leaves the hub
         # (r_h) at b + gap_z: z_w0 + (R_ci − R_f)·T − cz − (R_f − r_h)·T ≥ b + gap_z
         gz = p.gap_z
-        z_w0 = max(b + seat + c + 0.2,  # the lifted key passes under the roof
-                   b + cz + gz + 2 * T * R_f - (R_ci + r_h) * T)  # the flare clears the spring
+        z_w0 = max(
+            b + seat + c + 0.2,  # the lifted key passes under the roof
+            b + cz + gz + 2 * T * R_f - (R_ci + r_h) * T,
+        )  # the flare clears the spring
         roof_top_bore = z_w0 + (R_ci - R_bore) * T + ROOF_NORMAL * SEC
         flank = depth * T
         # the arm's cone at the band's radius (raised by tendon_lift: a finger's joints share one tendon plane)
@@ -158,17 +164,33 @@ class DesktopLayout:
         W = p.link_width
         theta_m = p.rotation + math.radians(5.0)
         X_g = R_co + 1.0
-        X_m = max(R_co + c + 0.6,
-                  -X_g * math.cos(theta_m) + W / 2 * math.sin(theta_m) + c + 0.5)
+        X_m = max(R_co + c + 0.6, -X_g * math.cos(theta_m) + W / 2 * math.sin(theta_m) + c + 0.5)
         # the web ends in the plane x = −(R_ci + 0.3), inside the wall at its corners, and stays clear of
         # the tendon (y = r): no knife edge, no channel through it
-        w_web = min(W / 2, math.sqrt((R_co - 0.4) ** 2 - (R_ci + 0.3) ** 2),
-                    p.moment_arm - p.tendon_diameter / 2 - 0.6)
+        w_web = min(W / 2, math.sqrt((R_co - 0.4) ** 2 - (R_ci + 0.3) ** 2), p.moment_arm - p.tendon_diameter / 2 - 0.6)
         if theta_m > math.pi / 2:
             w_web = min(w_web, (X_m - c - 0.3 + (R_co - 0.5) * math.cos(theta_m)) / math.sin(theta_m))
-        return cls(c=c, b=b, r_h=r_h, seat=seat, R_ci=R_ci, R_co=R_co, R_band=R_band,
-                   R_bore=R_bore, R_flare=R_f, z_w0=z_w0, z_t=z_t, z_band=(z_step, z_t + half), height=height,
-                   w_arm=w_arm, X_m=X_m, X_g=X_g, w_web=w_web, groove_half=groove_half, groove_depth=depth)
+        return cls(
+            c=c,
+            b=b,
+            r_h=r_h,
+            seat=seat,
+            R_ci=R_ci,
+            R_co=R_co,
+            R_band=R_band,
+            R_bore=R_bore,
+            R_flare=R_f,
+            z_w0=z_w0,
+            z_t=z_t,
+            z_band=(z_step, z_t + half),
+            height=height,
+            w_arm=w_arm,
+            X_m=X_m,
+            X_g=X_g,
+            w_web=w_web,
+            groove_half=groove_half,
+            groove_depth=depth,
+        )
 
     # --- cone surfaces, z of r -------------------------------------------------
     @property
@@ -212,9 +234,19 @@ class DesktopLayout:
     def summary(self) -> dict[str, Any]:
         """Manifest keys of the layout [mm, deg]."""
         return {
-            "layout": "desktop", "cone_angle_deg": math.degrees(CONE_ANGLE), "clearance_normal_mm": self.c,
-            "hub_radius_mm": self.r_h, "cup_inner_radius_mm": self.R_ci, "cup_outer_radius_mm": self.R_co,
-            "band_radius_mm": self.R_band, "bore_radius_mm": self.R_bore, "flare_radius_mm": self.R_flare,
-            "roof_wall_z_mm": self.z_w0, "tendon_z_mm": self.z_t, "height_mm": self.height,
-            "arm_half_width_mm": self.w_arm, "seat_height_mm": self.seat, "socket_ray_deg": math.degrees(SOCKET_RAY),
+            "layout": "desktop",
+            "cone_angle_deg": math.degrees(CONE_ANGLE),
+            "clearance_normal_mm": self.c,
+            "hub_radius_mm": self.r_h,
+            "cup_inner_radius_mm": self.R_ci,
+            "cup_outer_radius_mm": self.R_co,
+            "band_radius_mm": self.R_band,
+            "bore_radius_mm": self.R_bore,
+            "flare_radius_mm": self.R_flare,
+            "roof_wall_z_mm": self.z_w0,
+            "tendon_z_mm": self.z_t,
+            "height_mm": self.height,
+            "arm_half_width_mm": self.w_arm,
+            "seat_height_mm": self.seat,
+            "socket_ray_deg": math.degrees(SOCKET_RAY),
         }

@@ -24,13 +24,13 @@ import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
-from rjcad.errors import ParameterError
-from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
+from rjcad import DEG
 from rjcad.design.envelope import WoundEnvelope, wound_envelope
 from rjcad.design.layout_desktop import DesktopLayout
+from rjcad.errors import ParameterError
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
-from rjcad import DEG
 from rjcad.validate import in_range
 
 #: Validated ranges: name → (low, high, unit shown in errors). Angles in rad.
@@ -126,8 +126,12 @@ class JointParams:
         if self.clearance is None:
             object.__setattr__(self, "clearance", default_clearance(self.material, self.printer, self.layout))
         if self.layout == "desktop" and self.end != "clamped":
-            raise ParameterError("end", self.end, "the desktop layout holds the spring's outer end clamped "
-                                 "(key in a socket); use layout stacked for a pinned end")
+            raise ParameterError(
+                "end",
+                self.end,
+                "the desktop layout holds the spring's outer end clamped "
+                "(key in a socket); use layout stacked for a pinned end",
+            )
         for name, (lo, hi, unit) in RANGES.items():
             value = getattr(self, name)
             if name == "tendon_moment_arm" and value is None:
@@ -137,21 +141,35 @@ class JointParams:
         object.__setattr__(self, "printer", get_printer(self.printer).key)
         self.printer_spec.check_gap("clearance", self.clearance)
         if self.tendon_line_diameter >= self.tendon_diameter:
-            raise ParameterError("tendon_diameter", self.tendon_diameter,
-                                 f"must be larger than the tendon line ({self.tendon_line_diameter} mm)")
+            raise ParameterError(
+                "tendon_diameter",
+                self.tendon_diameter,
+                f"must be larger than the tendon line ({self.tendon_line_diameter} mm)",
+            )
         # geometry-dependent limits (these build the spring design: one optimiser call)
-        lo_arm = (self.pin_radius + self.clearance_mm + 2 * self.printer_spec.min_wall_mm
-                  + self.tendon_line_diameter / 2)
+        lo_arm = self.pin_radius + self.clearance_mm + 2 * self.printer_spec.min_wall_mm + self.tendon_line_diameter / 2
         _check("tendon_moment_arm", self.moment_arm, lo_arm, RANGES["tendon_moment_arm"][1], "mm")
         lo_len = max(self.block_start + self.slot_length + 4.0, self.ground_block_start + 8.0)
         _check("link_length", self.link_length, lo_len, RANGES["link_length"][1], "mm")
         if self.standalone:  # the joint lies on the bed, two links long
             half = self.printer_spec.bed_length / 2
-            in_range("link_length", self.link_length, hi=half, unit="mm", tol=1e-12,
-                     limit=f"must be <= {half:g} mm on {self.printer}: the joint, two links long, must fit its bed")
-        in_range("preload", self.preload, self.min_preload, deg=True, tol=1e-12,
-                 limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
-                       "end must clear its socket (or post) by the clearance")
+            in_range(
+                "link_length",
+                self.link_length,
+                hi=half,
+                unit="mm",
+                tol=1e-12,
+                limit=f"must be <= {half:g} mm on {self.printer}: the joint, two links long, must fit its bed",
+            )
+        in_range(
+            "preload",
+            self.preload,
+            self.min_preload,
+            deg=True,
+            tol=1e-12,
+            limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
+            "end must clear its socket (or post) by the clearance",
+        )
 
     # --- printer, spring -------------------------------------------------------
     @property
@@ -205,15 +223,23 @@ class JointParams:
         t_max = 1.2
         r_min = max(3.0, self.pin_radius + self.gap_internal + t_max / 2)
         req = SpringRequirement(
-            joint_stiffness=self.stiffness, rotation=self.rotation, preload=self.preload,
-            material=self.material, printer=self.printer, safety_factor=self.safety_factor,
-            end=self.end, inner_radius_min=r_min, inner_radius_max=max(10.0, r_min),
-            springs=self.springs, min_gap=self.coil_gap_min,
+            joint_stiffness=self.stiffness,
+            rotation=self.rotation,
+            preload=self.preload,
+            material=self.material,
+            printer=self.printer,
+            safety_factor=self.safety_factor,
+            end=self.end,
+            inner_radius_min=r_min,
+            inner_radius_max=max(10.0, r_min),
+            springs=self.springs,
+            min_gap=self.coil_gap_min,
         )
         d = design_spring(req)
         if d.inner_radius - d.thickness / 2 - self.pin_radius < self.gap_internal - 1e-9:
-            req = SpringRequirement(**{**req.__dict__, "inner_radius_min":
-                                       self.pin_radius + self.gap_internal + d.thickness / 2})
+            req = SpringRequirement(
+                **{**req.__dict__, "inner_radius_min": self.pin_radius + self.gap_internal + d.thickness / 2}
+            )
             d = design_spring(req)
         return d
 
@@ -289,8 +315,9 @@ class JointParams:
     def wound(self) -> WoundEnvelope:
         """The strip's centreline over the wind-up 0..preload + rotation, ground and moving frames (rod model)."""
         d = self.spring
-        return wound_envelope(d.inner_radius, d.pitch, d.turns, d.thickness, self.preload, self.rotation,
-                              self.end_condition)
+        return wound_envelope(
+            d.inner_radius, d.pitch, d.turns, d.thickness, self.preload, self.rotation, self.end_condition
+        )
 
     @property
     def wound_radius(self) -> float:
@@ -378,8 +405,11 @@ class JointParams:
             return [(u0 + si * ca - qi * sa, v0 + si * sa + qi * ca) for si in s for qi in q]
 
         v_lo, v_hi = self.socket_span
-        return (box(R0, 0.0, (0.0, (Rk + depth / 2 - R0) / ca), (0.0, wt))
-                + box(Rk, -self.key_width, (-L / ca, depth / 2 / ca), (-wt, 0.0)) + [(Rk, v_lo), (Rk, v_hi)])
+        return (
+            box(R0, 0.0, (0.0, (Rk + depth / 2 - R0) / ca), (0.0, wt))
+            + box(Rk, -self.key_width, (-L / ca, depth / 2 / ca), (-wt, 0.0))
+            + [(Rk, v_lo), (Rk, v_hi)]
+        )
 
     @property
     def min_preload(self) -> float:
@@ -461,8 +491,9 @@ class JointParams:
             self.eye_radius + 0.6 + c + 0.3,
         ]
         if self.rotation > math.pi / 2:
-            bounds.append((self.eye_radius + c + 0.3 - self.link_width / 2 * math.cos(self.rotation))
-                          / math.sin(self.rotation))
+            bounds.append(
+                (self.eye_radius + c + 0.3 - self.link_width / 2 * math.cos(self.rotation)) / math.sin(self.rotation)
+            )
         return max(bounds)
 
     @property
@@ -475,8 +506,12 @@ class JointParams:
         """
         if self.layout == "desktop":
             return self.desktop.X_m
-        corner = (-self.ground_block_start * math.cos(self.rotation)
-                  + self.link_width / 2 * math.sin(self.rotation) + self.clearance_mm + 0.5)
+        corner = (
+            -self.ground_block_start * math.cos(self.rotation)
+            + self.link_width / 2 * math.sin(self.rotation)
+            + self.clearance_mm
+            + 0.5
+        )
         wound = self.wound.moving_x_max + self.spring.thickness / 2 + WOUND_MARGIN + self.gap_internal
         return max(self.hook_outer_radius + self.clearance_mm + 0.3, corner, wound)
 

@@ -52,7 +52,7 @@ def campaign_has(prepared, need: str) -> bool:
         for p in prepared:
             th = p.motion.theta
             moved = np.flatnonzero(np.abs(th - th[0]) > 0.1 * max(float(np.ptp(th)), 1e-12))
-            if len(moved) and bool(p.motion.hold[moved[0]:].any()):
+            if len(moved) and bool(p.motion.hold[moved[0] :].any()):
                 return True
         return False
     if need == "speeds":
@@ -77,15 +77,18 @@ def separating_experiment(a: str, b: str, prepared, values: dict, effects=EFFECT
     """In words, the experiment that would tell effect ``a`` from effect ``b`` apart."""
     tr = values.get("relaxation_time_s")
     texts = {
-        "holds": ("holds at the top and bottom of a cycle, each at least 3·T_r long"
-                  + (f" (≥ {3 * tr:.2g} s with T_r = {tr:.2g} s)" if tr else "")),
+        "holds": (
+            "holds at the top and bottom of a cycle, each at least 3·T_r long"
+            + (f" (≥ {3 * tr:.2g} s with T_r = {tr:.2g} s)" if tr else "")
+        ),
         "speeds": "the same cycle at a second speed (at least twice as fast or as slow)",
         "routed": "a tendon run routed through the base (capstan on the path)",
         "tendon": "a tendon-driven run",
         "normal_load": "runs at two different normal loads",
     }
-    missing = [effects[e].needs for e in (a, b) if effects[e].needs in texts
-               and not campaign_has(prepared, effects[e].needs)]
+    missing = [
+        effects[e].needs for e in (a, b) if effects[e].needs in texts and not campaign_has(prepared, effects[e].needs)
+    ]
     if missing:
         return "; ".join(dict.fromkeys(texts[m] for m in missing))
     return "more cycles or less noise (the campaign has what both need, but not enough of it)"
@@ -103,8 +106,11 @@ def _rivals_of(sel, e: str, cands) -> list[tuple[str, bool]]:
         return []
     at = [c for c in cands if c.step == steps[-1] and c.delta_bic is not None]
     d_e = next(c.delta_bic for c in at if c.effect == e)
-    return [(c.effect, abs(c.delta_bic - d_e) < BIC_GATE) for c in at
-            if c.effect != e and (abs(c.delta_bic - d_e) < BIC_GATE or c.delta_bic < -BIC_GATE)]
+    return [
+        (c.effect, abs(c.delta_bic - d_e) < BIC_GATE)
+        for c in at
+        if c.effect != e and (abs(c.delta_bic - d_e) < BIC_GATE or c.delta_bic < -BIC_GATE)
+    ]
 
 
 def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
@@ -124,8 +130,11 @@ def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
             fr = sel.fit_set(effs, {n: v for n, v in start.items() if n in keep})
             rival = Rival(effs, fr, _bounded(sel, fr), replaces=e, by=f)
             close = abs(fr.bic - current.bic) < BIC_GATE
-            if close or (answer.bounded and not rival.bounded and _explains(sel, fr, current)) \
-                    or (rival.bounded and not answer.bounded and _explains(sel, current, fr)):
+            if (
+                close
+                or (answer.bounded and not rival.bounded and _explains(sel, fr, current))
+                or (rival.bounded and not answer.bounded and _explains(sel, current, fr))
+            ):
                 pool.append(rival)
     if len(pool) == 1:
         return answer, []
@@ -136,13 +145,16 @@ def find(sel, accepted: list[str], current, cands) -> tuple[Rival, list[dict]]:
             continue
         a = sorted(set(r.effects) - set(best.effects))[0]
         b = sorted(set(best.effects) - set(r.effects))[0]
-        out.append({
-            "effects": list(r.effects),
-            "delta_bic": float(r.fit.bic - best.fit.bic),
-            "free_parameters": r.k,
-            "only_bounded": list(r.bounded),
-            "separate_by": separating_experiment(a, b, sel.prepared, {**best.fit.values, **r.fit.values},
-                                                 sel.effects),
-        })
+        out.append(
+            {
+                "effects": list(r.effects),
+                "delta_bic": float(r.fit.bic - best.fit.bic),
+                "free_parameters": r.k,
+                "only_bounded": list(r.bounded),
+                "separate_by": separating_experiment(
+                    a, b, sel.prepared, {**best.fit.values, **r.fit.values}, sel.effects
+                ),
+            }
+        )
     out.sort(key=lambda d: d["delta_bic"])
     return best, out

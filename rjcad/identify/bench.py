@@ -15,17 +15,20 @@ from typing import Any
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify import catalogue as cat
 from rjcad.io.outputs import write_set
 from rjcad.paper import JOINT
 from rjcad.physics.joint import JointModel, Setup, motion_direction, simulate
-from rjcad import DEG
 from rjcad.validate import in_range
 
 #: The paper's designed joint (rjcad.paper.JOINT), in the campaign's JSON names and units.
-DEFAULT_DESIGN = {"stiffness_nmm_per_rad": JOINT.designed_stiffness, "preload_deg": JOINT.preload / DEG,
-                  "pulley_radius_mm": JOINT.pulley_radius}
+DEFAULT_DESIGN = {
+    "stiffness_nmm_per_rad": JOINT.designed_stiffness,
+    "preload_deg": JOINT.preload / DEG,
+    "pulley_radius_mm": JOINT.pulley_radius,
+}
 #: Gaussian noise σ per column, in the column's unit.
 DEFAULT_NOISE = {"torque_nmm": 0.1, "tendon_force_n": 0.02, "theta_deg": 0.1}
 
@@ -42,9 +45,15 @@ PAPER_EXPERIMENTS = (
 PAPER_PRESET: dict[str, Any] = {
     "design": dict(DEFAULT_DESIGN),
     "effects": ("spring_calibration", "coulomb_pin", "tendon_pin_friction", "capstan_path"),
-    "params": {"stiffness_nmm_per_rad": JOINT.stiffness, "preload_deg": JOINT.preload / DEG, "mu_j_mm": JOINT.mu_j,
-               "gamma_pos_nmm_per_rad": JOINT.gamma_pos, "gamma_neg_nmm_per_rad": JOINT.gamma_neg,
-               "beta_pos": JOINT.beta_pos, "beta_neg": JOINT.beta_neg},
+    "params": {
+        "stiffness_nmm_per_rad": JOINT.stiffness,
+        "preload_deg": JOINT.preload / DEG,
+        "mu_j_mm": JOINT.mu_j,
+        "gamma_pos_nmm_per_rad": JOINT.gamma_pos,
+        "gamma_neg_nmm_per_rad": JOINT.gamma_neg,
+        "beta_pos": JOINT.beta_pos,
+        "beta_neg": JOINT.beta_neg,
+    },
 }
 
 #: Trajectory as (duration [s], start, end) in units of the rotation; start == end is a hold.
@@ -52,9 +61,20 @@ PAPER_PRESET: dict[str, Any] = {
 #: 3 s holds at top and bottom (relaxation, T_r ~ 1.5 s); the 3 s cycle reverses at 40 % on the way down.
 SEGMENTS = (
     (1.0, 0.0, 0.0),
-    (1.5, 0.0, 1.0), (3.0, 1.0, 1.0), (1.5, 1.0, 0.0), (3.0, 0.0, 0.0),
-    (3.0, 0.0, 1.0), (3.0, 1.0, 1.0), (1.8, 1.0, 0.4), (1.8, 0.4, 1.0), (3.0, 1.0, 0.0), (3.0, 0.0, 0.0),
-    (6.0, 0.0, 1.0), (3.0, 1.0, 1.0), (6.0, 1.0, 0.0), (3.0, 0.0, 0.0),
+    (1.5, 0.0, 1.0),
+    (3.0, 1.0, 1.0),
+    (1.5, 1.0, 0.0),
+    (3.0, 0.0, 0.0),
+    (3.0, 0.0, 1.0),
+    (3.0, 1.0, 1.0),
+    (1.8, 1.0, 0.4),
+    (1.8, 0.4, 1.0),
+    (3.0, 1.0, 0.0),
+    (3.0, 0.0, 0.0),
+    (6.0, 0.0, 1.0),
+    (3.0, 1.0, 1.0),
+    (6.0, 1.0, 0.0),
+    (3.0, 0.0, 0.0),
 )
 #: Named trajectories (``--trajectory``): segments and a sentence for the README. "paper" is SEGMENTS.
 #: one-speed: four 2 s up/down cycles, no hold (viscous damping and a fast relaxation look alike);
@@ -170,8 +190,11 @@ def _experiments(experiments) -> list[dict]:
             raise ParameterError(where, e, "must be a dict {name, drive, normal_load, routed}")
         unknown = set(e) - {"name", "drive", "normal_load", "routed"}
         if unknown:
-            raise ParameterError(f"{where}.{sorted(unknown)[0]}", e[sorted(unknown)[0]],
-                                 "unknown key; known: name, drive, normal_load, routed")
+            raise ParameterError(
+                f"{where}.{sorted(unknown)[0]}",
+                e[sorted(unknown)[0]],
+                "unknown key; known: name, drive, normal_load, routed",
+            )
         name = e.get("name")
         if not isinstance(name, str) or not _NAME.match(name) or name in names:
             raise ParameterError(f"{where}.name", name, "must be a unique name of letters, digits, _ or -")
@@ -184,8 +207,16 @@ def _experiments(experiments) -> list[dict]:
             raise ParameterError(f"{where}.routed", routed, "must be true or false, and true only for a tendon drive")
         load = _number(f"{where}.normal_load", e.get("normal_load", 0.0), 0.0, unit="N")
         ex = {"name": name, "drive": drive, "normal_load": load, "routed": routed}
-        out.append({"name": name, "file": experiment_file(ex), "drive": drive, "normal_load_n": load,
-                    "routed": routed, "quantity": Setup(drive).quantity})
+        out.append(
+            {
+                "name": name,
+                "file": experiment_file(ex),
+                "drive": drive,
+                "normal_load_n": load,
+                "routed": routed,
+                "quantity": Setup(drive).quantity,
+            }
+        )
     if not out:
         raise ParameterError("experiments", 0, "needs at least one experiment")
     return out
@@ -215,18 +246,24 @@ def _toml(truth: dict) -> str:
         f"pulley_radius_mm = {d['pulley_radius_mm']!r}",
     ]
     for e in truth["experiments"]:
-        lines += ["", f"# {e['name']}: {e['drive']} drive{', routed' if e['routed'] else ''}, "
-                      f"F_n = {e['normal_load_n']:g} N", "[[experiment]]", f'file = "{e["file"]}"',
-                  f'drive = "{e["drive"]}"', f"normal_load_n = {e['normal_load_n']!r}",
-                  f"routed = {'true' if e['routed'] else 'false'}"]
+        lines += [
+            "",
+            f"# {e['name']}: {e['drive']} drive{', routed' if e['routed'] else ''}, F_n = {e['normal_load_n']:g} N",
+            "[[experiment]]",
+            f'file = "{e["file"]}"',
+            f'drive = "{e["drive"]}"',
+            f"normal_load_n = {e['normal_load_n']!r}",
+            f"routed = {'true' if e['routed'] else 'false'}",
+        ]
     return "\n".join(lines) + "\n"
 
 
 def _command(truth: dict) -> str:
     """A command line that regenerates the campaign (None when the CLI cannot express it)."""
     if truth["design"] != DEFAULT_DESIGN or [
-            {k: e[k] for k in ("name", "drive", "routed")} | {"normal_load": e["normal_load_n"]}
-            for e in truth["experiments"]] != [dict(e) for e in PAPER_EXPERIMENTS]:
+        {k: e[k] for k in ("name", "drive", "routed")} | {"normal_load": e["normal_load_n"]}
+        for e in truth["experiments"]
+    ] != [dict(e) for e in PAPER_EXPERIMENTS]:
         return ""
     args = ["rjcad bench"]
     if _is_paper(truth):
@@ -234,20 +271,26 @@ def _command(truth: dict) -> str:
     else:
         if truth["effects"]:
             args.append(f"--effects {','.join(truth['effects'])}")
-        args += [f"--param {k}={v!r}" for k, v in truth["params"].items()
-                 if cat.PARAMS[k][0].id in truth["effects"]]
+        args += [f"--param {k}={v!r}" for k, v in truth["params"].items() if cat.PARAMS[k][0].id in truth["effects"]]
     if truth["noise"] != DEFAULT_NOISE:
         args.append("--noise " + ",".join(f"{k}={v!r}" for k, v in truth["noise"].items()))
     if truth["trajectory"].get("name", "paper") != "paper":
         args.append(f"--trajectory {truth['trajectory']['name']}")
-    args += [f"--seed {truth['seed']}", f"--samples {truth['samples']}", f"--rotation {truth['rotation_deg']!r}",
-             "--out DIR"]
+    args += [
+        f"--seed {truth['seed']}",
+        f"--samples {truth['samples']}",
+        f"--rotation {truth['rotation_deg']!r}",
+        "--out DIR",
+    ]
     return " ".join(args)
 
 
 def _is_paper(truth: dict) -> bool:
-    return (truth["design"] == PAPER_PRESET["design"] and tuple(truth["effects"]) == PAPER_PRESET["effects"]
-            and truth["params"] == PAPER_PRESET["params"])
+    return (
+        truth["design"] == PAPER_PRESET["design"]
+        and tuple(truth["effects"]) == PAPER_PRESET["effects"]
+        and truth["params"] == PAPER_PRESET["params"]
+    )
 
 
 def _readme(truth: dict) -> str:
@@ -287,14 +330,18 @@ def _readme(truth: dict) -> str:
         "| file | drive | F_n (N) | routed | column |",
         "|---|---|---|---|---|",
     ]
-    out += [f"| `{e['file']}` | {e['drive']} | {e['normal_load_n']:g} | {'yes' if e['routed'] else 'no'} | "
-            f"`{e['quantity']}` |" for e in truth["experiments"]]
+    out += [
+        f"| `{e['file']}` | {e['drive']} | {e['normal_load_n']:g} | {'yes' if e['routed'] else 'no'} | "
+        f"`{e['quantity']}` |"
+        for e in truth["experiments"]
+    ]
     ramps = sorted({s[0] for s in SEGMENTS if s[1] != s[2] and abs(s[2] - s[1]) == 1.0})
     name = tr.get("name", "paper")
     shape = TRAJECTORY_TEXT.get(name) or (
         f"three cycles with minimum-jerk ramps of {', '.join(f'{r:g}' for r in ramps)} s (three speeds) and 3 s "
         "holds at the top and the bottom; the 3 s cycle reverses at 40 % of the rotation on its way down and goes up "
-        "again before returning to 0")
+        "again before returning to 0"
+    )
     out += [
         "",
         "## Trajectory (the same in every experiment)",
@@ -309,8 +356,10 @@ def _readme(truth: dict) -> str:
     if cmd:
         out += ["```", cmd, "```", "", "The same seed gives byte-identical files."]
     else:
-        out += ["With `rjcad.identify.bench.write_campaign` and the design, effects, parameters, noise, seed, "
-                "samples, rotation and experiments in `truth.json`. The same seed gives byte-identical files."]
+        out += [
+            "With `rjcad.identify.bench.write_campaign` and the design, effects, parameters, noise, seed, "
+            "samples, rotation and experiments in `truth.json`. The same seed gives byte-identical files."
+        ]
     if _is_paper(truth):
         out += ["", "`make paper-campaign` regenerates `examples/paper_campaign` (seed 7)."]
     return "\n".join(out) + "\n"
@@ -326,8 +375,7 @@ def _readme_slack(truth: dict) -> list[str]:
         "## Slack tendon (a model prediction a real bench could not show)",
         "",
         "The model predicts a slack tendon (actuator force 0) while releasing in "
-        + ", ".join(f"{e['name']} ({100 * e['slack_release_fraction']:.0f} % of the release samples)"
-                    for e in slack)
+        + ", ".join(f"{e['name']} ({100 * e['slack_release_fraction']:.0f} % of the release samples)" for e in slack)
         + "; release samples are those moving back towards rest or held after such a move. There the spring "
         "torque is below the friction that resists the return (μ_j·F_n + γ⁻·θ), so the spring alone cannot "
         "bring the joint back and the tendon would have to push. A real tendon cannot push: a real bench would "
@@ -337,16 +385,29 @@ def _readme_slack(truth: dict) -> list[str]:
     if _is_paper(truth):
         v, fn = truth["params"], max(e["normal_load_n"] for e in slack)
         limit = v["mu_j_mm"] * fn / (v["stiffness_nmm_per_rad"] - v["gamma_neg_nmm_per_rad"]) / DEG
-        out[-1] += (f" With the paper's own values and F_n = {fn:g} N, (K_s − γ⁻)·θ < μ_j·F_n for every "
-                    f"spring deformation θ below {limit:.0f}°, and this campaign reaches only "
-                    f"{v['preload_deg'] + truth['rotation_deg']:g}°: the spring never wins while releasing. "
-                    "This is one of the paper-notes' critiques (shared/paper-notes.md, \"What the paper's own "
-                    "numbers get wrong\").")
+        out[-1] += (
+            f" With the paper's own values and F_n = {fn:g} N, (K_s − γ⁻)·θ < μ_j·F_n for every "
+            f"spring deformation θ below {limit:.0f}°, and this campaign reaches only "
+            f"{v['preload_deg'] + truth['rotation_deg']:g}°: the spring never wins while releasing. "
+            "This is one of the paper-notes' critiques (shared/paper-notes.md, \"What the paper's own "
+            'numbers get wrong").'
+        )
     return out
 
 
-def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noise=None, samples=3000,
-                   rotation_deg=90.0, experiments="paper", trajectory_name="paper") -> dict:
+def write_campaign(
+    out_dir,
+    effects=(),
+    params=None,
+    *,
+    design=None,
+    seed=0,
+    noise=None,
+    samples=3000,
+    rotation_deg=90.0,
+    experiments="paper",
+    trajectory_name="paper",
+) -> dict:
     """Write a SYNTHETIC campaign (campaign.toml, one CSV per experiment, truth.json, README.md); return the truth.
 
     Everything is validated and simulated before anything is written. ``params`` (JSON names)
@@ -397,9 +458,13 @@ def write_campaign(out_dir, effects=(), params=None, *, design=None, seed=0, noi
         "seed": seed,
         "samples": samples,
         "rotation_deg": rotation_deg,
-        "trajectory": {"duration_s": float(t[-1]), "sample_rate_hz": (samples - 1) / float(t[-1]),
-                       "ramp": "minimum-jerk", "segments_s_start_end": [list(s) for s in segments],
-                       **({"name": trajectory_name} if trajectory_name != "paper" else {})},
+        "trajectory": {
+            "duration_s": float(t[-1]),
+            "sample_rate_hz": (samples - 1) / float(t[-1]),
+            "ramp": "minimum-jerk",
+            "segments_s_start_end": [list(s) for s in segments],
+            **({"name": trajectory_name} if trajectory_name != "paper" else {}),
+        },
         "experiments": exps,
     }
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"

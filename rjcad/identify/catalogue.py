@@ -11,9 +11,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
-from rjcad import DEG
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,7 @@ class Effect:
     """A candidate effect. Subclasses set ``id``, ``cause``, ``params``, ``needs`` and ``needs_text``."""
 
     id: str = ""
-    name: str = ""     # short name of the cause, e.g. "Coulomb pin friction"
+    name: str = ""  # short name of the cause, e.g. "Coulomb pin friction"
     cause: str = ""
     params: tuple[Param, ...] = ()
     #: what kind of experiment carries the effect: "any", "normal_load", "tendon", "routed", "holds", "speeds"
@@ -77,16 +77,20 @@ class Effect:
 class SpringCalibration(Effect):
     id = "spring_calibration"
     name = "spring calibration"
-    cause = ("the printed spring is not the designed one: its modulus, rod thickness or the preload "
-             "set at assembly differ, so the stiffness and the zero-torque angle move")
+    cause = (
+        "the printed spring is not the designed one: its modulus, rod thickness or the preload "
+        "set at assembly differ, so the stiffness and the zero-torque angle move"
+    )
     params = (
         Param("stiffness_nmm_per_rad", "stiffness", 1.0, None, None, None, 0.0),
         Param("preload_deg", "preload", DEG, -90.0, 360.0, None, 0.0),
     )
 
     def typical(self, design):
-        return {"stiffness_nmm_per_rad": 0.85 * design["stiffness_nmm_per_rad"],
-                "preload_deg": design["preload_deg"] + 8.0}
+        return {
+            "stiffness_nmm_per_rad": 0.85 * design["stiffness_nmm_per_rad"],
+            "preload_deg": design["preload_deg"] + 8.0,
+        }
 
     def bounds(self, design):
         k = design["stiffness_nmm_per_rad"]
@@ -103,8 +107,10 @@ class SpringCalibration(Effect):
 class CoulombPin(Effect):
     id = "coulomb_pin"
     name = "Coulomb pin friction"
-    cause = ("Coulomb friction in the pin under the transverse load: a torque ±μ_j·F_n that opposes "
-             "the motion, the same at every angle")
+    cause = (
+        "Coulomb friction in the pin under the transverse load: a torque ±μ_j·F_n that opposes "
+        "the motion, the same at every angle"
+    )
     needs = "normal_load"
     needs_text = "an experiment with a transverse load F_n > 0"
     params = (Param("mu_j_mm", "mu_j", 1.0, 0.0, 60.0, JOINT.mu_j, 0.0),)
@@ -113,8 +119,10 @@ class CoulombPin(Effect):
 class TendonPinFriction(Effect):
     id = "tendon_pin_friction"
     name = "tendon-induced pin friction"
-    cause = ("pin friction from the tendon's own load: the tendon presses the pin harder as the spring "
-             "winds up, so the friction grows with the deflection (paper Eq. 4)")
+    cause = (
+        "pin friction from the tendon's own load: the tendon presses the pin harder as the spring "
+        "winds up, so the friction grows with the deflection (paper Eq. 4)"
+    )
     needs = "tendon"
     needs_text = "a tendon-driven experiment"
     params = (
@@ -126,8 +134,10 @@ class TendonPinFriction(Effect):
 class CapstanPath(Effect):
     id = "capstan_path"
     name = "capstan friction on the tendon path"
-    cause = ("tendon friction on its path through the base link (capstan, paper Eq. 5–7): pulling "
-             "costs a factor β⁺ more force at the actuator, releasing a factor β⁻ less")
+    cause = (
+        "tendon friction on its path through the base link (capstan, paper Eq. 5–7): pulling "
+        "costs a factor β⁺ more force at the actuator, releasing a factor β⁻ less"
+    )
     needs = "routed"
     needs_text = "a tendon routed through the base link"
     params = (
@@ -148,16 +158,20 @@ class Viscous(Effect):
 class Stiffening(Effect):
     id = "stiffening"
     name = "spring stiffening"
-    cause = ("the spring stiffens at large wind-up (coils touching, large-deflection geometry): "
-             "the torque grows faster than linearly, +k₃·θ³ on the total spring deformation")
+    cause = (
+        "the spring stiffens at large wind-up (coils touching, large-deflection geometry): "
+        "the torque grows faster than linearly, +k₃·θ³ on the total spring deformation"
+    )
     params = (Param("cubic_nmm_per_rad3", "cubic", 1.0, 0.0, 20.0, 0.15, 0.0),)
 
 
 class Relaxation(Effect):
     id = "relaxation"
     name = "stress relaxation"
-    cause = ("viscoelastic stress relaxation of the printed polymer (a Maxwell arm beside the spring): "
-             "the torque overshoots after a move and decays while the joint is held")
+    cause = (
+        "viscoelastic stress relaxation of the printed polymer (a Maxwell arm beside the spring): "
+        "the torque overshoots after a move and decays while the joint is held"
+    )
     needs = "holds"
     needs_text = "holds (the joint standing still)"
     params = (
@@ -173,8 +187,15 @@ class Relaxation(Effect):
 
 
 #: The catalogue, in a fixed order (ties in selection are broken by this order).
-CATALOGUE: tuple[Effect, ...] = (SpringCalibration(), CoulombPin(), TendonPinFriction(), CapstanPath(),
-                                 Viscous(), Stiffening(), Relaxation())
+CATALOGUE: tuple[Effect, ...] = (
+    SpringCalibration(),
+    CoulombPin(),
+    TendonPinFriction(),
+    CapstanPath(),
+    Viscous(),
+    Stiffening(),
+    Relaxation(),
+)
 EFFECTS: dict[str, Effect] = {e.id: e for e in CATALOGUE}
 #: JSON parameter name → (effect, Param)
 PARAMS: dict[str, tuple[Effect, Param]] = {p.name: (e, p) for e in CATALOGUE for p in e.params}

@@ -15,12 +15,12 @@ from typing import Any
 import numpy as np
 from scipy.ndimage import median_filter
 
-from rjcad.io.config import check_key
+from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.signal import noise_sigma
-from rjcad.physics.joint import Setup
-from rjcad import DEG
+from rjcad.io.config import check_key
 from rjcad.io.untrusted import confined, read_text, read_toml
+from rjcad.physics.joint import Setup
 from rjcad.validate import in_range
 
 
@@ -33,24 +33,27 @@ class Design:
     pulley_radius: float
 
     def as_json(self) -> dict:
-        return {"stiffness_nmm_per_rad": self.stiffness, "preload_deg": self.preload / DEG,
-                "pulley_radius_mm": self.pulley_radius}
+        return {
+            "stiffness_nmm_per_rad": self.stiffness,
+            "preload_deg": self.preload / DEG,
+            "pulley_radius_mm": self.pulley_radius,
+        }
 
 
 @dataclass(frozen=True, eq=False)
 class Experiment:
     """One experiment: its setup and its samples (t [s], theta [rad] from rest, y the measured quantity)."""
 
-    file: str                 # as written in the campaign TOML
+    file: str  # as written in the campaign TOML
     path: Path
-    drive: str                # "bar" | "tendon"
-    normal_load: float        # N
+    drive: str  # "bar" | "tendon"
+    normal_load: float  # N
     routed: bool
-    pulley_radius: float      # mm
+    pulley_radius: float  # mm
     t: np.ndarray
     theta: np.ndarray
     y: np.ndarray
-    rows: int                 # data rows in the file
+    rows: int  # data rows in the file
     dropped: dict = field(default_factory=dict)  # reason -> rows dropped
 
     @property
@@ -71,17 +74,22 @@ class Campaign:
     path: Path
     design: Design
     experiments: tuple[Experiment, ...]
-    notes: tuple[str, ...] = ()   # e.g. "exp1.csv: dropped 3 of 3000 rows (2 non-numeric, 1 NaN)"
+    notes: tuple[str, ...] = ()  # e.g. "exp1.csv: dropped 3 of 3000 rows (2 non-numeric, 1 NaN)"
 
 
 DESIGN_KEYS = {"stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "pulley_radius_mm": (int, float)}
-EXPERIMENT_KEYS = {"file": str, "drive": str, "normal_load_n": (int, float), "routed": bool,
-                   "pulley_radius_mm": (int, float)}
+EXPERIMENT_KEYS = {
+    "file": str,
+    "drive": str,
+    "normal_load_n": (int, float),
+    "routed": bool,
+    "pulley_radius_mm": (int, float),
+}
 COLUMNS = {"bar": "torque_nmm", "tendon": "tendon_force_n"}
 MIN_SAMPLES = 50
 MAX_BAD_FRACTION = 0.02
 MIN_RANGE_DEG = 1.0
-REASONS = ("non-numeric", "NaN", "infinite", "empty")   # why a row is dropped, in report order
+REASONS = ("non-numeric", "NaN", "infinite", "empty")  # why a row is dropped, in report order
 #: Angles in radians in a theta_deg column: the campaign's |θ| stays below this "deg" (π rad: a joint's range
 #: under 180°) and its load rises with the angle, within the moves (apparent_stiffness), at least
 #: RADIAN_SLOPE_RATIO times faster than the design's stiffness explains: 57 times for radians (49 to 107 on
@@ -100,8 +108,10 @@ def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) ->
     path = Path(path)
     raw = read_toml(path) if doc is None else doc
     if is_finger_campaign(raw):
-        raise RjcadError(f"{path}: a whole-finger campaign (finger = ..., drive = 'finger'): read it with "
-                         "rjcad.identify.campaign.load_campaign")
+        raise RjcadError(
+            f"{path}: a whole-finger campaign (finger = ..., drive = 'finger'): read it with "
+            "rjcad.identify.campaign.load_campaign"
+        )
     doc = _read_toml(path, raw)
     where = f"{path}: "
     design = _design(doc, where)
@@ -122,8 +132,9 @@ def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) ->
 def is_finger_campaign(doc: dict) -> bool:
     """A whole-finger campaign: a top-level ``finger`` key, or an experiment with ``drive = "finger"``."""
     exps = doc.get("experiment")
-    return "finger" in doc or (isinstance(exps, list) and any(isinstance(e, dict) and e.get("drive") == "finger"
-                                                               for e in exps))
+    return "finger" in doc or (
+        isinstance(exps, list) and any(isinstance(e, dict) and e.get("drive") == "finger" for e in exps)
+    )
 
 
 def _read_toml(path: Path, doc: dict | None = None) -> dict:
@@ -167,9 +178,11 @@ def _design(doc: dict, where: str) -> Design:
     for key in DESIGN_KEYS:
         if key not in table:
             raise RjcadError(f"{where}[design]: missing key '{key}' (needed: {known})")
-    return Design(stiffness=_number(w, "stiffness_nmm_per_rad", table["stiffness_nmm_per_rad"], positive=True),
-                  preload=_number(w, "preload_deg", table["preload_deg"]) * DEG,
-                  pulley_radius=_number(w, "pulley_radius_mm", table["pulley_radius_mm"], positive=True))
+    return Design(
+        stiffness=_number(w, "stiffness_nmm_per_rad", table["stiffness_nmm_per_rad"], positive=True),
+        preload=_number(w, "preload_deg", table["preload_deg"]) * DEG,
+        pulley_radius=_number(w, "pulley_radius_mm", table["pulley_radius_mm"], positive=True),
+    )
 
 
 def _data_path(toml: Path, i: int, file: str, allow_outside: bool) -> Path:
@@ -216,17 +229,19 @@ def _experiment_specs(doc: dict, toml: Path, design: Design, allow_outside: bool
             raise RjcadError(f"{where}routed = true is invalid with drive = 'bar': routing applies to a tendon drive")
         normal_load = _number(where, "normal_load_n", table.get("normal_load_n", 0.0), nonnegative=True)
         radius = table.get("pulley_radius_mm")
-        radius = design.pulley_radius if radius is None else _number(where, "pulley_radius_mm", radius,
-                                                                       positive=True)
+        radius = design.pulley_radius if radius is None else _number(where, "pulley_radius_mm", radius, positive=True)
         csv_path = _data_path(toml, i, file, allow_outside)
         name = Path(file).stem
         if name in names:
             j, other = names[name]
-            raise RjcadError(f"{where}name {quote(name)} is already used by experiment {j} ({quote(other)}); "
-                             "experiment file names must differ")
+            raise RjcadError(
+                f"{where}name {quote(name)} is already used by experiment {j} ({quote(other)}); "
+                "experiment file names must differ"
+            )
         names[name] = (i, file)
-        specs.append(dict(file=file, path=csv_path, drive=drive, normal_load=normal_load, routed=routed,
-                          pulley_radius=radius))
+        specs.append(
+            dict(file=file, path=csv_path, drive=drive, normal_load=normal_load, routed=routed, pulley_radius=radius)
+        )
     return specs
 
 
@@ -244,9 +259,19 @@ def _load_experiment(spec: dict) -> tuple[Experiment, str | None]:
         raise RjcadError(f"{file}: only {len(t)} usable samples{detail}; at least {MIN_SAMPLES} are needed")
     _check_time(file, t, lines)
     _check_motion(file, theta_deg)
-    exp = Experiment(file=file, path=spec["path"], drive=drive, normal_load=spec["normal_load"],
-                     routed=spec["routed"], pulley_radius=spec["pulley_radius"], t=t, theta=theta_deg * DEG,
-                     y=y, rows=rows, dropped=dropped)
+    exp = Experiment(
+        file=file,
+        path=spec["path"],
+        drive=drive,
+        normal_load=spec["normal_load"],
+        routed=spec["routed"],
+        pulley_radius=spec["pulley_radius"],
+        t=t,
+        theta=theta_deg * DEG,
+        y=y,
+        rows=rows,
+        dropped=dropped,
+    )
     return exp, note
 
 
@@ -265,7 +290,7 @@ def _read_csv(file: str, path: Path, columns: tuple[str, ...], drive: str):
     rows = len(data)
     if rows == 0:
         return [np.empty(0) for _ in cols], line_no, 0, {}, None
-    try:   # fast path: every cell parses as a float
+    try:  # fast path: every cell parses as a float
         table = np.loadtxt(data, delimiter=",", usecols=cols, comments=None, dtype=float, ndmin=2)
         values, codes = [table[:, k] for k in range(len(cols))], None
     except ValueError:
@@ -279,14 +304,19 @@ def _read_csv(file: str, path: Path, columns: tuple[str, ...], drive: str):
         k = int(reason[first] // len(REASONS))
         why = REASONS[int(reason[first] % len(REASONS))]
         cell = _cell(data[first], cols[k])
-        what = {"non-numeric": f"non-numeric value {_show(cell)}", "NaN": "NaN",
-                "infinite": f"infinite value {_show(cell)}", "empty": "empty cell"}[why]
-        raise RjcadError(f"{file}: column {columns[k]}: {what} at line {line_no[first]} "
-                         f"({n_bad} of {rows} rows bad; at most {MAX_BAD_FRACTION:.0%} are dropped)")
+        what = {
+            "non-numeric": f"non-numeric value {_show(cell)}",
+            "NaN": "NaN",
+            "infinite": f"infinite value {_show(cell)}",
+            "empty": "empty cell",
+        }[why]
+        raise RjcadError(
+            f"{file}: column {columns[k]}: {what} at line {line_no[first]} "
+            f"({n_bad} of {rows} rows bad; at most {MAX_BAD_FRACTION:.0%} are dropped)"
+        )
     counts = np.bincount((reason[bad] % len(REASONS)).astype(int), minlength=len(REASONS))
     dropped = {r: int(c) for r, c in zip(REASONS, counts) if c}
-    note = (f"{file}: dropped {n_bad} of {rows} rows ("
-            + ", ".join(f"{c} {r}" for r, c in dropped.items()) + ")")
+    note = f"{file}: dropped {n_bad} of {rows} rows (" + ", ".join(f"{c} {r}" for r, c in dropped.items()) + ")"
     keep = ~bad
     return [np.ascontiguousarray(v[keep]) for v in values], line_no[keep], rows, dropped, note
 
@@ -309,8 +339,9 @@ def _column_indices(file: str, header: str, columns: tuple[str, ...], drive: str
             other = next(d for d in COLUMNS if d != drive)
             if COLUMNS[other] in names:
                 hint = f" (the file has '{COLUMNS[other]}': is the drive '{other}'?)"
-        raise RjcadError(f"{file}: missing {label} {', '.join(repr(c) for c in missing)}{drive_note}; "
-                         f"{_found(names)}{hint}")
+        raise RjcadError(
+            f"{file}: missing {label} {', '.join(repr(c) for c in missing)}{drive_note}; {_found(names)}{hint}"
+        )
     return [names.index(c) for c in columns]
 
 
@@ -333,11 +364,12 @@ def _parse_slowly(data: list[str], cols: list[int], width: int) -> tuple[list[np
 
     Rows are padded or cut to the header's ``width`` fields, then split in one go.
     """
-    rows = [line if line.count(",") == width - 1 else ",".join((line.split(",") + [""] * width)[:width])
-            for line in data]
+    rows = [
+        line if line.count(",") == width - 1 else ",".join((line.split(",") + [""] * width)[:width]) for line in data
+    ]
     joined = ",".join(rows)
     flat = joined.split(",")
-    underscores = "_" in joined   # float() takes '1_0'; the fast path does not
+    underscores = "_" in joined  # float() takes '1_0'; the fast path does not
     values: list[np.ndarray] = []
     codes: list[np.ndarray | None] = []
     for j in cols:
@@ -375,7 +407,7 @@ def _bad_rows(values: list[np.ndarray], codes) -> tuple[np.ndarray, np.ndarray]:
     n = len(values[0])
     bad = np.zeros(n, dtype=bool)
     reason = np.zeros(n, dtype=np.int64)
-    for k in reversed(range(len(values))):   # the first bad column wins
+    for k in reversed(range(len(values))):  # the first bad column wins
         v = values[k]
         r = np.where(np.isnan(v), 1, np.where(np.isinf(v), 2, -1))
         c = codes[k] if codes is not None else None
@@ -442,12 +474,16 @@ def _check_motion(file: str, theta_deg: np.ndarray) -> None:
     smooth = _smooth_angle(theta_deg)
     lo, hi = float(smooth.min()), float(smooth.max())
     if hi - lo < MIN_RANGE_DEG:
-        raise RjcadError(f"{file}: the joint angle spans only {hi - lo:.2f} deg ({lo:.1f}–{hi:.1f} deg); "
-                         f"it must move at least {MIN_RANGE_DEG:g} deg")
+        raise RjcadError(
+            f"{file}: the joint angle spans only {hi - lo:.2f} deg ({lo:.1f}–{hi:.1f} deg); "
+            f"it must move at least {MIN_RANGE_DEG:g} deg"
+        )
     a = _reversal_threshold(theta_deg, smooth)
     if not _has_reversal(smooth, a):
-        raise RjcadError(f"{file}: no reversal: the joint must move forward and back (range {lo:.1f}–{hi:.1f} deg, "
-                         f"monotonic; a reversal needs a return of at least {a:.1f} deg)")
+        raise RjcadError(
+            f"{file}: no reversal: the joint must move forward and back (range {lo:.1f}–{hi:.1f} deg, "
+            f"monotonic; a reversal needs a return of at least {a:.1f} deg)"
+        )
 
 
 # ---- units ----
@@ -464,7 +500,7 @@ def apparent_stiffness(exp: Experiment) -> float:
     theta = _smooth_angle(exp.theta)
     step = np.diff(theta, prepend=theta[0])
     sense = np.where(np.abs(step) > 0.25 * np.max(np.abs(step)), np.sign(step), 0.0)
-    run = np.cumsum(np.diff(sense, prepend=0.0) != 0)          # a new id at every change of sense
+    run = np.cumsum(np.diff(sense, prepend=0.0) != 0)  # a new id at every change of sense
     moving = sense != 0
     if not moving.any():
         return 0.0
@@ -485,7 +521,9 @@ def _check_units(design: Design, experiments: list[Experiment]) -> None:
     for e in experiments:
         ratio = abs(apparent_stiffness(e)) / design.stiffness
         if ratio >= RADIAN_SLOPE_RATIO:
-            raise RjcadError(f"{e.file}: column theta_deg looks like radians: every angle of the campaign is within "
-                             f"±{top:.2f}, and {e.quantity} rises {ratio:.0f} times faster with it than the design's "
-                             f"{design.stiffness:g} N·mm/rad explain: are the angles in radians? theta_deg must be in "
-                             "degrees")
+            raise RjcadError(
+                f"{e.file}: column theta_deg looks like radians: every angle of the campaign is within "
+                f"±{top:.2f}, and {e.quantity} rises {ratio:.0f} times faster with it than the design's "
+                f"{design.stiffness:g} N·mm/rad explain: are the angles in radians? theta_deg must be in "
+                "degrees"
+            )

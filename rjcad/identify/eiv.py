@@ -36,7 +36,9 @@ def noise_power(values: dict[str, float], prob: Problem) -> float:
         m = JointModel(pulley_radius=p.exp.pulley_radius, **model_kwargs({**values, VISCOUS: 1.0}))
         args = (m, p.exp.setup, p.motion.theta)
         kw: dict[str, Any] = {"t": p.exp.t, "direction": p.motion.direction}
-        s = simulate(*args, **kw, velocity_=p.motion.velocity + 1.0) - simulate(*args, **kw, velocity_=p.motion.velocity)
+        s = simulate(*args, **kw, velocity_=p.motion.velocity + 1.0) - simulate(
+            *args, **kw, velocity_=p.motion.velocity
+        )
         total += float(np.sum((s[p.valid] * p.motion.velocity_sigma / p.sigma) ** 2))
     return total
 
@@ -51,8 +53,10 @@ def correct_viscous(fr: FitResult, prob: Problem, lower, upper) -> tuple[FitResu
     if d <= 0:
         return fr, None
     if d >= MAX_NOISE_SHARE * a[i, i]:
-        return fr, (f"the velocity is mostly angle noise ({100 * d / a[i, i]:.0f} % of its power): "
-                    f"viscous_nmm_s_per_rad = {fr.values[VISCOUS]:.4g} is biased low and was not corrected")
+        return fr, (
+            f"the velocity is mostly angle noise ({100 * d / a[i, i]:.0f} % of its power): "
+            f"viscous_nmm_s_per_rad = {fr.values[VISCOUS]:.4g} is biased low and was not corrected"
+        )
     a[i, i] -= d
     x = fr.x + np.linalg.solve(a, d * fr.x[i] * np.eye(len(fr.names))[i])
     x = np.clip(x, np.asarray(lower, float), np.asarray(upper, float))
@@ -61,5 +65,7 @@ def correct_viscous(fr: FitResult, prob: Problem, lower, upper) -> tuple[FitResu
     cost = 0.5 * sum(float(np.sum(q**2)) for q in prob.residuals(vals))
     share = 100 * d / (a[i, i] + d)
     out = FitResult(fr.names, vals, x, fr.jac, rss, ns, bic, cost)
-    return out, (f"viscous_nmm_s_per_rad corrected for the angle noise in its velocity (errors in variables): "
-                 f"{fr.values[VISCOUS]:.4g} → {vals[VISCOUS]:.4g} (noise {share:.1f} % of the velocity's power)")
+    return out, (
+        f"viscous_nmm_s_per_rad corrected for the angle noise in its velocity (errors in variables): "
+        f"{fr.values[VISCOUS]:.4g} → {vals[VISCOUS]:.4g} (noise {share:.1f} % of the velocity's power)"
+    )

@@ -25,9 +25,9 @@ class Prepared:
 
     exp: Experiment
     motion: Motion
-    sigma: float          # noise σ of the measured quantity (its units)
-    span: float           # measured range (0.5–99.5 percentile) of the quantity
-    folds: np.ndarray     # int per sample: held-out fold (−1: always trained on)
+    sigma: float  # noise σ of the measured quantity (its units)
+    span: float  # measured range (0.5–99.5 percentile) of the quantity
+    folds: np.ndarray  # int per sample: held-out fold (−1: always trained on)
     outliers: np.ndarray  # bool: load-cell spikes in the quantity (left out)
 
     @property
@@ -62,17 +62,18 @@ def base_values(campaign: Campaign) -> dict[str, float]:
 def predict(values: dict[str, float], p: Prepared) -> np.ndarray:
     """The model's measured quantity along the experiment's smoothed angle path."""
     m = JointModel(pulley_radius=p.exp.pulley_radius, **model_kwargs(values))
-    return simulate(m, p.exp.setup, p.motion.theta, t=p.exp.t, direction=p.motion.direction,
-                    velocity_=p.motion.velocity)
+    return simulate(
+        m, p.exp.setup, p.motion.theta, t=p.exp.t, direction=p.motion.direction, velocity_=p.motion.velocity
+    )
 
 
 @dataclass
 class FitResult:
-    names: tuple[str, ...]            # free parameters
-    values: dict[str, float]          # all parameters (JSON units)
+    names: tuple[str, ...]  # free parameters
+    values: dict[str, float]  # all parameters (JSON units)
     x: np.ndarray
-    jac: np.ndarray                   # whitened residual Jacobian at x (all valid samples)
-    rss: list[float]                  # per experiment, in its units², valid samples
+    jac: np.ndarray  # whitened residual Jacobian at x (all valid samples)
+    rss: list[float]  # per experiment, in its units², valid samples
     n: list[int]
     bic: float
     cost: float
@@ -127,8 +128,9 @@ class Problem:
         def fun(x):
             return np.concatenate(self.residuals(self.values(names, x), masks))
 
-        res = least_squares(fun, x0, bounds=(lo, hi), method="trf", x_scale="jac", max_nfev=max_nfev,
-                            xtol=1e-10, ftol=1e-10, gtol=1e-10)
+        res = least_squares(
+            fun, x0, bounds=(lo, hi), method="trf", x_scale="jac", max_nfev=max_nfev, xtol=1e-10, ftol=1e-10, gtol=1e-10
+        )
         vals = self.values(names, res.x)
         b, rss, ns = self.bic(vals, len(names))
         jac = res.jac if masks is None else np.zeros((0, len(names)))  # held-out fits need no Jacobian

@@ -7,8 +7,16 @@ import math
 #: measured quantity → (name, unit)
 QUANTITY = {"torque_nmm": ("torque", "N·mm"), "tendon_force_n": ("tendon force", "N")}
 #: JSON name suffix → unit, longest first
-_SUFFIX_UNITS = (("_nmm_s_per_rad", "N·mm·s/rad"), ("_nmm_per_rad3", "N·mm/rad³"), ("_nmm_per_rad", "N·mm/rad"),
-                 ("_deg", "deg"), ("_nmm", "N·mm"), ("_mm", "mm"), ("_n", "N"), ("_s", "s"))
+_SUFFIX_UNITS = (
+    ("_nmm_s_per_rad", "N·mm·s/rad"),
+    ("_nmm_per_rad3", "N·mm/rad³"),
+    ("_nmm_per_rad", "N·mm/rad"),
+    ("_deg", "deg"),
+    ("_nmm", "N·mm"),
+    ("_mm", "mm"),
+    ("_n", "N"),
+    ("_s", "s"),
+)
 
 
 def fmt(x, sig: int = 4) -> str:

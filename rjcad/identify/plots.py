@@ -40,8 +40,10 @@ def _stride(n: int) -> int:
 def _title(e: dict) -> str:
     q = quantity_unit(e["quantity"])
     route = "routed" if e["routed"] else "not routed"
-    return (f"{e['file']}: {e['drive']}, F_n = {fmt(e['normal_load_n'], 3)} N, {route}\n"
-            f"RMSE design {fmt(e['rmse_design'], 3)} → final {fmt(e['rmse_final'], 3)} {q}")
+    return (
+        f"{e['file']}: {e['drive']}, F_n = {fmt(e['normal_load_n'], 3)} N, {route}\n"
+        f"RMSE design {fmt(e['rmse_design'], 3)} → final {fmt(e['rmse_final'], 3)} {q}"
+    )
 
 
 def _grid(plt, n: int, ncols: int, w: float, h: float):
@@ -66,8 +68,7 @@ def plot_fit(ident: Identification, js: dict, path) -> Path:
         label, unit = QUANTITY.get(e["quantity"], (e["quantity"], ""))
         ax.scatter(th[ok], y[ok], s=2, color="0.55", lw=0, label="measured", zorder=1)
         if (~ok).any():
-            ax.scatter(th[~ok], y[~ok], s=2, color="0.55", alpha=0.2, lw=0, zorder=1,
-                       label="masked at reversals")
+            ax.scatter(th[~ok], y[~ok], s=2, color="0.55", alpha=0.2, lw=0, zorder=1, label="masked at reversals")
         ax.plot(th, yd[::k], color="C0", lw=1.0, label="design simulation", zorder=2)
         ax.plot(th, yf[::k], color="C3", lw=1.0, label="final model", zorder=3)
         ax.set_xlabel("joint angle [deg]")
@@ -151,7 +152,7 @@ def plot_diagnostics(ident: Identification, js: dict, path) -> Path:
     for row, p, e, yd in zip(axes, ident.prepared, js["experiments"], preds_d):
         unit = quantity_unit(e["quantity"])
         ok = p.valid
-        r = (p.exp.y - yd)
+        r = p.exp.y - yd
         s, v = p.motion.direction[ok], p.motion.velocity[ok]
         coef, X = angle_direction_fit(p, r)
         left = r[ok] - X @ coef
@@ -170,7 +171,7 @@ def plot_diagnostics(ident: Identification, js: dict, path) -> Path:
             if b - a < 5:
                 continue
             tt = p.exp.t[a:b] - p.exp.t[a]
-            rr = r[a:b] - r[a:a + max((b - a) // 10, 1)].mean()
+            rr = r[a:b] - r[a : a + max((b - a) // 10, 1)].mean()
             col = "C0" if p.motion.direction[a] > 0 else "C1"
             ax.plot(tt, rr, lw=0.7, color=col, alpha=0.8)
         ax.axhline(0.0, color="0.4", lw=0.6)

@@ -9,15 +9,26 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rjcad.io.config import write_atomic
 from rjcad.identify.catalogue import EFFECTS, PARAMS
 from rjcad.identify.formatting import QUANTITY, fmt, quantity_unit, unit_of
 from rjcad.identify.plots import plot_diagnostics, plot_fit, plot_residuals, plot_steps
 from rjcad.identify.select import BIC_GATE, Identification
+from rjcad.io.config import write_atomic
 from rjcad.io.outputs import output_set
 
-__all__ = ["FLOOR_RATIO", "QUANTITY", "fmt", "plot_diagnostics", "plot_fit", "plot_residuals", "plot_steps",
-           "quantity_unit", "render_markdown", "unit_of", "write_report"]
+__all__ = [
+    "FLOOR_RATIO",
+    "QUANTITY",
+    "fmt",
+    "plot_diagnostics",
+    "plot_fit",
+    "plot_residuals",
+    "plot_steps",
+    "quantity_unit",
+    "render_markdown",
+    "unit_of",
+    "write_report",
+]
 
 #: final RMSE / noise σ up to which an experiment counts as explained to the noise floor
 FLOOR_RATIO = 1.2
@@ -59,27 +70,35 @@ def _step_labels(steps: list[dict]) -> list[str]:
 
 def _summary(js: dict) -> list[str]:
     d, exps = js["design"], js["experiments"]
-    design = (f"K = {fmt(d['stiffness_nmm_per_rad'])} N·mm/rad, θ₀ = {fmt(d['preload_deg'])}°, "
-              f"r = {fmt(d['pulley_radius_mm'])} mm")
+    design = (
+        f"K = {fmt(d['stiffness_nmm_per_rad'])} N·mm/rad, θ₀ = {fmt(d['preload_deg'])}°, "
+        f"r = {fmt(d['pulley_radius_mm'])} mm"
+    )
     worst = max(exps, key=lambda e: (e["rmse_design"] or 0) / (e["noise"] or 1))
     ratios = [(e["rmse_design"] or 0) / (e["noise"] or 1) for e in exps]
     q = quantity_unit(worst["quantity"])
     above = [e for e in exps if (e["final_over_noise"] or 0) > FLOOR_RATIO]
     out = []
     if not js["effects"] and not above:
-        out.append(f"Nothing beyond the design simulation was needed: the design simulation ({design}) already "
-                   f"explains the data to the noise floor (RMSE / noise {fmt(min(ratios), 3)}–{fmt(max(ratios), 3)} "
-                   "per experiment"
-                   + (f", held-out {fmt(js['heldout_rmse_design'], 3)}× noise" if js["heldout_rmse_design"] else "")
-                   + "). No catalogue effect improved it enough to be accepted.")
+        out.append(
+            f"Nothing beyond the design simulation was needed: the design simulation ({design}) already "
+            f"explains the data to the noise floor (RMSE / noise {fmt(min(ratios), 3)}–{fmt(max(ratios), 3)} "
+            "per experiment"
+            + (f", held-out {fmt(js['heldout_rmse_design'], 3)}× noise" if js["heldout_rmse_design"] else "")
+            + "). No catalogue effect improved it enough to be accepted."
+        )
         return out
-    out.append(f"The design simulation ({design}) misses the measured data by up to {fmt(max(ratios), 3)}× the "
-               f"noise. The largest error is in experiment {worst['file']} ({fmt(worst['rmse_design'])} {q} RMSE "
-               f"against {fmt(worst['noise'], 3)} {q} noise).")
+    out.append(
+        f"The design simulation ({design}) misses the measured data by up to {fmt(max(ratios), 3)}× the "
+        f"noise. The largest error is in experiment {worst['file']} ({fmt(worst['rmse_design'])} {q} RMSE "
+        f"against {fmt(worst['noise'], 3)} {q} noise)."
+    )
     if not js["effects"]:
         out.append("")
-        out.append("No catalogue effect improved the fit enough to be accepted, yet the residual stays above the "
-                   "noise floor: the cause is probably not in the catalogue (see the diagnostics below).")
+        out.append(
+            "No catalogue effect improved the fit enough to be accepted, yet the residual stays above the "
+            "noise floor: the cause is probably not in the catalogue (see the diagnostics below)."
+        )
     else:
         out += ["", "Found:", ""]
         for i, eid in enumerate(js["effects"], 1):
@@ -88,17 +107,24 @@ def _summary(js: dict) -> list[str]:
         out.append("")
         ho = ""
         if js["heldout_rmse_design"] is not None and js["heldout_rmse_final"] is not None:
-            ho = (f"the error on held-out whole cycles falls from {fmt(js['heldout_rmse_design'], 3)}× to "
-                  f"{fmt(js['heldout_rmse_final'], 3)}× the noise floor, and ")
-        out.append(f"With {'this effect' if len(js['effects']) == 1 else 'these effects'} {ho}the RMSE shrinks "
-                   f"{fmt(js['gain'], 3)}-fold (geometric mean over the experiments).")
+            ho = (
+                f"the error on held-out whole cycles falls from {fmt(js['heldout_rmse_design'], 3)}× to "
+                f"{fmt(js['heldout_rmse_final'], 3)}× the noise floor, and "
+            )
+        out.append(
+            f"With {'this effect' if len(js['effects']) == 1 else 'these effects'} {ho}the RMSE shrinks "
+            f"{fmt(js['gain'], 3)}-fold (geometric mean over the experiments)."
+        )
     if above:
-        out.append("The final residual is still above the noise floor in "
-                   + ", ".join(f"{e['file']} ({fmt(e['final_over_noise'], 3)}× noise)" for e in above)
-                   + ": something there is not explained.")
+        out.append(
+            "The final residual is still above the noise floor in "
+            + ", ".join(f"{e['file']} ({fmt(e['final_over_noise'], 3)}× noise)" for e in above)
+            + ": something there is not explained."
+        )
     else:
-        out.append("The final residual is at the noise floor" + (f" in all {len(exps)} experiments."
-                                                                 if len(exps) > 1 else "."))
+        out.append(
+            "The final residual is at the noise floor" + (f" in all {len(exps)} experiments." if len(exps) > 1 else ".")
+        )
     return out
 
 
@@ -107,15 +133,28 @@ def _ambiguous_section(js: dict) -> list[str]:
     amb = js.get("ambiguous") or []
     if not amb:
         return []
-    out = ["## What the data cannot decide", "",
-           f"The answer above (`{'`, `'.join(js['effects'])}`) is the simplest of the sets below, which explain "
-           "this campaign about as well (|ΔBIC| < 10, or one needs a parameter the data only bound while the other "
-           "fits to within 10 % of the noise). Do not trust the choice between them; the last column names the "
-           "experiment that would settle it.", ""]
-    rows = [[", ".join(f"`{e}`" for e in a["effects"]), fmt(a["delta_bic"], 3), a["free_parameters"],
-             ", ".join(a["only_bounded"]) or "none", a["separate_by"]] for a in amb]
-    return out + _table(["other set", "ΔBIC vs the answer", "free parameters", "only bounded", "separate them by"],
-                        rows)
+    out = [
+        "## What the data cannot decide",
+        "",
+        f"The answer above (`{'`, `'.join(js['effects'])}`) is the simplest of the sets below, which explain "
+        "this campaign about as well (|ΔBIC| < 10, or one needs a parameter the data only bound while the other "
+        "fits to within 10 % of the noise). Do not trust the choice between them; the last column names the "
+        "experiment that would settle it.",
+        "",
+    ]
+    rows = [
+        [
+            ", ".join(f"`{e}`" for e in a["effects"]),
+            fmt(a["delta_bic"], 3),
+            a["free_parameters"],
+            ", ".join(a["only_bounded"]) or "none",
+            a["separate_by"],
+        ]
+        for a in amb
+    ]
+    return out + _table(
+        ["other set", "ΔBIC vs the answer", "free parameters", "only bounded", "separate them by"], rows
+    )
 
 
 def _param_text(js: dict, name: str) -> str:
@@ -131,16 +170,29 @@ def _steps_section(js: dict) -> list[str]:
     rows = [["0", "design simulation", "—", "—", fmt(js["heldout_rmse_design"], 3), "1"]]
     for lab, s in zip(_step_labels(js["steps"]), js["steps"]):
         eff = f"`{s['effect']}`" if s["action"] == "added" else f"`{s['effect']}` (dropped)"
-        rows.append([lab, eff, s.get("name") or _short_cause(s["cause"]), fmt(s["delta_bic"]), fmt(s["heldout_rmse"], 3),
-                     fmt(s["gain"], 3)])
+        rows.append(
+            [
+                lab,
+                eff,
+                s.get("name") or _short_cause(s["cause"]),
+                fmt(s["delta_bic"]),
+                fmt(s["heldout_rmse"], 3),
+                fmt(s["gain"], 3),
+            ]
+        )
     out = ["## Selection steps", ""]
     out += _table(["step", "effect", "named cause", "ΔBIC", "held-out RMSE (× noise)", "gain"], rows)
-    out += ["", f"An effect is added when it lowers the BIC by more than {BIC_GATE:g} (ΔBIC < −{BIC_GATE:g}), "
-                "lowers the error on held-out whole cycles and moves the prediction by more than 1% of the "
-                "measured range. Gain: RMSE design / RMSE after the step, geometric mean over the experiments."]
+    out += [
+        "",
+        f"An effect is added when it lowers the BIC by more than {BIC_GATE:g} (ΔBIC < −{BIC_GATE:g}), "
+        "lowers the error on held-out whole cycles and moves the prediction by more than 1% of the "
+        "measured range. Gain: RMSE design / RMSE after the step, geometric mean over the experiments.",
+    ]
     if any(s["action"] == "dropped" for s in js["steps"]):
-        out += ["Steps B1, B2, … are the backward pass: an effect is dropped when, with the others refitted, "
-                f"keeping it is worth no more than ΔBIC = −{BIC_GATE:g} (its ΔBIC is shown)."]
+        out += [
+            "Steps B1, B2, … are the backward pass: an effect is dropped when, with the others refitted, "
+            f"keeping it is worth no more than ΔBIC = −{BIC_GATE:g} (its ΔBIC is shown)."
+        ]
     if js["heldout_rmse_design"] is None:
         out += ["No held-out error: no experiment has two whole cycles."]
     return out
@@ -152,14 +204,37 @@ def _experiments_section(js: dict) -> list[str]:
         label, unit = QUANTITY.get(e["quantity"], (e["quantity"], ""))
         dropped = sum(e["rows_dropped"].values())
         why = ", ".join(f"{v} {k}" for k, v in e["rows_dropped"].items())
-        rows.append([e["file"], f"{label} [{unit}]", fmt(e["rmse_design"]), fmt(e["rmse_final"]), fmt(e["noise"]),
-                     fmt(e["final_over_noise"], 3), f"{e['samples_masked_at_reversals']} of {e['samples']}",
-                     f"{dropped} ({why})" if dropped else "0"])
+        rows.append(
+            [
+                e["file"],
+                f"{label} [{unit}]",
+                fmt(e["rmse_design"]),
+                fmt(e["rmse_final"]),
+                fmt(e["noise"]),
+                fmt(e["final_over_noise"], 3),
+                f"{e['samples_masked_at_reversals']} of {e['samples']}",
+                f"{dropped} ({why})" if dropped else "0",
+            ]
+        )
     out = ["## Experiments", ""]
-    out += _table(["file", "quantity", "RMSE design", "RMSE final", "noise σ", "final / noise",
-                   "samples masked at reversals", "rows dropped"], rows)
-    out += ["", "RMSE and noise in the experiment's unit, on the samples fitted (masked samples, where the "
-                "motion direction is ambiguous around a reversal, are left out)."]
+    out += _table(
+        [
+            "file",
+            "quantity",
+            "RMSE design",
+            "RMSE final",
+            "noise σ",
+            "final / noise",
+            "samples masked at reversals",
+            "rows dropped",
+        ],
+        rows,
+    )
+    out += [
+        "",
+        "RMSE and noise in the experiment's unit, on the samples fitted (masked samples, where the "
+        "motion direction is ambiguous around a reversal, are left out).",
+    ]
     return out
 
 
@@ -179,8 +254,11 @@ def _params_section(js: dict) -> list[str]:
         rows.append([f"`{n}`", f"`{eff.id}`" if eff is not None else "—", fmt(v), iv, unit_of(n), fmt(absent)])
     out = ["## Fitted parameters", ""]
     out += _table(["parameter", "effect", "value", "95% interval", "unit", "design / absent"], rows)
-    out += ["", "Intervals from the Gauss–Newton covariance, widened for residual autocorrelation. "
-                "'design / absent': the value in the design simulation (the effect absent)."]
+    out += [
+        "",
+        "Intervals from the Gauss–Newton covariance, widened for residual autocorrelation. "
+        "'design / absent': the value in the design simulation (the effect absent).",
+    ]
     return out
 
 
@@ -188,9 +266,13 @@ def _not_identifiable_section(js: dict) -> list[str]:
     why = js["not_identifiable_why"]
     if not why:
         return []
-    out = ["## Not identifiable from this campaign", "",
-           "These parameters were **not fitted**: the campaign cannot determine them, so they stay at their "
-           "design (or effect-absent) value.", ""]
+    out = [
+        "## Not identifiable from this campaign",
+        "",
+        "These parameters were **not fitted**: the campaign cannot determine them, so they stay at their "
+        "design (or effect-absent) value.",
+        "",
+    ]
     for n, r in why.items():
         eff = PARAMS[n][0] if n in PARAMS else None
         hint = ""
@@ -199,9 +281,12 @@ def _not_identifiable_section(js: dict) -> list[str]:
         out.append(f"- `{n}` ({f'`{eff.id}`' if eff else '?'}): {r}{hint}.")
     for acc, others in _stand_ins(js).items():
         what = " and ".join(f"{', '.join(ns)} (`{e}`)" for e, ns in others.items())
-        out += ["", f"The parameters of `{acc}` are confounded with {what}: in this campaign these cannot be told "
-                    f"apart, so `{acc}` may stand in for part of what they describe. An experiment that changes "
-                    "one without the other would separate them."]
+        out += [
+            "",
+            f"The parameters of `{acc}` are confounded with {what}: in this campaign these cannot be told "
+            f"apart, so `{acc}` may stand in for part of what they describe. An experiment that changes "
+            "one without the other would separate them.",
+        ]
     return out
 
 
@@ -214,7 +299,7 @@ def _stand_ins(js: dict) -> dict[str, dict[str, list[str]]]:
         mine = PARAMS[n][0].id
         if mine in js["effects"]:
             continue
-        for other in r[len("confounded with"):].split(","):
+        for other in r[len("confounded with") :].split(","):
             other = other.strip()
             if other in PARAMS and PARAMS[other][0].id in js["effects"]:
                 lst = out.setdefault(PARAMS[other][0].id, {}).setdefault(mine, [])
@@ -248,20 +333,29 @@ def _rejected_section(js: dict) -> list[str]:
         return []
     out = ["## Rejected candidates", ""]
     out += _table(["effect", "step", "ΔBIC", "why not"], rows)
-    out += ["", f"Step {last} is the last forward step (what was left when the selection stopped); earlier steps "
-                "are listed only where a candidate failed the held-out or relevance check."]
+    out += [
+        "",
+        f"Step {last} is the last forward step (what was left when the selection stopped); earlier steps "
+        "are listed only where a candidate failed the held-out or relevance check.",
+    ]
     return out
 
 
 def _diagnostics_section(js: dict) -> list[str]:
-    out = ["## Diagnostics", "",
-           "What the residual of the design simulation points to (direction band, centre line, velocity, hold drift), "
-           "and whether the final residual is at the noise floor.", ""]
+    out = [
+        "## Diagnostics",
+        "",
+        "What the residual of the design simulation points to (direction band, centre line, velocity, hold drift), "
+        "and whether the final residual is at the noise floor.",
+        "",
+    ]
     for e in js["experiments"]:
         q = quantity_unit(e["quantity"])
         dd, df = e["diagnostics_design"], e["diagnostics_final"]
-        out.append(f"**{e['file']}** — design RMSE {fmt(e['rmse_design'])} {q} "
-                   f"({fmt((e['rmse_design'] or 0) / (e['noise'] or 1), 3)}× noise):")
+        out.append(
+            f"**{e['file']}** — design RMSE {fmt(e['rmse_design'])} {q} "
+            f"({fmt((e['rmse_design'] or 0) / (e['noise'] or 1), 3)}× noise):"
+        )
         hints = dd.get("hints", [])
         if hints:
             for h in hints:
@@ -274,10 +368,15 @@ def _diagnostics_section(js: dict) -> list[str]:
         else:
             fin = f"still {fmt(ratio, 3)}× the noise"
         left = df.get("hints", [])
-        out.append(f"- final model: RMSE {fmt(e['rmse_final'])} {q}, {fin}"
-                   + ("; it still points to: " + "; ".join(f"{h['evidence']} → "
-                                                            + ", ".join(f"`{x}`" for x in h["effects"])
-                                                            for h in left) if left else ""))
+        out.append(
+            f"- final model: RMSE {fmt(e['rmse_final'])} {q}, {fin}"
+            + (
+                "; it still points to: "
+                + "; ".join(f"{h['evidence']} → " + ", ".join(f"`{x}`" for x in h["effects"]) for h in left)
+                if left
+                else ""
+            )
+        )
         out.append("")
     return out[:-1]
 
@@ -315,10 +414,12 @@ def write_report(ident: Identification, js: dict, out_dir) -> list[Path]:
     (all or none; an earlier report untouched); return their paths."""
     out = Path(out_dir)
     with output_set(out) as stage:
-        plots = [plot_fit(ident, js, stage / "fit.png"),
-                 plot_residuals(ident, js, stage / "residuals.png"),
-                 plot_steps(js, stage / "steps.png"),
-                 plot_diagnostics(ident, js, stage / "diagnostics.png")]
+        plots = [
+            plot_fit(ident, js, stage / "fit.png"),
+            plot_residuals(ident, js, stage / "residuals.png"),
+            plot_steps(js, stage / "steps.png"),
+            plot_diagnostics(ident, js, stage / "diagnostics.png"),
+        ]
         md = render_markdown(js, {p.stem: p.name for p in plots})
         write_atomic(stage / "report.md", md)
     return [out / p.name for p in plots] + [out / "report.md"]

@@ -37,12 +37,25 @@ def selection_json(ident: Identification, params: dict, names: dict) -> dict:
         "not_identifiable": sorted(ident.not_identifiable),
         "not_identifiable_why": dict(sorted(ident.not_identifiable.items())),
         "fitted": list(ident.final.names),
-        "steps": [{"step": i + 1, "effect": s.effect, "name": names[s.effect], "cause": s.cause,
-                   "action": s.action, "delta_bic": _r(s.delta_bic),
-                   "heldout_rmse": _r(s.heldout_rmse), "relevance": _r(s.relevance),
-                   "rmse": [_r(x) for x in s.rmse], "gain": _r(s.gain)} for i, s in enumerate(ident.steps)],
-        "candidates": [{"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason,
-                        "verdict": c.verdict} for c in ident.candidates],
+        "steps": [
+            {
+                "step": i + 1,
+                "effect": s.effect,
+                "name": names[s.effect],
+                "cause": s.cause,
+                "action": s.action,
+                "delta_bic": _r(s.delta_bic),
+                "heldout_rmse": _r(s.heldout_rmse),
+                "relevance": _r(s.relevance),
+                "rmse": [_r(x) for x in s.rmse],
+                "gain": _r(s.gain),
+            }
+            for i, s in enumerate(ident.steps)
+        ],
+        "candidates": [
+            {"step": c.step, "effect": c.effect, "delta_bic": _r(c.delta_bic), "reason": c.reason, "verdict": c.verdict}
+            for c in ident.candidates
+        ],
         "gain": _r(ident.gain),
         "heldout_rmse_design": _r(ident.heldout_design),
         "heldout_rmse_final": _r(ident.heldout_final),
@@ -70,26 +83,40 @@ def to_json(ident: Identification) -> dict:
     exps = []
     for p, rmse_d, rmse_f, rd, rf in zip(ident.prepared, des.rmse(), fin.rmse(), r_design, r_final):
         e = p.exp
-        exps.append({
-            "file": e.file, "quantity": e.quantity, "drive": e.drive, "normal_load_n": e.normal_load,
-            "routed": e.routed, "samples": len(e.t), "samples_fitted": int(p.valid.sum()),
-            "samples_masked_at_reversals": _n(p.motion.at_reversal),
-            "outliers_angle": _n(p.motion.glitches), "outliers_quantity": _n(p.outliers),
-            "cycles": p.motion.n_cycles,
-            "reversals": len(p.motion.reversals), "rows_dropped": dict(e.dropped),
-            "rmse_design": _r(rmse_d), "rmse_final": _r(rmse_f), "noise": _r(p.sigma),
-            "final_over_noise": _r(rmse_f / p.sigma), "range": _r(p.span),
-            "diagnostics_design": _clean(diagnose(p, rd)),
-            "diagnostics_final": _clean(diagnose(p, rf)),
-        })
+        exps.append(
+            {
+                "file": e.file,
+                "quantity": e.quantity,
+                "drive": e.drive,
+                "normal_load_n": e.normal_load,
+                "routed": e.routed,
+                "samples": len(e.t),
+                "samples_fitted": int(p.valid.sum()),
+                "samples_masked_at_reversals": _n(p.motion.at_reversal),
+                "outliers_angle": _n(p.motion.glitches),
+                "outliers_quantity": _n(p.outliers),
+                "cycles": p.motion.n_cycles,
+                "reversals": len(p.motion.reversals),
+                "rows_dropped": dict(e.dropped),
+                "rmse_design": _r(rmse_d),
+                "rmse_final": _r(rmse_f),
+                "noise": _r(p.sigma),
+                "final_over_noise": _r(rmse_f / p.sigma),
+                "range": _r(p.span),
+                "diagnostics_design": _clean(diagnose(p, rd)),
+                "diagnostics_final": _clean(diagnose(p, rf)),
+            }
+        )
     names = {e: EFFECTS[e].name for e in EFFECTS}
     return {
         **selection_json(ident, params, names),
         "experiments": exps,
         "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
-        "units": {"heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
-                  "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",
-                  "relevance": "max |Δprediction| / measured range"},
+        "units": {
+            "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
+            "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",
+            "relevance": "max |Δprediction| / measured range",
+        },
     }
 
 
@@ -98,8 +125,10 @@ def _outlier_notes(ident: Identification) -> list[str]:
     for p in ident.prepared:
         a, q = _n(p.motion.glitches), _n(p.outliers)
         if a or q:
-            out.append(f"{p.exp.file}: {a} angle outlier(s) replaced by the running median, "
-                       f"{q} spike(s) in {p.exp.quantity} left out (|x − median of 5| > 8σ)")
+            out.append(
+                f"{p.exp.file}: {a} angle outlier(s) replaced by the running median, "
+                f"{q} spike(s) in {p.exp.quantity} left out (|x − median of 5| > 8σ)"
+            )
     return out
 
 

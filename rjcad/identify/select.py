@@ -16,12 +16,21 @@ from functools import cached_property
 
 import numpy as np
 
-from rjcad.identify.catalogue import CATALOGUE
 from rjcad.identify.ambiguity import find as rival_sets
+from rjcad.identify.catalogue import CATALOGUE
 from rjcad.identify.data import Campaign
 from rjcad.identify.eiv import correct_viscous
-from rjcad.identify.fit import FitResult, Prepared, Problem, _jacobian, base_values, confidence, \
-    predict, prepare, unidentifiable
+from rjcad.identify.fit import (
+    FitResult,
+    Prepared,
+    Problem,
+    _jacobian,
+    base_values,
+    confidence,
+    predict,
+    prepare,
+    unidentifiable,
+)
 
 BIC_GATE = 10.0
 RELEVANCE = 0.01
@@ -33,21 +42,21 @@ class Step:
 
     effect: str
     cause: str
-    action: str               # "added" | "dropped"
-    delta_bic: float          # BIC after the step − before (dropping an effect costs ≤ +10 by the rule)
+    action: str  # "added" | "dropped"
+    delta_bic: float  # BIC after the step − before (dropping an effect costs ≤ +10 by the rule)
     heldout_rmse: float | None  # whitened: 1.0 = noise floor
-    relevance: float          # max |Δprediction| / measured range
-    rmse: list[float]         # per experiment after the step, in its units
-    gain: float               # geometric mean of rmse_design/rmse after the step
+    relevance: float  # max |Δprediction| / measured range
+    rmse: list[float]  # per experiment after the step, in its units
+    gain: float  # geometric mean of rmse_design/rmse after the step
 
 
 @dataclass
 class Candidate:
     effect: str
     delta_bic: float | None
-    verdict: str              # why it was accepted or not, in words
-    step: int                 # forward step number (1-based)
-    reason: str = ""          # accepted | bic | relevance | heldout | not_identifiable | not_needed
+    verdict: str  # why it was accepted or not, in words
+    step: int  # forward step number (1-based)
+    reason: str = ""  # accepted | bic | relevance | heldout | not_identifiable | not_needed
 
 
 @dataclass
@@ -99,7 +108,7 @@ class Selector:
         self.design_json = self._design_json(campaign)
         self.base = self._base(campaign)
         self.prob = self.problem(self.base)
-        self.frozen: dict[str, str] = {}   # parameters fixed at neutral: not identifiable
+        self.frozen: dict[str, str] = {}  # parameters fixed at neutral: not identifiable
         self._lo: dict[str, float] = {}
         self._hi: dict[str, float] = {}
         for e in self.catalogue:
@@ -157,8 +166,9 @@ class Selector:
         """Structural check at the start point: parameters the campaign cannot determine."""
         names = self.free_names(effects)
         x0 = np.array([self.starts(effects, start)[0][n] for n in names])
-        J = _jacobian(lambda x: np.concatenate(self.prob.residuals(self.prob.values(names, x))), x0,
-                      upper=self.bounds(names)[1])
+        J = _jacobian(
+            lambda x: np.concatenate(self.prob.residuals(self.prob.values(names, x))), x0, upper=self.bounds(names)[1]
+        )
         return unidentifiable(J, names)
 
     def fit_set(self, effects, start: dict[str, float], masks=None, frozen=None) -> FitResult:
@@ -216,8 +226,18 @@ class Selector:
             accepted.remove(e)
             prev, current = current, fr
             ho_cur = self.heldout(accepted, {n: fr.values[n] for n in fr.names})
-            steps.append(Step(e, self.effects[e].cause, "dropped", cost, ho_cur, self.relevance(prev.values, fr.values),
-                              fr.rmse(), _gain(design.rmse(), fr.rmse())))
+            steps.append(
+                Step(
+                    e,
+                    self.effects[e].cause,
+                    "dropped",
+                    cost,
+                    ho_cur,
+                    self.relevance(prev.values, fr.values),
+                    fr.rmse(),
+                    _gain(design.rmse(), fr.rmse()),
+                )
+            )
         return current, ho_cur
 
     #: the refit's evaluations per side in post_check (a subclass with costlier evaluations may lower it)
@@ -255,19 +275,25 @@ class Selector:
                     continue
                 prob = self.problem({**self.base, **fr.values, n: x})
                 if others:
-                    chi = 2.0 * prob.fit(others, [fr.values[m] for m in others], olo, ohi,
-                                         max_nfev=self.post_check_nfev).cost
+                    chi = (
+                        2.0
+                        * prob.fit(others, [fr.values[m] for m in others], olo, ohi, max_nfev=self.post_check_nfev).cost
+                    )
                 else:
                     chi = sum(float(np.sum(r**2)) for r in prob.residuals(prob.fixed))
                 dchi[side] = chi - chi0
             flat = [side for side, c in dchi.items() if c < gate]
             if dchi and len(flat) == len(dchi):
-                out[n] = (f"not identifiable: fixing it {100 * rel:g} % away from {v:.4g} and refitting the others "
-                          f"fits as well (Δχ² < {gate:g})")
+                out[n] = (
+                    f"not identifiable: fixing it {100 * rel:g} % away from {v:.4g} and refitting the others "
+                    f"fits as well (Δχ² < {gate:g})"
+                )
             elif flat:
-                out[n] = (f"the data only bound it: values {flat[0]} {v:.4g} fit as well (a {100 * rel:g} % move "
-                          f"that way changes χ² by < {gate:g}); what it acts on is out of reach there, "
-                          f"e.g. a slack tendon")
+                out[n] = (
+                    f"the data only bound it: values {flat[0]} {v:.4g} fit as well (a {100 * rel:g} % move "
+                    f"that way changes χ² by < {gate:g}); what it acts on is out of reach there, "
+                    f"e.g. a slack tendon"
+                )
             elif v - a <= 1e-6 * max(abs(a), 1.0):
                 out[n] = "at its lower bound"
             elif b - v <= 1e-6 * max(abs(b), 1.0):
@@ -280,6 +306,7 @@ class Selector:
 
     def _fit_candidates(self, jobs, start: dict[str, float]) -> list[FitResult]:
         """``fit_set`` of each (effects, parameters frozen for it) job, in ``workers`` threads."""
+
         def one(job):
             effs, bad = job
             return self.fit_set(effs, start, frozen={**self.frozen, **bad})
@@ -344,8 +371,15 @@ class Selector:
                 effs = accepted + [eff.id]
                 bad = {n: r for n, r in self.check_identifiable(effs, start).items() if n in eff.param_names}
                 if not self.free_names([eff.id], {**self.frozen, **bad}):
-                    cands.append(Candidate(eff.id, None, "not identifiable from this campaign: " + "; ".join(
-                        f"{n}: {r}" for n, r in bad.items()), step_no, "not_identifiable"))
+                    cands.append(
+                        Candidate(
+                            eff.id,
+                            None,
+                            "not identifiable from this campaign: " + "; ".join(f"{n}: {r}" for n, r in bad.items()),
+                            step_no,
+                            "not_identifiable",
+                        )
+                    )
                     continue
                 jobs.append((effs, bad))
                 of.append(eff)
@@ -360,14 +394,24 @@ class Selector:
                     continue
                 rel = self.relevance(fr.values, current.values)
                 if rel <= RELEVANCE:
-                    cands.append(Candidate(eff.id, d, f"changes the prediction by only {100 * rel:.2f}% "
-                                                      f"of the measured range", step_no, "relevance"))
+                    cands.append(
+                        Candidate(
+                            eff.id,
+                            d,
+                            f"changes the prediction by only {100 * rel:.2f}% of the measured range",
+                            step_no,
+                            "relevance",
+                        )
+                    )
                     continue
                 with self._freezing(bad):
                     ho = self.heldout(accepted + [eff.id], {n: fr.values[n] for n in fr.names})
                 if ho is not None and ho_cur is not None and ho >= ho_cur:
-                    cands.append(Candidate(eff.id, d, f"held-out error does not improve ({ho:.3g} ≥ {ho_cur:.3g})",
-                                           step_no, "heldout"))
+                    cands.append(
+                        Candidate(
+                            eff.id, d, f"held-out error does not improve ({ho:.3g} ≥ {ho_cur:.3g})", step_no, "heldout"
+                        )
+                    )
                     continue
                 chosen = (d, eff, fr, ho, rel, bad)
                 cands.append(Candidate(eff.id, d, "accepted", step_no, "accepted"))
@@ -385,12 +429,15 @@ class Selector:
         best, ambiguous = rival_sets(self, accepted, current, cands)
         notes = []
         if best.effects != accepted:
-            notes.append(f"the data cannot tell {', '.join(accepted)} from {', '.join(best.effects)}: "
-                         f"the simpler set is kept (see ambiguous)")
+            notes.append(
+                f"the data cannot tell {', '.join(accepted)} from {', '.join(best.effects)}: "
+                f"the simpler set is kept (see ambiguous)"
+            )
             accepted = list(best.effects)
             current, not_ident = self.final_identifiability(accepted, best.fit)
-        current, note = correct_viscous(current, self.problem({**self.base, **current.values}),
-                                        *self.bounds(current.names))
+        current, note = correct_viscous(
+            current, self.problem({**self.base, **current.values}), *self.bounds(current.names)
+        )
         if note:
             notes.append(note)
         if not self._fold_ids:
@@ -400,9 +447,22 @@ class Selector:
                 notes.append(f"{n} = {current.values[n]:.4g} is {why}")
             else:
                 not_ident.setdefault(n, why)
-        return Identification(self.campaign, self.prepared, design, current, accepted, steps, cands,
-                              not_ident, confidence(current, self.prob), ho_design, ho_cur, notes, ambiguous,
-                              predictor=self.predict)
+        return Identification(
+            self.campaign,
+            self.prepared,
+            design,
+            current,
+            accepted,
+            steps,
+            cands,
+            not_ident,
+            confidence(current, self.prob),
+            ho_design,
+            ho_cur,
+            notes,
+            ambiguous,
+            predictor=self.predict,
+        )
 
 
 def identify(campaign: Campaign) -> Identification:

@@ -33,16 +33,16 @@ def noise_sigma(y) -> float:
 class Motion:
     """What the angle signal says about the motion, one entry per sample."""
 
-    theta: np.ndarray       # smoothed angle [rad]
-    velocity: np.ndarray    # [rad/s]
-    direction: np.ndarray   # ±1, held through holds
-    valid: np.ndarray       # bool: direction unambiguous (False around reversals)
-    hold: np.ndarray        # bool: the joint stands still (part of a hold ≥ min_hold s)
-    cycle: np.ndarray       # int: index of the forward–back cycle (a new one starts at each minimum)
-    reversals: np.ndarray   # sample indices where the direction changes
-    sigma_theta: float      # raw angle noise [rad]
-    step: float             # hysteresis h [rad]
-    window: int             # smoothing window [samples]
+    theta: np.ndarray  # smoothed angle [rad]
+    velocity: np.ndarray  # [rad/s]
+    direction: np.ndarray  # ±1, held through holds
+    valid: np.ndarray  # bool: direction unambiguous (False around reversals)
+    hold: np.ndarray  # bool: the joint stands still (part of a hold ≥ min_hold s)
+    cycle: np.ndarray  # int: index of the forward–back cycle (a new one starts at each minimum)
+    reversals: np.ndarray  # sample indices where the direction changes
+    sigma_theta: float  # raw angle noise [rad]
+    step: float  # hysteresis h [rad]
+    window: int  # smoothing window [samples]
     glitches: np.ndarray | None = None  # bool: camera outliers, replaced by the running median
     at_reversal: np.ndarray | None = None  # bool: masked because the direction is ambiguous there
     velocity_sigma: float = 0.0  # σ of the velocity estimate from the angle noise alone [rad/s]
@@ -77,8 +77,12 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     wv = _window(t, span_v_s)  # velocity: a wider window, local slope (noise ∝ w^−3/2, bias ∝ θ‴·w²)
     vel = (savgol_filter(raw, wv, 2, deriv=1, mode="interp") if n >= wv else np.gradient(raw)) / np.gradient(t)
     # σ of the velocity: white angle noise through the derivative kernel, σ_v = σ_θ·√Σh²/Δt
-    sig_v = (sig * math.sqrt(float(np.sum(savgol_coeffs(wv, 2, deriv=1) ** 2))) if n >= wv else sig / math.sqrt(2)) \
-        / max(float(np.median(np.diff(t))), 1e-12) if n > 1 else 0.0
+    sig_v = (
+        (sig * math.sqrt(float(np.sum(savgol_coeffs(wv, 2, deriv=1) ** 2))) if n >= wv else sig / math.sqrt(2))
+        / max(float(np.median(np.diff(t))), 1e-12)
+        if n > 1
+        else 0.0
+    )
     # σ of the smoothed angle: white noise through the SG kernel (Σh² of its central row)
     sig_s = sig * math.sqrt(float(np.sum(savgol_coeffs(w, 2) ** 2))) if n >= w else sig
     # the range of n Gaussian samples stays below 2·√(2 ln n)·σ: a hold never trips the trigger
@@ -90,9 +94,21 @@ def analyse_motion(t, theta, *, span_s: float = 0.05, span_v_s: float = 0.15, mi
     cycle = _cycles(n, reversals, direction)
     at_reversal = ~valid
     valid = valid & ~_widen(glitch, w)
-    return Motion(theta=th, velocity=vel, direction=direction, valid=valid, hold=hold, cycle=cycle,
-                  reversals=reversals, sigma_theta=sig, step=h, window=w, glitches=glitch, at_reversal=at_reversal,
-                  velocity_sigma=sig_v)
+    return Motion(
+        theta=th,
+        velocity=vel,
+        direction=direction,
+        valid=valid,
+        hold=hold,
+        cycle=cycle,
+        reversals=reversals,
+        sigma_theta=sig,
+        step=h,
+        window=w,
+        glitches=glitch,
+        at_reversal=at_reversal,
+        velocity_sigma=sig_v,
+    )
 
 
 def spikes(x, sigma: float, k: float = 8.0) -> np.ndarray:
@@ -157,20 +173,20 @@ def _direction_and_mask(th, s0, exts, h, w):
         c = min(b + 1, n - 1)
         # departure pace from displacement (not the noisy velocity), measured from the hold level:
         # d ∝ (t − t₀)^k with 1 ≤ k ≤ 3 gives t₀ ≥ i₂ − (i₄ − i₂)/(2^{1/3} − 1) for d(i₂) = 2h, d(i₄) = 4h
-        level = float(np.median(th[a:b + 1]))
+        level = float(np.median(th[a : b + 1]))
         dep = np.abs(th[c:] - level)
         i2 = np.flatnonzero(dep > 2 * h)
         i4 = np.flatnonzero(dep > 4 * h)
         back = int(i2[0]) + math.ceil((int(i4[0]) - int(i2[0])) / (2 ** (1 / 3) - 1)) if len(i2) and len(i4) else n - c
         n_amb = back + half
-        if b - a + 1 <= 3 * n_amb:        # a turn
+        if b - a + 1 <= 3 * n_amb:  # a turn
             switch, lo = e + 1, max(a - half, 0)
-        else:                              # a hold, then a departure
+        else:  # a hold, then a departure
             lo = max(a, c - n_amb)
             switch = lo
         switch = max(switch, prev)
         direction[prev:switch] = s
-        valid[lo:min(b + half + 1, n)] = False
+        valid[lo : min(b + half + 1, n)] = False
         revs.append(switch)
         s, prev = -s, switch
     direction[prev:] = s

@@ -54,14 +54,52 @@ JOINT_FLAT_KEYS = {
 
 #: Top-level key order of each kind (keys not listed follow, in their own order; a joint's ``joints`` last).
 KEY_ORDER = {
-    "joint": ("stiffness_nmm_per_rad", "rotation_deg", "preload_deg", "material", "printer", "clearance_mm",
-              "link_length_mm", "tendon_diameter_mm", "tendon_moment_arm_mm_requested", "pin_radius_mm",
-              "safety_factor", "end", "spring", "joint_stiffness_nmm_per_rad", "bodies", "moving_body",
-              "axis_point_mm", "axis_dir", "tendon_moment_arm_mm", "tendon_wrap_angle_rad", "gaps_mm",
-              "measured_min_gap_mm", "spring_strip_volume_mm3", "frame", "mesh", "print"),
-    "finger": ("template", "n_joints", "material", "printer", "clearance_mm", "tendon_diameter_mm", "safety_factor",
-               "end", "base_length_mm", "joints", "bodies", "tendon_length_mm", "tendon_path_mm", "gaps_mm", "mesh",
-               "frame"),
+    "joint": (
+        "stiffness_nmm_per_rad",
+        "rotation_deg",
+        "preload_deg",
+        "material",
+        "printer",
+        "clearance_mm",
+        "link_length_mm",
+        "tendon_diameter_mm",
+        "tendon_moment_arm_mm_requested",
+        "pin_radius_mm",
+        "safety_factor",
+        "end",
+        "spring",
+        "joint_stiffness_nmm_per_rad",
+        "bodies",
+        "moving_body",
+        "axis_point_mm",
+        "axis_dir",
+        "tendon_moment_arm_mm",
+        "tendon_wrap_angle_rad",
+        "gaps_mm",
+        "measured_min_gap_mm",
+        "spring_strip_volume_mm3",
+        "frame",
+        "mesh",
+        "print",
+    ),
+    "finger": (
+        "template",
+        "n_joints",
+        "material",
+        "printer",
+        "clearance_mm",
+        "tendon_diameter_mm",
+        "safety_factor",
+        "end",
+        "base_length_mm",
+        "joints",
+        "bodies",
+        "tendon_length_mm",
+        "tendon_path_mm",
+        "gaps_mm",
+        "mesh",
+        "frame",
+    ),
 }
 
 
@@ -192,6 +230,7 @@ class _Entry:
     extra: JSONObject
 
     if TYPE_CHECKING:  # each entry is a dataclass, built from its fields by keyword
+
         def __init__(self, **values: Any) -> None: ...
 
     def to_json(self) -> JSONObject:
@@ -295,19 +334,28 @@ class Manifest:
     @classmethod
     def _from_json(cls, data: Any) -> Manifest:
         if not isinstance(data, dict):
-            raise ManifestError("manifest", type(data).__name__,
-                                f"must be a JSON object, not {_JSON_TYPES.get(type(data), type(data).__name__)}")
+            raise ManifestError(
+                "manifest",
+                type(data).__name__,
+                f"must be a JSON object, not {_JSON_TYPES.get(type(data), type(data).__name__)}",
+            )
         version = data.get("schema_version", 0)
         if not _is_number(version) or version not in (0, SCHEMA_VERSION):
-            raise ManifestError("schema_version", version, f"is {quote(version)}: this rjcad reads versions 0 to "
-                                f"{SCHEMA_VERSION} (was the file written by a newer rjcad?)")
+            raise ManifestError(
+                "schema_version",
+                version,
+                f"is {quote(version)}: this rjcad reads versions 0 to "
+                f"{SCHEMA_VERSION} (was the file written by a newer rjcad?)",
+            )
         version = int(version)
         if version and "joints" not in data:
             raise ManifestError("joints", None, f"is required (schema_version {version})")
         kind = "joint" if "moving_body" in data or "joints" not in data else "finger"
         rest = {k: v for k, v in data.items() if k not in ("schema_version", "joints", "bodies")}
-        typed = {k: _check(kind_, rest.pop(k, None), k)
-                 for k, kind_ in (("material", "str"), ("printer", "str"), ("clearance_mm", "float"))}
+        typed = {
+            k: _check(kind_, rest.pop(k, None), k)
+            for k, kind_ in (("material", "str"), ("printer", "str"), ("clearance_mm", "float"))
+        }
         bodies = _bodies(data.get("bodies"))
         if kind == "joint" and "joints" not in data:
             joints = [_flat_joint(rest, bodies)]
@@ -339,8 +387,14 @@ class Manifest:
         return self.to_json().get(key, default)
 
 
-_JSON_TYPES = {list: "an array", str: "a string", int: "a number", float: "a number", bool: "a boolean",
-               type(None): "null"}
+_JSON_TYPES = {
+    list: "an array",
+    str: "a string",
+    int: "a number",
+    float: "a number",
+    bool: "a boolean",
+    type(None): "null",
+}
 
 
 def _bodies(data: Any) -> list[BodyEntry] | None:

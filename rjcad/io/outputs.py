@@ -13,9 +13,9 @@ import errno
 import os
 import shutil
 import tempfile
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager, suppress
 from pathlib import Path
-from collections.abc import Iterator, Mapping
 
 from rjcad.errors import RjcadError
 
@@ -94,8 +94,9 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
             restore_times(out, times)
 
 
-def write_set(out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str],
-              remove: tuple[str, ...] = ()) -> list[Path]:
+def write_set(
+    out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str], remove: tuple[str, ...] = ()
+) -> list[Path]:
     """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``)."""
     out = Path(out_dir)
     for name in files:
@@ -170,8 +171,9 @@ def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
             moved.append(n)
     except BaseException as e:
         if not _undo(stage, out, moved, saved):
-            raise OutputError(current, f"{getattr(e, 'strerror', None) or e!r}; earlier files kept in {aside}") \
-                from None
+            raise OutputError(
+                current, f"{getattr(e, 'strerror', None) or e!r}; earlier files kept in {aside}"
+            ) from None
         if isinstance(e, OSError):
             raise cannot_write(current, e) from None
         raise

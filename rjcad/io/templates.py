@@ -4,14 +4,24 @@ from rjcad.paper import FINGER
 
 #: A finger template's keys and their types (the builder and the physics read the same files).
 FINGER_KEYS: dict[str, type | tuple[type, ...]] = {
-    "material": str, "printer": str, "clearance_mm": (int, float), "base_length_mm": (int, float),
-    "tendon_diameter_mm": (int, float), "safety_factor": (int, float), "end": str, "layout": str,
-    "defaults": dict, "joint": list,
+    "material": str,
+    "printer": str,
+    "clearance_mm": (int, float),
+    "base_length_mm": (int, float),
+    "tendon_diameter_mm": (int, float),
+    "safety_factor": (int, float),
+    "end": str,
+    "layout": str,
+    "defaults": dict,
+    "joint": list,
 }
 #: Keys of ``[defaults]`` and of each ``[[joint]]``.
 FINGER_JOINT_KEYS: dict[str, type | tuple[type, ...]] = {
-    "stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "rotation_deg": (int, float),
-    "link_length_mm": (int, float), "tendon_moment_arm_mm": (int, float),
+    "stiffness_nmm_per_rad": (int, float),
+    "preload_deg": (int, float),
+    "rotation_deg": (int, float),
+    "link_length_mm": (int, float),
+    "tendon_moment_arm_mm": (int, float),
 }
 
 #: The paper's finger (Sec. V, rjcad.paper.FINGER) as the paper printed it: 40 mm links on the Dimension
@@ -31,6 +41,7 @@ DEFAULT_FINGER = {
     "printer": "generic-0.4",
     "base_length_mm": 29,
     "defaults": {"preload_deg": 90, "rotation_deg": 90},
-    "joint": [{"stiffness_nmm_per_rad": k, "link_length_mm": L}
-              for k, L in zip(FINGER.designed_stiffness, (44, 48, 42))],
+    "joint": [
+        {"stiffness_nmm_per_rad": k, "link_length_mm": L} for k, L in zip(FINGER.designed_stiffness, (44, 48, 42))
+    ],
 }

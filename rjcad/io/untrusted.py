@@ -29,8 +29,13 @@ MAX_BYTES = {"TOML": 1 << 20, "JSON": 32 << 20, "CSV": 256 << 20, "text": 32 << 
 #: Deepest nesting of tables and arrays (rjcad's own files nest at most 4 deep).
 MAX_DEPTH = 32
 #: Byte order marks of the encodings a user's editor may save in instead of UTF-8.
-_BOMS = ((b"\xef\xbb\xbf", None), (b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"),
-         (b"\xff\xfe", "UTF-16"), (b"\xfe\xff", "UTF-16"))
+_BOMS = (
+    (b"\xef\xbb\xbf", None),
+    (b"\xff\xfe\x00\x00", "UTF-32"),
+    (b"\x00\x00\xfe\xff", "UTF-32"),
+    (b"\xff\xfe", "UTF-16"),
+    (b"\xfe\xff", "UTF-16"),
+)
 
 
 def _size_text(n: int) -> str:
@@ -64,7 +69,7 @@ def decode(raw: bytes, label: str, kind: str = "text") -> str:
         if raw.startswith(bom):
             if encoding:
                 raise RjcadError(f"{label}: {encoding} text; save the {kind} file as UTF-8")
-            raw = raw[len(bom):]
+            raw = raw[len(bom) :]
             break
     if b"\x00" in raw:
         raise RjcadError(f"{label}: holds NUL bytes: a binary file, not a {kind} file")
@@ -73,7 +78,7 @@ def decode(raw: bytes, label: str, kind: str = "text") -> str:
     except UnicodeDecodeError as e:
         line = raw.count(b"\n", 0, e.start) + 1
         raise RjcadError(f"{label}: not a UTF-8 text file (byte 0x{raw[e.start]:02x} on line {line})") from None
-    return text.replace("\r\n", "\n").replace("\r", "\n") if "\r" in text else text   # universal newlines
+    return text.replace("\r\n", "\n").replace("\r", "\n") if "\r" in text else text  # universal newlines
 
 
 def read_toml(path: str | os.PathLike, name: str | None = None) -> dict[str, Any]:
@@ -88,7 +93,7 @@ def parse_toml(text: str, label: str) -> dict[str, Any]:
         data = tomllib.loads(text)
     except RecursionError:
         raise RjcadError(f"{label}: not valid TOML (nested deeper than {MAX_DEPTH} tables or arrays)") from None
-    except ValueError as e:   # TOMLDecodeError is one; so is an integer of more than 4300 digits
+    except ValueError as e:  # TOMLDecodeError is one; so is an integer of more than 4300 digits
         raise RjcadError(f"{label}: not valid TOML ({_one_line(e)})") from None
     return check_tree(data, label)
 
@@ -132,8 +137,7 @@ def check_tree(data: Any, label: str) -> Any:
         elif isinstance(value, bool):
             continue
         elif isinstance(value, int) and not _fits_float(value):
-            raise ParameterError(f"{label}: {_key(where)}", value,
-                                 f"must fit a float (|x| < {sys.float_info.max:.3g})")
+            raise ParameterError(f"{label}: {_key(where)}", value, f"must fit a float (|x| < {sys.float_info.max:.3g})")
         elif isinstance(value, float) and not math.isfinite(value):
             raise ParameterError(f"{label}: {_key(where)}", value, "must be a finite number")
     return data
@@ -163,10 +167,12 @@ def confined(folder: Path, name: str, label: str, allow_outside: bool = False) -
         return path
     try:
         base, real = folder.resolve(), path.resolve()
-    except (OSError, ValueError) as e:   # a NUL byte, a name too long, a symlink loop
+    except (OSError, ValueError) as e:  # a NUL byte, a name too long, a symlink loop
         why = getattr(e, "strerror", None) or e
         raise RjcadError(f"{label}: file {quote(name)} cannot be opened ({why})") from None
     if base not in real.parents:
-        raise RjcadError(f"{label}: file {quote(name)} is outside {base} (symlinks followed): data files must lie "
-                         "in the folder of the file that names them (or pass --allow-outside)")
+        raise RjcadError(
+            f"{label}: file {quote(name)} is outside {base} (symlinks followed): data files must lie "
+            "in the folder of the file that names them (or pass --allow-outside)"
+        )
     return path

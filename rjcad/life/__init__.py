@@ -13,6 +13,8 @@ so ``rjcad.spring.optimise`` can import ``rjcad.life`` without a cycle.
 
 from rjcad.life.constraint import (
     _CACHE as _CACHE,  # re-exported: the tests swap the cached design model
+)
+from rjcad.life.constraint import (
     DESIGN_EFFECTS,
     DESIGN_STRESS_TERM,
     amplitude_limit,
@@ -27,8 +29,33 @@ from rjcad.life.likelihood import LEVEL, LifeModel, fit, loo, loo_rmse, profile_
 from rjcad.life.table import LifeData, Table, read_table, row_stresses, table_i, table_i_peaks
 
 __all__ = [
-    "DESIGN_EFFECTS", "DESIGN_STRESS_TERM", "EFFECTS", "LEVEL", "LOO_CUT", "ROAD_WIDTH", "Candidate", "Critique",
-    "Effect", "LifeData", "LifeModel", "Table", "amplitude_limit", "critique", "fit", "life_model", "loo",
-    "loo_rmse", "predict_cycles", "profile_interval", "read_table", "remedy", "row_stresses",
-    "selection_frequencies", "simulate", "table_i", "table_i_peaks", "write_doc", "write_plot",
+    "DESIGN_EFFECTS",
+    "DESIGN_STRESS_TERM",
+    "EFFECTS",
+    "LEVEL",
+    "LOO_CUT",
+    "ROAD_WIDTH",
+    "Candidate",
+    "Critique",
+    "Effect",
+    "LifeData",
+    "LifeModel",
+    "Table",
+    "amplitude_limit",
+    "critique",
+    "fit",
+    "life_model",
+    "loo",
+    "loo_rmse",
+    "predict_cycles",
+    "profile_interval",
+    "read_table",
+    "remedy",
+    "row_stresses",
+    "selection_frequencies",
+    "simulate",
+    "table_i",
+    "table_i_peaks",
+    "write_doc",
+    "write_plot",
 ]

@@ -13,7 +13,6 @@ import numpy as np
 from rjcad.life.likelihood import LEVEL, LifeModel, fit
 from rjcad.life.table import LifeData, table_i
 
-
 #: The model rjcad designs with: the critique's choice on Table I, its effects and whether its
 #: chosen variant keeps the stress term (tests/test_life.py checks that critique() still chooses
 #: exactly this, so a change of data or rule cannot leave the designer on a stale model).
@@ -33,8 +32,10 @@ def remedy() -> str:
     """What to change when the life constraint binds (depends on the design model's terms)."""
     m = life_model()
     if not m.stress or m.params["m"] <= 1e-9:
-        return ("lower --backlash or --min-cycles (the Table I life model has no stress effect, "
-                "so no spring geometry raises it; see rjcad life)")
+        return (
+            "lower --backlash or --min-cycles (the Table I life model has no stress effect, "
+            "so no spring geometry raises it; see rjcad life)"
+        )
     return "lower --backlash, the rotation or --min-cycles, or allow a wider spring (--width-max)"
 
 

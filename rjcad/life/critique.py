@@ -12,7 +12,6 @@ from rjcad.life.effects import EFFECTS
 from rjcad.life.likelihood import LifeModel, fit, loo, profile_interval
 from rjcad.life.table import LifeData, table_i, table_i_peaks
 
-
 #: An extension is chosen when its AICc is lower than the stress-only law's AND it cuts the
 #: leave-one-out error by at least this fraction.
 LOO_CUT = 0.2
@@ -65,39 +64,63 @@ class Critique:
         rows = []
         for i in range(d.n):
             obs = math.log10(d.cycles[i])
-            rows.append({
-                "row": i + 1, "stress_amp_mpa": float(d.stress_amp[i]),
-                "thickness_mm": float(d.thickness[i]), "backlash_mm": float(d.backlash[i]),
-                "observed_cycles": float(d.cycles[i]), "censored": bool(d.censored[i]),
-                "baseline_cycles": float(10 ** base_mu[i]), "extended_cycles": float(10 ** ext_mu[i]),
-                "baseline_residual_log10": float(obs - base_mu[i]), "extended_residual_log10": float(obs - ext_mu[i]),
-                "baseline_loo_error_log10": float(b.loo_err[i]), "extended_loo_error_log10": float(x.loo_err[i]),
-            })
+            rows.append(
+                {
+                    "row": i + 1,
+                    "stress_amp_mpa": float(d.stress_amp[i]),
+                    "thickness_mm": float(d.thickness[i]),
+                    "backlash_mm": float(d.backlash[i]),
+                    "observed_cycles": float(d.cycles[i]),
+                    "censored": bool(d.censored[i]),
+                    "baseline_cycles": float(10 ** base_mu[i]),
+                    "extended_cycles": float(10 ** ext_mu[i]),
+                    "baseline_residual_log10": float(obs - base_mu[i]),
+                    "extended_residual_log10": float(obs - ext_mu[i]),
+                    "baseline_loo_error_log10": float(b.loo_err[i]),
+                    "extended_loo_error_log10": float(x.loo_err[i]),
+                }
+            )
         if self.peaks is not None:
             for r, p in zip(rows, self.peaks):
                 r["stress_peak_mpa"] = float(p)
         base_aicc = b.model.aicc
         return {
-            "baseline": {"params": b.model.params, "stress_term": b.model.stress,
-                         "loo_rmse_log10": b.loo_rmse, "aicc": base_aicc,
-                         "variants": _variants(b),
-                         "intervals_95": self.intervals.get("stress_only", {})},
-            "extended": {"effects": list(self.chosen), "params": x.model.params, "stress_term": x.model.stress,
-                         "loo_rmse_log10": x.loo_rmse,
-                         "aicc": x.model.aicc, "causes": [EFFECTS[e].cause for e in self.chosen],
-                         "intervals_95": self.intervals.get(self.chosen[0], {}) if self.chosen else
-                         self.intervals.get("stress_only", {})},
-            "candidates": {e: {"params": c.model.params, "stress_term": c.model.stress,
-                               "loo_rmse_log10": c.loo_rmse, "aicc": c.model.aicc,
-                               "variants": _variants(c),
-                               "delta_aicc": c.model.aicc - base_aicc,
-                               "intervals_95": self.intervals.get(e, {})}
-                           for e, c in self.candidates.items()},
+            "baseline": {
+                "params": b.model.params,
+                "stress_term": b.model.stress,
+                "loo_rmse_log10": b.loo_rmse,
+                "aicc": base_aicc,
+                "variants": _variants(b),
+                "intervals_95": self.intervals.get("stress_only", {}),
+            },
+            "extended": {
+                "effects": list(self.chosen),
+                "params": x.model.params,
+                "stress_term": x.model.stress,
+                "loo_rmse_log10": x.loo_rmse,
+                "aicc": x.model.aicc,
+                "causes": [EFFECTS[e].cause for e in self.chosen],
+                "intervals_95": self.intervals.get(self.chosen[0], {})
+                if self.chosen
+                else self.intervals.get("stress_only", {}),
+            },
+            "candidates": {
+                e: {
+                    "params": c.model.params,
+                    "stress_term": c.model.stress,
+                    "loo_rmse_log10": c.loo_rmse,
+                    "aicc": c.model.aicc,
+                    "variants": _variants(c),
+                    "delta_aicc": c.model.aicc - base_aicc,
+                    "intervals_95": self.intervals.get(e, {}),
+                }
+                for e, c in self.candidates.items()
+            },
             "gain": b.loo_rmse / x.loo_rmse if x.loo_rmse > 0 else math.inf,
             "akaike_weights": self.akaike_weights(),
             "rule": f"each law at the better AICc of its variants with and without the stress term; an effect "
-                    f"is chosen when its AICc is below the stress-only law's and it cuts the leave-one-out "
-                    f"RMSE by >= {LOO_CUT:.0%}; the lowest AICc wins",
+            f"is chosen when its AICc is below the stress-only law's and it cuts the leave-one-out "
+            f"RMSE by >= {LOO_CUT:.0%}; the lowest AICc wins",
             "rows": rows,
         }
 
@@ -111,9 +134,15 @@ def _candidate(d: LifeData, effects: tuple[str, ...]) -> Candidate:
 
 
 def _variants(c: Candidate) -> dict:
-    return {("with_stress" if st else "without_stress"): {"params": m.params, "aicc": m.aicc,
-                                                          "loglik": m.loglik, "loo_rmse_log10": c.variant_loo[st]}
-            for st, m in c.variants.items()}
+    return {
+        ("with_stress" if st else "without_stress"): {
+            "params": m.params,
+            "aicc": m.aicc,
+            "loglik": m.loglik,
+            "loo_rmse_log10": c.variant_loo[st],
+        }
+        for st, m in c.variants.items()
+    }
 
 
 def critique(d: LifeData | None = None, effects=tuple(EFFECTS), intervals: bool = True) -> Critique:
@@ -127,15 +156,16 @@ def critique(d: LifeData | None = None, effects=tuple(EFFECTS), intervals: bool 
     d = table_i() if d is None else d
     b = _candidate(d, ())
     cands = {eff: _candidate(d, (eff,)) for eff in effects}
-    ok = [eff for eff, c in cands.items()
-          if c.model.aicc < b.model.aicc and c.loo_rmse <= (1 - LOO_CUT) * b.loo_rmse]
+    ok = [eff for eff, c in cands.items() if c.model.aicc < b.model.aicc and c.loo_rmse <= (1 - LOO_CUT) * b.loo_rmse]
     chosen = (min(ok, key=lambda eff: cands[eff].model.aicc),) if ok else ()
     c = Critique(d, b, cands, chosen)
     if intervals:
         c.intervals["stress_only"] = {"m": profile_interval(d, (), "m", model=b.variants[True])}
         for eff, cand in cands.items():
-            c.intervals[eff] = {"m": profile_interval(d, (eff,), "m", model=cand.variants[True]),
-                                EFFECTS[eff].param: profile_interval(d, (eff,), EFFECTS[eff].param, model=cand.model)}
+            c.intervals[eff] = {
+                "m": profile_interval(d, (eff,), "m", model=cand.variants[True]),
+                EFFECTS[eff].param: profile_interval(d, (eff,), EFFECTS[eff].param, model=cand.model),
+            }
     if table:
         c.peaks = table_i_peaks()
     return c

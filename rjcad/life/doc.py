@@ -6,18 +6,18 @@ import math
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.io.config import write_atomic
+from rjcad.io.outputs import check_writable, output_set
 from rjcad.life.constraint import predict_cycles
 from rjcad.life.critique import LOO_CUT, Critique, selection_frequencies
 from rjcad.life.effects import EFFECTS, ROAD_WIDTH
 from rjcad.life.likelihood import LEVEL
 from rjcad.life.table import TABLE_I_END, TABLE_I_INNER_RADIUS, read_table, table_i, table_i_peaks
 from rjcad.materials import get_material
-from rjcad.io.outputs import check_writable, output_set
 from rjcad.plotting import pyplot, save_png
 from rjcad.spring import factors
 from rjcad.spring.formulas import turns_for_length, windup_stress
-from rjcad import DEG
 
 
 def write_plot(c: Critique, path) -> None:
@@ -29,8 +29,13 @@ def write_plot(c: Critique, path) -> None:
         mk = "^" if r["censored"] else "o"
         col = "C3" if r["backlash_mm"] > 0.5 else "C0"
         ax.scatter(r["stress_amp_mpa"], r["observed_cycles"], marker=mk, s=70, color=col, zorder=3)
-        ax.annotate(f"{r['row']} (t {r['thickness_mm']:g})", (r["stress_amp_mpa"], r["observed_cycles"]),
-                    textcoords="offset points", xytext=(6, 4), fontsize=8)
+        ax.annotate(
+            f"{r['row']} (t {r['thickness_mm']:g})",
+            (r["stress_amp_mpa"], r["observed_cycles"]),
+            textcoords="offset points",
+            xytext=(6, 4),
+            fontsize=8,
+        )
         ax.scatter(r["stress_amp_mpa"], r["extended_cycles"], marker="x", color="k", zorder=4)
     s = np.linspace(d.stress_amp.min() * 0.8, d.stress_amp.max() * 1.2, 50)
     bp = c.baseline.model.params
@@ -45,13 +50,31 @@ def write_plot(c: Critique, path) -> None:
     ax.grid(alpha=0.3, which="both")
     obs = np.log10(d.cycles)
     ax2.plot([4, 6.2], [4, 6.2], "k:", lw=1)
-    ax2.scatter(obs, c.baseline.loo_pred, marker="s", facecolor="none", edgecolor="C7", s=60,
-                label=f"stress-only (LOO RMSE {c.baseline.loo_rmse:.2f})")
-    ax2.scatter(obs, c.extended_cand.loo_pred, marker="o", color="C2", s=40,
-                label=f"extended (LOO RMSE {c.extended_cand.loo_rmse:.2f})")
+    ax2.scatter(
+        obs,
+        c.baseline.loo_pred,
+        marker="s",
+        facecolor="none",
+        edgecolor="C7",
+        s=60,
+        label=f"stress-only (LOO RMSE {c.baseline.loo_rmse:.2f})",
+    )
+    ax2.scatter(
+        obs,
+        c.extended_cand.loo_pred,
+        marker="o",
+        color="C2",
+        s=40,
+        label=f"extended (LOO RMSE {c.extended_cand.loo_rmse:.2f})",
+    )
     for i in range(d.n):
-        ax2.annotate(f"{i + 1}{'+' if d.censored[i] else ''}", (obs[i], c.extended_cand.loo_pred[i]),
-                     textcoords="offset points", xytext=(5, 3), fontsize=8)
+        ax2.annotate(
+            f"{i + 1}{'+' if d.censored[i] else ''}",
+            (obs[i], c.extended_cand.loo_pred[i]),
+            textcoords="offset points",
+            xytext=(5, 3),
+            fontsize=8,
+        )
     ax2.set_xlabel("observed log10 cycles (+ = run-out: a lower bound)")
     ax2.set_ylabel("leave-one-out predicted log10 cycles")
     ax2.set_title("each row predicted by the model fitted to the other six")
@@ -64,8 +87,13 @@ def write_plot(c: Critique, path) -> None:
 def _m_range() -> str:
     """The rows' peak-moment factors m, as 'lo–hi'."""
     tab = read_table()
-    m = factors.stress_factor(math.pi, TABLE_I_INNER_RADIUS, tab.pitch,
-                              turns_for_length(tab.length, TABLE_I_INNER_RADIUS, tab.pitch), TABLE_I_END)
+    m = factors.stress_factor(
+        math.pi,
+        TABLE_I_INNER_RADIUS,
+        tab.pitch,
+        turns_for_length(tab.length, TABLE_I_INNER_RADIUS, tab.pitch),
+        TABLE_I_END,
+    )
     return f"{m.min():.2f}–{m.max():.2f}"
 
 
@@ -138,7 +166,8 @@ def _data_section(d: dict, n_sim: int, seed: int) -> list[str]:
             f"{r['observed_cycles']:.2g}{' (run-out)' if r['censored'] else ''} | {r['baseline_cycles']:.2g} | "
             f"{r['baseline_residual_log10']:+.2f} | {r['baseline_loo_error_log10']:+.2f} | "
             f"{r['extended_cycles']:.2g} | {r['extended_residual_log10']:+.2f} | "
-            f"{r['extended_loo_error_log10']:+.2f} |")
+            f"{r['extended_loo_error_log10']:+.2f} |"
+        )
     return lines
 
 
@@ -183,10 +212,14 @@ def _laws_section(d: dict) -> list[str]:
         for var, vv in v["variants"].items():
             k = len(vv["params"]) - (0 if var == "with_stress" else 1)
             used = "**" if (var == "with_stress") == v["stress_term"] else ""
-            lines.append(f"| {name} | {used}{var.replace('_', ' ')}{used} | {k} | {vv['loglik']:.2f} | "
-                         f"{vv['aicc']:.2f} | {vv['loo_rmse_log10']:.2f} | "
-                         + ", ".join(f"{p} = {x:.3g}" for p, x in vv["params"].items()
-                                     if not (p == "m" and var == "without_stress")) + " |")
+            lines.append(
+                f"| {name} | {used}{var.replace('_', ' ')}{used} | {k} | {vv['loglik']:.2f} | "
+                f"{vv['aicc']:.2f} | {vv['loo_rmse_log10']:.2f} | "
+                + ", ".join(
+                    f"{p} = {x:.3g}" for p, x in vv["params"].items() if not (p == "m" and var == "without_stress")
+                )
+                + " |"
+            )
     return lines
 
 
@@ -210,7 +243,8 @@ def _choice_section(c: Critique, d: dict) -> list[str]:
         lines.append(
             f"| + {name} | {EFFECTS[name].cause} | {p} {_fmt_iv(iv.get(p, (0, 0)))}, m (with the stress term) "
             f"{_fmt_iv(iv.get('m', (0, 0)))} | {v['loo_rmse_log10']:.2f} | {v['delta_aicc']:+.2f} | "
-            f"{d['akaike_weights'][name]:.2f} |")
+            f"{d['akaike_weights'][name]:.2f} |"
+        )
     lines += [
         "",
         f"Effects: `c_backlash` is the change in log10 cycles from 0.25 to 0.75 mm backlash; `c_thin` multiplies "
@@ -233,11 +267,13 @@ def _choice_section(c: Critique, d: dict) -> list[str]:
             f"leave-one-out error by at least {LOO_CUT:.0%}: {b['loo_rmse_log10']:.2f} → {cv['loo_rmse_log10']:.2f} "
             f"log10, a gain of {d['gain']:.2f}x. The fitted effect: going from 0.25 to 0.75 mm backlash divides "
             f"the life by {10 ** -cv['params'][p]:.0f} (95 % interval: by {10 ** -iv[1]:.1f} to "
-            f"{10 ** -iv[0]:.0f}), and the scatter drops from s = {bp['s']:.2f} to {cv['params']['s']:.2f}.",
+            f"{10 ** -iv[0]:.0f}), and the scatter drops from s = {bp['s']:.2f} to {cv['params']['s']:.2f}."
         ]
     else:
-        lines += ["**Chosen: none.** No candidate both lowers AICc and cuts the leave-one-out error enough; "
-                  "the stress-only law stays."]
+        lines += [
+            "**Chosen: none.** No candidate both lowers AICc and cuts the leave-one-out error enough; "
+            "the stress-only law stays."
+        ]
     return lines
 
 
@@ -259,8 +295,11 @@ def _bootstrap_section(c: Critique, d: dict, freq: dict, n_sim: int) -> list[str
         "|---|---|" + "---|" * len(c.candidates),
     ]
     for g, f in freq.items():
-        lines.append(f"| {g.replace('_', ' ') if g == 'stress_only' else g} | {f['stress_only']:.1%} | "
-                     + " | ".join(f"{f[k]:.1%}" for k in c.candidates) + " |")
+        lines.append(
+            f"| {g.replace('_', ' ') if g == 'stress_only' else g} | {f['stress_only']:.1%} | "
+            + " | ".join(f"{f[k]:.1%}" for k in c.candidates)
+            + " |"
+        )
     lines += [
         "",
         f"Read the first row as the false-alarm rate: with no hidden factor the procedure names a cause in "
@@ -290,12 +329,19 @@ def _peaks_note(d: dict, sy: float) -> str:
     p = [r.get("stress_peak_mpa", float("nan")) for r in d["rows"]]
     old = _old_pinned_peaks()
     at = [i for i in (2, 3) if p[i] >= sy]
-    level = (f"row {at[0] + 1}'s reaches the {sy:g} MPa yield" if len(at) == 1 else
-             f"both reach the {sy:g} MPa yield" if at else f"both stay below the {sy:g} MPa yield")
-    return (f"The peak stresses of rows 3 and 4 are {p[2]:.1f} and {p[3]:.1f} MPa with the clamped end ({level}; "
-            f"the old pinned-end closed form put them at {old[2]:.0f} and {old[3]:.0f} MPa), yet they lived "
-            f"about as long as the 0.75 mm-backlash thin strip at {p[4]:.1f} MPa: stress does not order these "
-            "lives.")
+    level = (
+        f"row {at[0] + 1}'s reaches the {sy:g} MPa yield"
+        if len(at) == 1
+        else f"both reach the {sy:g} MPa yield"
+        if at
+        else f"both stay below the {sy:g} MPa yield"
+    )
+    return (
+        f"The peak stresses of rows 3 and 4 are {p[2]:.1f} and {p[3]:.1f} MPa with the clamped end ({level}; "
+        f"the old pinned-end closed form put them at {old[2]:.0f} and {old[3]:.0f} MPa), yet they lived "
+        f"about as long as the 0.75 mm-backlash thin strip at {p[4]:.1f} MPa: stress does not order these "
+        "lives."
+    )
 
 
 def _design_section() -> list[str]:
@@ -323,8 +369,13 @@ def write_doc(c: Critique, out_dir, n_sim: int = 200, seed: int = 0) -> None:
     out = check_writable(out_dir)  # before the bootstrap, not after it
     d = c.to_dict()
     freq = selection_frequencies(c, n_sim, seed)
-    lines = (_data_section(d, n_sim, seed) + _laws_section(d) + _choice_section(c, d)
-             + _bootstrap_section(c, d, freq, n_sim) + _design_section())
+    lines = (
+        _data_section(d, n_sim, seed)
+        + _laws_section(d)
+        + _choice_section(c, d)
+        + _bootstrap_section(c, d, freq, n_sim)
+        + _design_section()
+    )
     with output_set(out) as stage:
         write_plot(c, stage / "life.png")
         write_atomic(stage / "life.md", "\n".join(lines) + "\n")

@@ -26,10 +26,16 @@ class Effect:
 
 
 EFFECTS = {
-    "pin_backlash": Effect("pin backlash lets the spring take secondary (out-of-plane, impact) loads",
-                           lambda d: (np.asarray(d.backlash) - 0.25) / 0.5, "c_backlash",
-                           "log10 cycles from 0.25 to 0.75 mm backlash"),
-    "thin_strip": Effect("a strip of one or two extrusion roads: a surface flaw or a weak road bond "
-                         "is a large part of the section", lambda d: ROAD_WIDTH / np.asarray(d.thickness),
-                         "c_thin", f"log10 cycles per unit of road width / t (road {ROAD_WIDTH} mm)"),
+    "pin_backlash": Effect(
+        "pin backlash lets the spring take secondary (out-of-plane, impact) loads",
+        lambda d: (np.asarray(d.backlash) - 0.25) / 0.5,
+        "c_backlash",
+        "log10 cycles from 0.25 to 0.75 mm backlash",
+    ),
+    "thin_strip": Effect(
+        "a strip of one or two extrusion roads: a surface flaw or a weak road bond is a large part of the section",
+        lambda d: ROAD_WIDTH / np.asarray(d.thickness),
+        "c_thin",
+        f"log10 cycles per unit of road width / t (road {ROAD_WIDTH} mm)",
+    ),
 }

@@ -24,7 +24,6 @@ _SQRT2 = math.sqrt(2.0)
 _LOG_SQRT_2PI = 0.5 * math.log(2 * math.pi)
 
 
-
 def _log_phi_cdf(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """log Φ(q) and the inverse Mills ratio λ = φ(q)/Φ(q) (asymptotic form far in the lower tail)."""
     q = np.asarray(q, dtype=float)
@@ -93,8 +92,11 @@ def _solve(X, y, cens, free, fixed_vals):
     # τ multiplies (−y + off): fixing β_j = v is γ_j = v·τ, a change of the τ column
     W = np.column_stack([Xf, -(y - off)])
     unc = ~cens
-    beta0, *_ = np.linalg.lstsq(Xf[unc] if unc.sum() >= Xf.shape[1] else Xf, (y - off)[unc]
-                                if unc.sum() >= Xf.shape[1] else (y - off), rcond=None)
+    beta0, *_ = np.linalg.lstsq(
+        Xf[unc] if unc.sum() >= Xf.shape[1] else Xf,
+        (y - off)[unc] if unc.sum() >= Xf.shape[1] else (y - off),
+        rcond=None,
+    )
     s0 = max(float(np.std((y - off - Xf @ beta0)[unc])) if unc.any() else 0.3, 0.1)
     theta, ll = _newton(W, cens, np.concatenate([beta0 / s0, [1 / s0]]))
     beta = np.empty(X.shape[1])
@@ -148,8 +150,13 @@ class LifeModel:
         return mu - z * np.sqrt(var), mu + z * np.sqrt(var)
 
 
-def fit(d: LifeData, effects: tuple[str, ...] = (), fixed: dict[str, float] | None = None,
-        with_cov: bool = True, stress: bool = True) -> LifeModel:
+def fit(
+    d: LifeData,
+    effects: tuple[str, ...] = (),
+    fixed: dict[str, float] | None = None,
+    with_cov: bool = True,
+    stress: bool = True,
+) -> LifeModel:
     """Maximum-likelihood fit, the run-outs as survivals; m ≥ 0 (m = 0 when ``stress`` is False);
     ``fixed`` pins parameters (profiles)."""
     model = LifeModel(tuple(effects), stress, n=d.n)
@@ -166,8 +173,9 @@ def fit(d: LifeData, effects: tuple[str, ...] = (), fixed: dict[str, float] | No
     if free[1] and beta[1] < 0:  # the bound m ≥ 0 is active: the concave problem's optimum lies on it
         free2 = free.copy()
         free2[1] = False
-        beta, s, ll = _solve(X, y, cens, free2, np.array([0.0 if nm == "m" else fixed[nm] for nm in names
-                                                          if nm == "m" or nm in fixed]))
+        beta, s, ll = _solve(
+            X, y, cens, free2, np.array([0.0 if nm == "m" else fixed[nm] for nm in names if nm == "m" or nm in fixed])
+        )
     model.params = dict(zip(names, map(float, beta)))
     model.params["s"] = float(s)
     model.loglik = float(ll)
@@ -195,8 +203,14 @@ def _covariance(X, y, cens, beta, s, free) -> np.ndarray:
     return cov
 
 
-def profile_interval(d: LifeData, effects: tuple[str, ...], param: str, level: float = 0.95,
-                     model: LifeModel | None = None, stress: bool = True) -> tuple[float, float]:
+def profile_interval(
+    d: LifeData,
+    effects: tuple[str, ...],
+    param: str,
+    level: float = 0.95,
+    model: LifeModel | None = None,
+    stress: bool = True,
+) -> tuple[float, float]:
     """Profile-likelihood interval of one parameter: where 2·(ln L_max − ln L_profile) = χ²₁(level)."""
     model = model or fit(d, effects, with_cov=False, stress=stress)
     stress = model.stress

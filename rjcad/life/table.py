@@ -21,16 +21,15 @@ from importlib import resources
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.materials import get_material
 from rjcad.spring.factors import JOINT_SENSE, cycle_stresses
 from rjcad.spring.formulas import turns_for_length
-from rjcad import DEG
 
 #: Table I does not give the springs' inner radius: assumed [mm] (rjcad's smallest, the paper's pin scale).
 TABLE_I_INNER_RADIUS = 3.0
 #: The outer end assumed for Table I's springs: clamped, as the paper's joint measurement says.
 TABLE_I_END = "clamped"
-
 
 
 @dataclass(frozen=True)
@@ -59,8 +58,15 @@ def read_table(text: str | None = None) -> Table:
             body.append(line)
     rows = list(csv.DictReader(io.StringIO("\n".join(body))))
     col = lambda k: np.array([float(r[k]) for r in rows])  # noqa: E731
-    return Table(meta, col("length_mm"), col("pitch_mm"), col("thickness_mm"), col("backlash_mm"),
-                 col("cycles"), col("censored").astype(bool))
+    return Table(
+        meta,
+        col("length_mm"),
+        col("pitch_mm"),
+        col("thickness_mm"),
+        col("backlash_mm"),
+        col("cycles"),
+        col("censored").astype(bool),
+    )
 
 
 @dataclass(frozen=True)
@@ -78,28 +84,38 @@ class LifeData:
         return len(self.cycles)
 
     def subset(self, keep) -> LifeData:
-        return LifeData(*(np.asarray(getattr(self, f))[keep] for f in
-                          ("stress_amp", "thickness", "backlash", "cycles", "censored")))
+        return LifeData(
+            *(np.asarray(getattr(self, f))[keep] for f in ("stress_amp", "thickness", "backlash", "cycles", "censored"))
+        )
 
 
-def row_stresses(length, pitch, thickness, width, E, rotation, preload, end=TABLE_I_END,
-                 inner_radius=TABLE_I_INNER_RADIUS):
+def row_stresses(
+    length, pitch, thickness, width, E, rotation, preload, end=TABLE_I_END, inner_radius=TABLE_I_INNER_RADIUS
+):
     """(amplitude, peak) bending stress of a spring cycled preload → preload + rotation [MPa].
 
     The rod model's factors for the spiral (L, p, t, r_in; turns from the exact Archimedean length),
     as the spring designer uses them (rjcad.spring.factors.cycle_stresses, the joint's sense).
     """
     turns = turns_for_length(length, inner_radius, pitch)
-    _, peak, amp = cycle_stresses(E, width, thickness, length, inner_radius, pitch, turns, preload, rotation, end,
-                                  JOINT_SENSE)
+    _, peak, amp = cycle_stresses(
+        E, width, thickness, length, inner_radius, pitch, turns, preload, rotation, end, JOINT_SENSE
+    )
     return amp, peak
 
 
 def _table_stresses(tab: Table, end: str):
     """(amplitude, peak) of every row of ``tab`` under its own conditions [MPa]."""
-    return row_stresses(tab.length, tab.pitch, tab.thickness, float(tab.meta["width_mm"]),
-                        get_material(tab.meta["material"]).youngs_modulus_mpa,
-                        float(tab.meta["rotation_deg"]) * DEG, float(tab.meta["preload_deg"]) * DEG, end)
+    return row_stresses(
+        tab.length,
+        tab.pitch,
+        tab.thickness,
+        float(tab.meta["width_mm"]),
+        get_material(tab.meta["material"]).youngs_modulus_mpa,
+        float(tab.meta["rotation_deg"]) * DEG,
+        float(tab.meta["preload_deg"]) * DEG,
+        end,
+    )
 
 
 def table_i(runout_bound: float | None = None, end: str = TABLE_I_END) -> LifeData:

@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.io.manifest import Manifest
 from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON, BodySpec, FingerSpec, JointSpec, to_xml, unit
-from rjcad import DEG
 
 if TYPE_CHECKING:
     import trimesh
@@ -32,11 +32,11 @@ DAMPING_S, ARMATURE, FRICTIONLOSS = 0.02, 0.0, 0.0
 
 #: --gravity: rjcad's finger orientations (x along the straight finger, y towards the palm, z along the axes)
 GRAVITY = {
-    "horizontal-palm-down": (0.0, 1.0, 0.0),   # gravity helps flexion
-    "horizontal-palm-up": (0.0, -1.0, 0.0),    # gravity opposes flexion
+    "horizontal-palm-down": (0.0, 1.0, 0.0),  # gravity helps flexion
+    "horizontal-palm-up": (0.0, -1.0, 0.0),  # gravity opposes flexion
     "vertical-tip-down": (1.0, 0.0, 0.0),
     "vertical-tip-up": (-1.0, 0.0, 0.0),
-    "lying-as-printed": (0.0, 0.0, -1.0),      # on the bed, axes vertical: no torque on the joints
+    "lying-as-printed": (0.0, 0.0, -1.0),  # on the bed, axes vertical: no torque on the joints
     "off": (0.0, 0.0, 0.0),
 }
 DEFAULT_GRAVITY = "horizontal-palm-down"
@@ -53,8 +53,12 @@ def gravity_of(value: str | float) -> tuple[float, float, float]:
     try:
         a = float(value) * DEG
     except (TypeError, ValueError):
-        raise ParameterError("--gravity", value, f"must be one of {', '.join(GRAVITY)}, or the angle of gravity "
-                                                 "from the finger's axis towards the palm [deg]") from None
+        raise ParameterError(
+            "--gravity",
+            value,
+            f"must be one of {', '.join(GRAVITY)}, or the angle of gravity "
+            "from the finger's axis towards the palm [deg]",
+        ) from None
     if not math.isfinite(a):
         raise ParameterError("--gravity", value, "must be finite")
     return (G * math.cos(a), G * math.sin(a), 0.0)
@@ -62,12 +66,22 @@ def gravity_of(value: str | float) -> tuple[float, float, float]:
 
 def _path_points(man: Manifest, source: str) -> np.ndarray:
     pts = man.extra.get("tendon_path_mm")
-    ok = isinstance(pts, list) and len(pts) >= 2 and all(
-        isinstance(p, list) and len(p) == 3 and all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                                    and math.isfinite(x) for x in p) for p in pts)
+    ok = (
+        isinstance(pts, list)
+        and len(pts) >= 2
+        and all(
+            isinstance(p, list)
+            and len(p) == 3
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) for x in p)
+            for p in pts
+        )
+    )
     if not ok:
-        raise ParameterError(f"{source}: tendon_path_mm", pts, "must be a list of at least 2 [x, y, z] points "
-                             "(a finger manifest written by rjcad finger)")
+        raise ParameterError(
+            f"{source}: tendon_path_mm",
+            pts,
+            "must be a list of at least 2 [x, y, z] points (a finger manifest written by rjcad finger)",
+        )
     return np.asarray(pts, dtype=float)
 
 
@@ -91,8 +105,16 @@ def check_manifest(man: Manifest, source: str) -> None:
         raise ParameterError(f"{source}: bodies", None, "must list the finger's bodies")
     names = {b.name for b in man.bodies}
     for i, j in enumerate(man.joints):
-        for key in ("parent", "child", "axis_point_mm", "axis_dir", "joint_stiffness_nmm_per_rad", "preload_deg",
-                    "rotation_deg", "tendon_moment_arm_mm"):
+        for key in (
+            "parent",
+            "child",
+            "axis_point_mm",
+            "axis_dir",
+            "joint_stiffness_nmm_per_rad",
+            "preload_deg",
+            "rotation_deg",
+            "tendon_moment_arm_mm",
+        ):
             if getattr(j, key) is None:
                 raise ParameterError(f"{source}: {man.key_path(i, key)}", None, "is required for the MJCF")
         for key in ("parent", "child"):
@@ -112,8 +134,10 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
         elif threemf.is_file():
             out[b.name] = threemf
         else:
-            raise RjcadError(f"{stl}: mesh file not found (nor {threemf.name}): the MJCF needs each body's mesh; "
-                             "build the finger with rjcad finger (--mjcf writes one STL per body)")
+            raise RjcadError(
+                f"{stl}: mesh file not found (nor {threemf.name}): the MJCF needs each body's mesh; "
+                "build the finger with rjcad finger (--mjcf writes one STL per body)"
+            )
     return out
 
 
@@ -150,8 +174,7 @@ def _mass_properties(mesh, mass_kg: float) -> tuple[tuple, tuple]:
     vol = abs(float(mesh.volume))
     com = np.asarray(mesh.center_mass, dtype=float)
     inertia = np.asarray(mesh.moment_inertia, dtype=float) * np.sign(mesh.volume) * (mass_kg / vol) * 1e-6
-    return tuple(com * 1e-3), (inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2],
-                               inertia[1, 2])
+    return tuple(com * 1e-3), (inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[0, 2], inertia[1, 2])
 
 
 def _site_owner(man: Manifest, point: np.ndarray) -> str:
@@ -166,9 +189,14 @@ def _site_owner(man: Manifest, point: np.ndarray) -> str:
     return owner
 
 
-def spec_from_manifest(man: Manifest, meshes: dict[str, trimesh.Trimesh], stem: str, source: str = "manifest",
-                       gravity: tuple[float, float, float] | None = None,
-                       identified: dict[str, Any] | None = None) -> FingerSpec:
+def spec_from_manifest(
+    man: Manifest,
+    meshes: dict[str, trimesh.Trimesh],
+    stem: str,
+    source: str = "manifest",
+    gravity: tuple[float, float, float] | None = None,
+    identified: dict[str, Any] | None = None,
+) -> FingerSpec:
     """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
     from rjcad.materials import MATERIALS
 
@@ -184,23 +212,39 @@ def spec_from_manifest(man: Manifest, meshes: dict[str, trimesh.Trimesh], stem: 
         com, inertia = _mass_properties(mesh, mass_g * 1e-3)
         bodies.append(BodySpec(b.name, mass_g * 1e-3, com, inertia, mesh_file=f"{stem}_{b.name}.stl"))
     order = [b.name for b in man_bodies]
-    bodies.sort(key=lambda b: ([j.child for j in man.joints].index(b.name) + 1) if b.name != man.joints[0].parent
-                else 0)
+    bodies.sort(
+        key=lambda b: ([j.child for j in man.joints].index(b.name) + 1) if b.name != man.joints[0].parent else 0
+    )
     if [b.name for b in bodies] != [man.joints[0].parent] + [j.child for j in man.joints] or len(order) != len(bodies):
-        raise ParameterError(f"{source}: joints", [j.child for j in man.joints],
-                             "must chain the bodies base → distal, each joint's parent the previous child")
+        raise ParameterError(
+            f"{source}: joints",
+            [j.child for j in man.joints],
+            "must chain the bodies base → distal, each joint's parent the previous child",
+        )
     params = joint_parameters(man, identified)
-    joints = tuple(JointSpec(_checked(j.parent), _checked(j.child), _point_m(_checked(j.axis_point_mm)),
-                             unit(_checked(j.axis_dir)), p["stiffness"] * 1e-3, p["preload"],
-                             _checked(j.rotation_deg) * DEG, _checked(j.tendon_moment_arm_mm) * 1e-3,
-                             p["stiffness"] * 1e-3 * DAMPING_S, p["friction"] * 1e-3, ARMATURE)
-                   for j, p in zip(man.joints, params))
+    joints = tuple(
+        JointSpec(
+            _checked(j.parent),
+            _checked(j.child),
+            _point_m(_checked(j.axis_point_mm)),
+            unit(_checked(j.axis_dir)),
+            p["stiffness"] * 1e-3,
+            p["preload"],
+            _checked(j.rotation_deg) * DEG,
+            _checked(j.tendon_moment_arm_mm) * 1e-3,
+            p["stiffness"] * 1e-3 * DAMPING_S,
+            p["friction"] * 1e-3,
+            ARMATURE,
+        )
+        for j, p in zip(man.joints, params)
+    )
     pts = _path_points(man, source)
     sites = tuple((_site_owner(man, pt), tuple(pt * 1e-3)) for pt in pts)
     grav = gravity if gravity is not None else gravity_of(DEFAULT_GRAVITY)
     notes = _notes(man, source, identified, grav)
-    return FingerSpec(tuple(bodies), joints, sites, gravity=grav, notes=notes,
-                      model_name=f"rjcad finger ({len(joints)} joints)")
+    return FingerSpec(
+        tuple(bodies), joints, sites, gravity=grav, notes=notes, model_name=f"rjcad finger ({len(joints)} joints)"
+    )
 
 
 def joint_parameters(man: Manifest, identified: dict[str, Any] | None) -> list[dict[str, float]]:
@@ -208,14 +252,19 @@ def joint_parameters(man: Manifest, identified: dict[str, Any] | None) -> list[d
     out = []
     params = (identified or {}).get("params", {})
     for k, j in enumerate(man.joints, start=1):
-        out.append({"stiffness": float(params.get(f"stiffness_nmm_per_rad_j{k}", j.joint_stiffness_nmm_per_rad)),
-                    "preload": float(params.get(f"preload_deg_j{k}", j.preload_deg)) * DEG,
-                    "friction": float(params.get(f"friction_nmm_j{k}", FRICTIONLOSS * 1e3))})
+        out.append(
+            {
+                "stiffness": float(params.get(f"stiffness_nmm_per_rad_j{k}", j.joint_stiffness_nmm_per_rad)),
+                "preload": float(params.get(f"preload_deg_j{k}", j.preload_deg)) * DEG,
+                "friction": float(params.get(f"friction_nmm_j{k}", FRICTIONLOSS * 1e3)),
+            }
+        )
     return out
 
 
-def _notes(man: Manifest, source: str, identified: dict[str, Any] | None,
-           grav: tuple[float, float, float]) -> tuple[str, ...]:
+def _notes(
+    man: Manifest, source: str, identified: dict[str, Any] | None, grav: tuple[float, float, float]
+) -> tuple[str, ...]:
     fitted = sorted((identified or {}).get("params", {}))
     lost = [k for k in fitted if k.startswith(("gamma", "beta", "mu_alpha"))]
     return (
@@ -225,11 +274,15 @@ def _notes(man: Manifest, source: str, identified: dict[str, Any] | None,
         f"'{GROOVE_TENDON}': rjcad's model, length -sum(r_i q_i) (constant moment arms); actuator 'pull' "
         "(position, tension only) acts on one of them",
         "joints: springref = -preload (the spring presses each joint on its extension stop at q = 0); "
-        + (f"stiffness, preload and pin friction (frictionloss) from the identify result: {', '.join(fitted)}"
-           if identified else f"frictionloss {FRICTIONLOSS} (design model), damping K*{DAMPING_S} s and "
-                              f"armature {ARMATURE}: stated defaults, not measured"),
+        + (
+            f"stiffness, preload and pin friction (frictionloss) from the identify result: {', '.join(fitted)}"
+            if identified
+            else f"frictionloss {FRICTIONLOSS} (design model), damping K*{DAMPING_S} s and "
+            f"armature {ARMATURE}: stated defaults, not measured"
+        ),
         "MuJoCo cannot represent: a tension that changes along the tendon (capstan), nor pin friction that grows "
-        "with the tendon load" + (f" (identified, left out: {', '.join(lost)})" if lost else "")
+        "with the tendon load"
+        + (f" (identified, left out: {', '.join(lost)})" if lost else "")
         + "; see docs/mujoco.md",
         f"gravity {tuple(round(g, 3) for g in grav)} m/s^2 in the finger frame",
     )
@@ -242,14 +295,21 @@ def check_identified(data: Any, man: Manifest, source: str) -> dict[str, Any]:
     design = data["design"]
     ks = design.get("stiffness_nmm_per_rad")
     mine = [_checked(j.joint_stiffness_nmm_per_rad) for j in man.joints]
-    if design.get("joints") != len(man.joints) or not isinstance(ks, list) or len(ks) != len(mine) or any(
-            not isinstance(a, (int, float)) or abs(a - b) > 0.02 * b for a, b in zip(ks, mine)):
-        raise RjcadError(f"{source}: identify result for another design: its finger has "
-                         f"{quote(design.get('joints'))} joints, K = {quote(ks)} N·mm/rad; the manifest's has "
-                         f"{len(mine)}, K = {[round(k, 2) for k in mine]}")
+    if (
+        design.get("joints") != len(man.joints)
+        or not isinstance(ks, list)
+        or len(ks) != len(mine)
+        or any(not isinstance(a, (int, float)) or abs(a - b) > 0.02 * b for a, b in zip(ks, mine))
+    ):
+        raise RjcadError(
+            f"{source}: identify result for another design: its finger has "
+            f"{quote(design.get('joints'))} joints, K = {quote(ks)} N·mm/rad; the manifest's has "
+            f"{len(mine)}, K = {[round(k, 2) for k in mine]}"
+        )
     params = data.get("params", {})
-    if not isinstance(params, dict) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                               and math.isfinite(v) for v in params.values()):
+    if not isinstance(params, dict) or not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in params.values()
+    ):
         raise RjcadError(f"{source}: params must be an object of finite numbers")
     for k, v in params.items():
         if k.startswith("friction_nmm_j") and v < 0:
@@ -257,9 +317,14 @@ def check_identified(data: Any, man: Manifest, source: str) -> dict[str, Any]:
     return data
 
 
-def mjcf_files(man: Manifest, meshes: dict[str, trimesh.Trimesh], xml_name: str, source: str,
-               gravity: tuple[float, float, float] | None = None,
-               identified: dict[str, Any] | None = None) -> dict[str, bytes | str]:
+def mjcf_files(
+    man: Manifest,
+    meshes: dict[str, trimesh.Trimesh],
+    xml_name: str,
+    source: str,
+    gravity: tuple[float, float, float] | None = None,
+    identified: dict[str, Any] | None = None,
+) -> dict[str, bytes | str]:
     """The MJCF ``xml_name`` and one binary STL per body beside it (``<stem>_<body>.stl``), in memory."""
     stem = Path(xml_name).stem
     spec = spec_from_manifest(man, meshes, stem, source, gravity, identified)

@@ -37,8 +37,14 @@ def paper_friction_model() -> FingerModel:
 
     m = model_from_template(PAPER_FINGER)
     n = m.n
-    return replace(m, friction=(JOINT.mu_j * PIN_LOAD_N,) * n, gamma_pos=(JOINT.gamma_pos,) * n,
-                   gamma_neg=(JOINT.gamma_neg,) * n, wrap=(math.log(JOINT.beta_pos),) + (0.0,) * (n - 1), mu_t=1.0)
+    return replace(
+        m,
+        friction=(JOINT.mu_j * PIN_LOAD_N,) * n,
+        gamma_pos=(JOINT.gamma_pos,) * n,
+        gamma_neg=(JOINT.gamma_neg,) * n,
+        wrap=(math.log(JOINT.beta_pos),) + (0.0,) * (n - 1),
+        mu_t=1.0,
+    )
 
 
 def representable(m: FingerModel) -> FingerModel:
@@ -71,20 +77,31 @@ class Comparison:
 
     def to_dict(self) -> dict:
         r = lambda x: round(float(x), 4)  # noqa: E731
-        return {"frictionloss_nmm": [r(x) for x in self.frictionloss_nmm], "tension_rms_n": r(self.tension_rms_n),
-                "rms_deg": r(self.rms_deg),
-                "max_deg": r(self.max_deg), "release_rms_deg": r(self.release_rms_deg),
-                "release_max_deg": r(self.release_max_deg),
-                "per_joint_release_max_deg": [r(x) for x in self.per_joint_release_max_deg]}
+        return {
+            "frictionloss_nmm": [r(x) for x in self.frictionloss_nmm],
+            "tension_rms_n": r(self.tension_rms_n),
+            "rms_deg": r(self.rms_deg),
+            "max_deg": r(self.max_deg),
+            "release_rms_deg": r(self.release_rms_deg),
+            "release_max_deg": r(self.release_max_deg),
+            "per_joint_release_max_deg": [r(x) for x in self.per_joint_release_max_deg],
+        }
 
 
 def compare(ref: Closure, mj: Closure, frictionloss) -> Comparison:
     err = np.degrees(mj.theta - ref.theta)
     rel = np.array([p == "release" for p in ref.phase])
-    return Comparison([float(x) for x in frictionloss], float(np.sqrt(np.mean((mj.tension - ref.tension) ** 2))),
-                      float(np.sqrt(np.mean(err**2))), float(np.abs(err).max()),
-                      float(np.sqrt(np.mean(err[rel] ** 2))), float(np.abs(err[rel]).max()),
-                      np.abs(err[rel]).max(axis=0).tolist(), ref, mj)
+    return Comparison(
+        [float(x) for x in frictionloss],
+        float(np.sqrt(np.mean((mj.tension - ref.tension) ** 2))),
+        float(np.sqrt(np.mean(err**2))),
+        float(np.abs(err).max()),
+        float(np.sqrt(np.mean(err[rel] ** 2))),
+        float(np.abs(err[rel]).max()),
+        np.abs(err[rel]).max(axis=0).tolist(),
+        ref,
+        mj,
+    )
 
 
 def start_frictionloss(m: FingerModel, ref: Closure) -> np.ndarray:
@@ -94,8 +111,9 @@ def start_frictionloss(m: FingerModel, ref: Closure) -> np.ndarray:
     return np.asarray(m.friction) + g * np.mean(ref.theta + th0, axis=0)
 
 
-def fit_frictionloss(m: FingerModel, stroke: float = FINGER.stroke, steps: int = STEPS,
-                     target: str = "angles") -> Comparison:
+def fit_frictionloss(
+    m: FingerModel, stroke: float = FINGER.stroke, steps: int = STEPS, target: str = "angles"
+) -> Comparison:
     """The constant frictionloss, the same on every joint [N·mm], with which MuJoCo's stroke comes closest to
     rjcad's: the smallest RMS of every joint angle at every step (``target`` "angles") or of the actuator's
     tension ("tension"); and the errors that remain.
@@ -135,10 +153,20 @@ def analyse(stroke: float = FINGER.stroke, steps: int = STEPS) -> dict:
     fitted_t = fit_frictionloss(full, stroke, steps, target="tension")
     fitted_rep = fit_frictionloss(rep, stroke, steps)
     fitted_rep_t = fit_frictionloss(rep, stroke, steps, target="tension")
-    return {"model": {"stiffness_nmm_per_rad": list(full.stiffness), "moment_arm_mm": list(full.moment_arm),
-                      "pin_friction_nmm": full.friction[0], "gamma_pos_nmm_per_rad": full.gamma_pos[0],
-                      "gamma_neg_nmm_per_rad": full.gamma_neg[0], "capstan_beta_pos": JOINT.beta_pos,
-                      "stroke_mm": stroke, "steps_each_way": steps},
-            "frictionless_mujoco": none, "fitted": fitted, "fitted_to_tension": fitted_t,
-            "fitted_without_capstan_and_gamma": fitted_rep,
-            "fitted_to_tension_without_capstan_and_gamma": fitted_rep_t}
+    return {
+        "model": {
+            "stiffness_nmm_per_rad": list(full.stiffness),
+            "moment_arm_mm": list(full.moment_arm),
+            "pin_friction_nmm": full.friction[0],
+            "gamma_pos_nmm_per_rad": full.gamma_pos[0],
+            "gamma_neg_nmm_per_rad": full.gamma_neg[0],
+            "capstan_beta_pos": JOINT.beta_pos,
+            "stroke_mm": stroke,
+            "steps_each_way": steps,
+        },
+        "frictionless_mujoco": none,
+        "fitted": fitted,
+        "fitted_to_tension": fitted_t,
+        "fitted_without_capstan_and_gamma": fitted_rep,
+        "fitted_to_tension_without_capstan_and_gamma": fitted_rep_t,
+    }

@@ -24,8 +24,9 @@ def gravity_vector(direction: tuple[float, float] | None, g: float = 9.81) -> tu
     return (g * direction[0], g * direction[1], 0.0)
 
 
-def spec_from_model(m: FingerModel, frictionloss=None, damping=None, armature=None,
-                    gravity: tuple[float, float, float] | None = None) -> FingerSpec:
+def spec_from_model(
+    m: FingerModel, frictionloss=None, damping=None, armature=None, gravity: tuple[float, float, float] | None = None
+) -> FingerSpec:
     """Capsule finger of ``m``: joint i's axis at x_i = Σ L_<i along +X, its child's mass at ``link_com``.
 
     ``frictionloss`` [N·mm], ``damping`` [N·mm·s/rad], ``armature`` [g·mm²] per joint (default 0);
@@ -37,20 +38,45 @@ def spec_from_model(m: FingerModel, frictionloss=None, damping=None, armature=No
     dm = np.zeros(n) if damping is None else np.asarray(damping, float)
     ar = np.zeros(n) if armature is None else np.asarray(armature, float)
     r = RADIUS_MM * 1e-3
-    bodies = [BodySpec("base", BASE_G * 1e-3, (-BASE_MM / 2e3, 0.0, 0.0),
-                       rod_inertia(BASE_G * 1e-3, (-BASE_MM * 1e-3, 0, 0), (0, 0, 0), r),
-                       capsule=((-BASE_MM * 1e-3, 0.0, 0.0), (0.0, 0.0, 0.0), r))]
+    bodies = [
+        BodySpec(
+            "base",
+            BASE_G * 1e-3,
+            (-BASE_MM / 2e3, 0.0, 0.0),
+            rod_inertia(BASE_G * 1e-3, (-BASE_MM * 1e-3, 0, 0), (0, 0, 0), r),
+            capsule=((-BASE_MM * 1e-3, 0.0, 0.0), (0.0, 0.0, 0.0), r),
+        )
+    ]
     names = ["base"] + [f"link{i + 1}" for i in range(n - 1)] + ["distal"]
     joints = []
     for i in range(n):
         a, b = xs[i] * 1e-3, xs[i + 1] * 1e-3
         mass = max(m.link_mass[i], MIN_G) * 1e-3
         cx, cy = m.link_com[i]
-        bodies.append(BodySpec(names[i + 1], mass, ((xs[i] + cx) * 1e-3, cy * 1e-3, 0.0),
-                               rod_inertia(mass, (a, 0, 0), (b, 0, 0), r), capsule=((a, 0.0, 0.0), (b, 0.0, 0.0), r)))
-        joints.append(JointSpec(names[i], names[i + 1], (a, 0.0, 0.0), (0.0, 0.0, 1.0), m.stiffness[i] * 1e-3,
-                                m.preload[i], m.rotation[i], m.moment_arm[i] * 1e-3, dm[i] * 1e-3, fl[i] * 1e-3,
-                                ar[i] * 1e-9))
+        bodies.append(
+            BodySpec(
+                names[i + 1],
+                mass,
+                ((xs[i] + cx) * 1e-3, cy * 1e-3, 0.0),
+                rod_inertia(mass, (a, 0, 0), (b, 0, 0), r),
+                capsule=((a, 0.0, 0.0), (b, 0.0, 0.0), r),
+            )
+        )
+        joints.append(
+            JointSpec(
+                names[i],
+                names[i + 1],
+                (a, 0.0, 0.0),
+                (0.0, 0.0, 1.0),
+                m.stiffness[i] * 1e-3,
+                m.preload[i],
+                m.rotation[i],
+                m.moment_arm[i] * 1e-3,
+                dm[i] * 1e-3,
+                fl[i] * 1e-3,
+                ar[i] * 1e-9,
+            )
+        )
     sites = [("base", (-BASE_MM * 1e-3, m.moment_arm[0] * 1e-3, 0.0))]
     for i in range(n):
         y = m.moment_arm[i] * 1e-3
@@ -58,5 +84,10 @@ def spec_from_model(m: FingerModel, frictionloss=None, damping=None, armature=No
         sites.append((names[i + 1], ((xs[i] + SITE_OFFSET_MM) * 1e-3, y, 0.0)))
     sites.append((names[-1], ((xs[-1] - SITE_OFFSET_MM) * 1e-3, m.moment_arm[-1] * 1e-3, 0.0)))
     grav = gravity if gravity is not None else gravity_vector(m.gravity) if any(m.link_mass) else (0.0, 0.0, 0.0)
-    return FingerSpec(tuple(bodies), tuple(joints), tuple(sites), gravity=grav,
-                      notes=("rjcad finger model (capsules, no meshes): SI units, m kg N·m rad",))
+    return FingerSpec(
+        tuple(bodies),
+        tuple(joints),
+        tuple(sites),
+        gravity=grav,
+        notes=("rjcad finger model (capsules, no meshes): SI units, m kg N·m rad",),
+    )

@@ -86,8 +86,9 @@ def _prepare(model):
 def hinge_addresses(model) -> np.ndarray:
     import mujoco
 
-    return np.array([model.jnt_qposadr[j] for j in range(model.njnt)
-                     if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE], dtype=int)
+    return np.array(
+        [model.jnt_qposadr[j] for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE], dtype=int
+    )
 
 
 def _actuator(model, t: int) -> int:
@@ -153,8 +154,7 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in itertools.pairwise(td)]
     moved = np.diff(theta, axis=0, prepend=theta[:1])
     state = np.sign(np.where(np.abs(moved) > 1e-9, moved, 0.0))
-    return Closure(td, list(phase), theta, tension, np.repeat(tension[:, None], len(q), axis=1), state,
-                   tension <= 1e-9)
+    return Closure(td, list(phase), theta, tension, np.repeat(tension[:, None], len(q), axis=1), state, tension <= 1e-9)
 
 
 def run_stroke(model, stroke: float, steps: int = 500, hold: int = 0) -> Closure:

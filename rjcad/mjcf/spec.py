@@ -107,24 +107,44 @@ def _body_xml(parent: ET.Element, spec: FingerSpec, b: BodySpec, joint: JointSpe
     el = ET.SubElement(parent, "body", name=b.name, pos="0 0 0")
     ET.SubElement(el, "inertial", pos=_f(*b.com), mass=_f(b.mass), fullinertia=_f(*b.inertia))
     if joint is not None:
-        ET.SubElement(el, "joint", name=f"joint{k + 1}", type="hinge", pos=_f(*joint.point), axis=_f(*joint.axis),
-                      stiffness=_f(joint.stiffness), springref=_f(-joint.preload), limited="true",
-                      range=_f(0.0, joint.rotation), damping=_f(joint.damping), frictionloss=_f(joint.frictionloss),
-                      armature=_f(joint.armature))
+        ET.SubElement(
+            el,
+            "joint",
+            name=f"joint{k + 1}",
+            type="hinge",
+            pos=_f(*joint.point),
+            axis=_f(*joint.axis),
+            stiffness=_f(joint.stiffness),
+            springref=_f(-joint.preload),
+            limited="true",
+            range=_f(0.0, joint.rotation),
+            damping=_f(joint.damping),
+            frictionloss=_f(joint.frictionloss),
+            armature=_f(joint.armature),
+        )
         a, p0 = np.asarray(joint.axis), np.asarray(joint.point)
         centre = p0 + float(np.dot(np.asarray(spec.sites[crossing(spec, k)][1]) - p0, a)) * a  # in the tendon's plane
         side = centre + groove_side(spec, k) * (joint.arm + 0.5e-3)
-        ET.SubElement(el, "geom", name=f"groove{k + 1}", type="cylinder", pos=_f(*centre),
-                      zaxis=_f(*joint.axis), size=_f(joint.arm, 2e-3), contype="0", conaffinity="0", group="3",
-                      rgba="0.9 0.6 0.2 0.3")
+        ET.SubElement(
+            el,
+            "geom",
+            name=f"groove{k + 1}",
+            type="cylinder",
+            pos=_f(*centre),
+            zaxis=_f(*joint.axis),
+            size=_f(joint.arm, 2e-3),
+            contype="0",
+            conaffinity="0",
+            group="3",
+            rgba="0.9 0.6 0.2 0.3",
+        )
         ET.SubElement(el, "site", name=f"groove{k + 1}_side", pos=_f(*side), size="0.0003", group="3")
     if b.mesh_file is not None:
         ET.SubElement(el, "geom", name=f"{b.name}_mesh", type="mesh", mesh=b.name, group="1")
     else:
         assert b.capsule is not None, f"body {b.name}: neither a mesh nor a capsule"
         (p, q, rad) = b.capsule
-        ET.SubElement(el, "geom", name=f"{b.name}_capsule", type="capsule", fromto=_f(*p, *q), size=_f(rad),
-                      group="1")
+        ET.SubElement(el, "geom", name=f"{b.name}_capsule", type="capsule", fromto=_f(*p, *q), size=_f(rad), group="1")
     for i, (owner, pos) in enumerate(spec.sites):
         if owner == b.name:
             ET.SubElement(el, "site", name=f"t{i}", pos=_f(*pos), size="0.0006", rgba="0.9 0.1 0.1 1")
@@ -144,8 +164,15 @@ def _tendons(root: ET.Element, spec: FingerSpec) -> None:
     for k, j in enumerate(spec.joints):
         ET.SubElement(fixed, "joint", joint=f"joint{k + 1}", coef=_f(-j.arm))
     act = ET.SubElement(root, "actuator")
-    ET.SubElement(act, "position", name=ACTUATOR, tendon=spec.pull_on, kp=_f(ACTUATOR_KP), forcelimited="true",
-                  forcerange=_f(-ACTUATOR_MAX_N, 0.0))
+    ET.SubElement(
+        act,
+        "position",
+        name=ACTUATOR,
+        tendon=spec.pull_on,
+        kp=_f(ACTUATOR_KP),
+        forcelimited="true",
+        forcerange=_f(-ACTUATOR_MAX_N, 0.0),
+    )
 
 
 def to_xml(spec: FingerSpec) -> str:

@@ -110,8 +110,19 @@ def _down_edge(i: int, torque: float, s: np.ndarray, jt: Joints, rc: np.ndarray)
 
 
 @njit(cache=True)
-def solve_states(state: np.ndarray, slack: bool, t_d: float, prev: np.ndarray, E: np.ndarray, H: np.ndarray,
-                 s: np.ndarray, jt: Joints, rc: np.ndarray, comp: float, d: np.ndarray) -> tuple[int, float]:
+def solve_states(
+    state: np.ndarray,
+    slack: bool,
+    t_d: float,
+    prev: np.ndarray,
+    E: np.ndarray,
+    H: np.ndarray,
+    s: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    d: np.ndarray,
+) -> tuple[int, float]:
     """Fills d = θ − prev for the joints' states ``state``; returns (0, 0) where singular, (1, T) with the tension
     set, (2, 0) where no joint slides on an inextensible tendon (the tension is then not set by the tendon).
 
@@ -181,8 +192,18 @@ def _wrong_move(state: np.ndarray, prev: np.ndarray, thmax: np.ndarray, d: np.nd
 
 
 @njit(cache=True)
-def _length_violation(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, E: np.ndarray, H: np.ndarray,
-                      s: np.ndarray, jt: Joints, rc: np.ndarray, d: np.ndarray) -> tuple[int, int]:
+def _length_violation(
+    state: np.ndarray,
+    t_d: float,
+    tol: float,
+    prev: np.ndarray,
+    E: np.ndarray,
+    H: np.ndarray,
+    s: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    d: np.ndarray,
+) -> tuple[int, int]:
     """Every joint fixed on an inextensible tendon: its length is set by the joints. Too short a take-up: the
     tension rises until the first sticking joint starts to close; too long: the last one to open opens, or the
     tendon goes slack (joint n). (joint, new state), or (CONSISTENT, 0), or (STUCK, 0): nothing can close."""
@@ -209,9 +230,21 @@ def _length_violation(state: np.ndarray, t_d: float, tol: float, prev: np.ndarra
 
 
 @njit(cache=True)
-def first_violation(state: np.ndarray, slack: bool, T_set: bool, T: float, t_d: float, tol: float,
-                    prev: np.ndarray, E: np.ndarray, H: np.ndarray, s: np.ndarray, jt: Joints, rc: np.ndarray,
-                    d: np.ndarray) -> tuple[int, int]:
+def first_violation(
+    state: np.ndarray,
+    slack: bool,
+    T_set: bool,
+    T: float,
+    t_d: float,
+    tol: float,
+    prev: np.ndarray,
+    E: np.ndarray,
+    H: np.ndarray,
+    s: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    d: np.ndarray,
+) -> tuple[int, int]:
     """(joint, its new state) for the first joint whose state's conditions fail, (n, slack flag) when the
     tendon's do, (CONSISTENT, 0) when the step is consistent, (STUCK, 0) when nothing can move."""
     n = len(prev)
@@ -245,8 +278,17 @@ def first_violation(state: np.ndarray, slack: bool, T_set: bool, T: float, t_d: 
 
 
 @njit(cache=True)
-def flat_tension(state: np.ndarray, prev: np.ndarray, prev_T: float, E: np.ndarray, H: np.ndarray,
-                 s: np.ndarray, jt: Joints, rc: np.ndarray, d: np.ndarray) -> tuple[float, int, int]:
+def flat_tension(
+    state: np.ndarray,
+    prev: np.ndarray,
+    prev_T: float,
+    E: np.ndarray,
+    H: np.ndarray,
+    s: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    d: np.ndarray,
+) -> tuple[float, int, int]:
     """Every joint fixed on an inextensible tendon of the right length: (T, CONSISTENT, 0) with T the tension
     nearest the previous step's at which each joint's state holds, or (0, joint, its new state) where none holds
     them all: the joint that gives way at the lowest tension then slides."""
@@ -271,9 +313,20 @@ def flat_tension(state: np.ndarray, prev: np.ndarray, prev_T: float, E: np.ndarr
 
 
 @njit(cache=True)
-def coupled_solve(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, prev_T: float, E: np.ndarray,
-                  H: np.ndarray, s: np.ndarray, jt: Joints, rc: np.ndarray, comp: float,
-                  d: np.ndarray) -> tuple[bool, float]:
+def coupled_solve(
+    state: np.ndarray,
+    t_d: float,
+    tol: float,
+    prev: np.ndarray,
+    prev_T: float,
+    E: np.ndarray,
+    H: np.ndarray,
+    s: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    d: np.ndarray,
+) -> tuple[bool, float]:
     """The linearised step from the joints' states ``state`` (n joints, then the tendon's slack flag; corrected in
     place): (True, T) with d = θ − prev, or (False, 0) when no consistent states were found within MAX_PIVOTS."""
     n = len(prev)
@@ -298,8 +351,17 @@ def coupled_solve(state: np.ndarray, t_d: float, tol: float, prev: np.ndarray, p
 
 
 @njit(cache=True)
-def _linearise(at: np.ndarray, prev: np.ndarray, E0: np.ndarray, B: np.ndarray, wt: Weight, tg: np.ndarray,
-               slope: np.ndarray, E: np.ndarray, H: np.ndarray) -> None:
+def _linearise(
+    at: np.ndarray,
+    prev: np.ndarray,
+    E0: np.ndarray,
+    B: np.ndarray,
+    wt: Weight,
+    tg: np.ndarray,
+    slope: np.ndarray,
+    E: np.ndarray,
+    H: np.ndarray,
+) -> None:
     """The step's torque E + H·(θ − prev) with the weight linearised about ``at``: the spring's E0 + B·(θ − prev)
     plus τ_g(at) + G·(θ − at), G_ij = S_max(i,j)."""
     n = len(prev)
@@ -314,8 +376,19 @@ def _linearise(at: np.ndarray, prev: np.ndarray, E0: np.ndarray, B: np.ndarray, 
 
 
 @njit(cache=True)
-def coupled_step(t_d: float, prev: np.ndarray, prev_T: float, guess: np.ndarray, E0: np.ndarray, B: np.ndarray,
-                 jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray) -> tuple[bool, float, bool]:
+def coupled_step(
+    t_d: float,
+    prev: np.ndarray,
+    prev_T: float,
+    guess: np.ndarray,
+    E0: np.ndarray,
+    B: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    wt: Weight,
+    th: np.ndarray,
+) -> tuple[bool, float, bool]:
     """The step with the joints coupled through the weight, by Newton from ``guess`` (proximal where the finger
     snaps): (True, T, slack) with the angles in ``th``, or (False, 0, False) where no equilibrium was found within
     COUPLED_ITERATIONS linearisations. ``E0``, ``B``: the spring's part of the step (``finger_path``)."""

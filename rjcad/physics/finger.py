@@ -28,16 +28,38 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel  # noqa: F401  (re-exported)
 from rjcad.physics.finger_path import closure_path
 from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_of  # noqa: F401  (re-exported)
-from rjcad import DEG
 
-__all__ = ["AT_STOP", "CLOSING", "Closure", "FingerModel", "G", "MOVED_RAD", "OPENING", "STICKING", "capstan_factors",
-           "frictionless_optimum", "gravity_terms", "gravity_torques", "joint_states", "load_finger_model",
-           "model_from_manifest", "model_from_template", "onset_tendon", "path_times", "pulling_steps",
-           "simulate_angles", "simulate_path", "simulate_stroke", "unbalanced_readings", "weight_of"]
+__all__ = [
+    "AT_STOP",
+    "CLOSING",
+    "Closure",
+    "FingerModel",
+    "G",
+    "MOVED_RAD",
+    "OPENING",
+    "STICKING",
+    "capstan_factors",
+    "frictionless_optimum",
+    "gravity_terms",
+    "gravity_torques",
+    "joint_states",
+    "load_finger_model",
+    "model_from_manifest",
+    "model_from_template",
+    "onset_tendon",
+    "path_times",
+    "pulling_steps",
+    "simulate_angles",
+    "simulate_path",
+    "simulate_stroke",
+    "unbalanced_readings",
+    "weight_of",
+]
 
 #: A joint counts as moved in a step beyond this [rad], and as on a stop within this of it (``joint_states``).
 MOVED_RAD = 1e-12
@@ -76,8 +98,14 @@ def simulate_stroke(m: FingerModel, stroke: float, steps: int = 500, hold: int =
     return simulate_path(m, td, phase)
 
 
-def simulate_path(m: FingerModel, tendon_mm: ArrayLike, phase: list[str] | None = None,
-                  t_s: ArrayLike | None = None, *, coupled: bool = True) -> Closure:
+def simulate_path(
+    m: FingerModel,
+    tendon_mm: ArrayLike,
+    phase: list[str] | None = None,
+    t_s: ArrayLike | None = None,
+    *,
+    coupled: bool = True,
+) -> Closure:
     """Quasi-static response along a tendon-displacement path [mm] at times ``t_s`` [s] (needed, and only
     used, when the model has damping or relaxation). ``coupled`` False: the weight enters each step through each
     joint's own slope only (the solver's fallback alone; a check value, readings need not be equilibria)."""
@@ -90,8 +118,9 @@ def simulate_path(m: FingerModel, tendon_mm: ArrayLike, phase: list[str] | None 
     return Closure(td, list(phase), theta, tension, joint_tension, joint_states(theta, m.arrays()[2]), slack)
 
 
-def simulate_angles(m: FingerModel, tendon_mm: ArrayLike,
-                    t_s: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
+def simulate_angles(
+    m: FingerModel, tendon_mm: ArrayLike, t_s: ArrayLike | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """θ (steps, N) [rad] and the actuator tension (steps,) [N] along a tendon path [mm] at times ``t_s`` [s]
     (needed when the model has damping or relaxation): ``simulate_path``'s ``theta`` and ``tension`` without the
     rest of its ``Closure`` (what identification calls thousands of times)."""
@@ -122,16 +151,26 @@ def joint_states(theta: np.ndarray, thmax: np.ndarray) -> np.ndarray:
     return np.where(on_stop, np.where(st == STICKING, AT_STOP, st), st)
 
 
-def _run(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None,
-         coupled: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _run(
+    m: FingerModel, td: np.ndarray, t_s: ArrayLike | None, coupled: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The compiled path (``rjcad.physics.finger_path.closure_path``) on ``m``'s arrays: θ, tension, slack."""
     K, th0, thmax, r, _, f0, (gp, gn) = m.arrays()
     k3, c, km, tr = m.rate_arrays()
     t = path_times(m, td, t_s)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness  # the tendon's compliance [mm/N]
     c_pull, c_release = capstan_factors(m)
-    return closure_path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), (K, k3, c, km, tr),
-                        (th0, thmax, r, f0, gp, gn), c_pull, c_release, comp, tuple(weight_of(m)), coupled)
+    return closure_path(
+        td,
+        np.zeros(0) if t is None else np.ascontiguousarray(t),
+        (K, k3, c, km, tr),
+        (th0, thmax, r, f0, gp, gn),
+        c_pull,
+        c_release,
+        comp,
+        tuple(weight_of(m)),
+        coupled,
+    )
 
 
 def path_times(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None) -> np.ndarray | None:
@@ -185,5 +224,4 @@ def onset_tendon(closure: Closure, threshold: float = 1 * DEG) -> np.ndarray:
 
 
 # the model from a manifest, a template or a file (rjcad/physics/finger_sources.py), re-exported
-from rjcad.physics.finger_sources import (load_finger_model, model_from_manifest,  # noqa: E402,F401
-                                          model_from_template)
+from rjcad.physics.finger_sources import load_finger_model, model_from_manifest, model_from_template  # noqa: E402,F401

@@ -14,8 +14,9 @@ from rjcad.errors import ParameterError
 from rjcad.physics.gravity import G
 
 #: ``FingerModel.arrays()``: (K, θ0, θmax, r, wrap, f0, (γ⁺, γ⁻)).
-ModelArrays = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                    tuple[np.ndarray, np.ndarray]]
+ModelArrays = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray]
+]
 
 
 def _frozen(x: Any) -> np.ndarray:
@@ -57,16 +58,26 @@ class FingerModel:
             if not getattr(self, name):
                 object.__setattr__(self, name, tuple(self.gamma))
             elif any(self.gamma) and tuple(getattr(self, name)) != tuple(self.gamma):
-                raise ParameterError("gamma", self.gamma, f"contradicts {name}: give gamma (both directions) "
-                                                          "or gamma_pos and gamma_neg")
+                raise ParameterError(
+                    "gamma", self.gamma, f"contradicts {name}: give gamma (both directions) or gamma_pos and gamma_neg"
+                )
         if not 1 <= n <= 12:
             raise ParameterError("joints", n, "a finger has 1 to 12 joints")
         for name in ("preload", "rotation", "moment_arm"):
             if len(getattr(self, name)) != n:
                 raise ParameterError(name, len(getattr(self, name)), f"needs {n} values, one per joint")
-        for name, default in (("wrap", 0.0), ("friction", 0.0), ("gamma", 0.0), ("gamma_pos", 0.0),
-                              ("gamma_neg", 0.0), ("link_length", 40.0), ("link_mass", 0.0), ("damping", 0.0),
-                              ("cubic", 0.0), ("relax_stiffness", 0.0)):
+        for name, default in (
+            ("wrap", 0.0),
+            ("friction", 0.0),
+            ("gamma", 0.0),
+            ("gamma_pos", 0.0),
+            ("gamma_neg", 0.0),
+            ("link_length", 40.0),
+            ("link_mass", 0.0),
+            ("damping", 0.0),
+            ("cubic", 0.0),
+            ("relax_stiffness", 0.0),
+        ):
             v = getattr(self, name)
             if not v:
                 object.__setattr__(self, name, tuple([default] * n))
@@ -74,11 +85,26 @@ class FingerModel:
                 raise ParameterError(name, len(v), f"needs {n} values, one per joint")
         if not self.link_com:
             object.__setattr__(self, "link_com", tuple((L / 2, 0.0) for L in self.link_length))
-        elif len(self.link_com) != n or not all(len(c) == 2 and all(isinstance(x, (int, float)) and math.isfinite(x)
-                                                                   for x in c) for c in self.link_com):
+        elif len(self.link_com) != n or not all(
+            len(c) == 2 and all(isinstance(x, (int, float)) and math.isfinite(x) for x in c) for c in self.link_com
+        ):
             raise ParameterError("link_com", self.link_com, f"needs {n} finite (x, y) pairs [mm], one per joint")
-        for name in ("stiffness", "preload", "rotation", "moment_arm", "wrap", "friction", "gamma", "gamma_pos",
-                     "gamma_neg", "link_length", "link_mass", "damping", "cubic", "relax_stiffness"):
+        for name in (
+            "stiffness",
+            "preload",
+            "rotation",
+            "moment_arm",
+            "wrap",
+            "friction",
+            "gamma",
+            "gamma_pos",
+            "gamma_neg",
+            "link_length",
+            "link_mass",
+            "damping",
+            "cubic",
+            "relax_stiffness",
+        ):
             v = getattr(self, name)
             if not all(isinstance(x, (int, float)) and math.isfinite(x) for x in v):
                 raise ParameterError(name, v, "must be finite numbers")
@@ -140,5 +166,12 @@ class FingerModel:
     @functools.cached_property
     def _arrays(self) -> ModelArrays:
         f = _frozen
-        return (f(self.stiffness), f(self.preload), f(self.rotation), f(self.moment_arm), f(self.wrap),
-                f(self.friction), (f(self.gamma_pos), f(self.gamma_neg)))
+        return (
+            f(self.stiffness),
+            f(self.preload),
+            f(self.rotation),
+            f(self.moment_arm),
+            f(self.wrap),
+            f(self.friction),
+            (f(self.gamma_pos), f(self.gamma_neg)),
+        )

@@ -42,8 +42,17 @@ class Springs(NamedTuple):
 
 
 @njit(cache=True, inline="always")
-def spring_terms(prev: np.ndarray, tau_m: np.ndarray, a: float, b: float, inv_dt: float, sp: Springs,
-                 jt: Joints, E: np.ndarray, B: np.ndarray) -> None:
+def spring_terms(
+    prev: np.ndarray,
+    tau_m: np.ndarray,
+    a: float,
+    b: float,
+    inv_dt: float,
+    sp: Springs,
+    jt: Joints,
+    E: np.ndarray,
+    B: np.ndarray,
+) -> None:
     """The spring's part of the step: E = K·s + k3·s³ + a·τ_M [N·mm] and B = K + 3·k3·s² + c/Δt + K_M·b
     [N·mm/rad] with s = prev + θ0 (spring and preload, stiffening, damping, the Maxwell arm's exact update for a
     constant rate over the step: a = exp(−Δt/T_r), b = T_r(1 − a)/Δt; all rate terms 0 without times)."""
@@ -55,9 +64,24 @@ def spring_terms(prev: np.ndarray, tau_m: np.ndarray, a: float, b: float, inv_dt
 
 
 @njit(cache=True)
-def own_slope_step(t_d: float, prev: np.ndarray, prev_T: float, at: np.ndarray, Es: np.ndarray, Bs: np.ndarray,
-                   jt: Joints, rc: np.ndarray, comp: float, wt: Weight, th: np.ndarray, E: np.ndarray,
-                   B: np.ndarray, tg: np.ndarray, slope: np.ndarray, bps: np.ndarray) -> tuple[float, bool]:
+def own_slope_step(
+    t_d: float,
+    prev: np.ndarray,
+    prev_T: float,
+    at: np.ndarray,
+    Es: np.ndarray,
+    Bs: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    wt: Weight,
+    th: np.ndarray,
+    E: np.ndarray,
+    B: np.ndarray,
+    tg: np.ndarray,
+    slope: np.ndarray,
+    bps: np.ndarray,
+) -> tuple[float, bool]:
     """The step with each joint's own slope of the weight k_g = max(S_i, −GRAVITY_SOFTENING·B_i): the weight
     tg + k_g·(θ − at) re-linearised about the result (damped by half once the moves stop contracting) until no
     angle moves by more than GRAVITY_TOL, at most GRAVITY_ITERATIONS times: (T, slack), angles in ``th``; ``at``
@@ -96,10 +120,17 @@ def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float
 
 
 @njit(cache=True, nogil=True)
-def closure_path(td: np.ndarray, t: np.ndarray, springs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float],
-                 joints: tuple[np.ndarray, ...], c_pull: np.ndarray, c_release: np.ndarray, comp: float,
-                 weight: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, bool],
-                 coupled: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def closure_path(
+    td: np.ndarray,
+    t: np.ndarray,
+    springs: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float],
+    joints: tuple[np.ndarray, ...],
+    c_pull: np.ndarray,
+    c_release: np.ndarray,
+    comp: float,
+    weight: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, bool],
+    coupled: bool,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(θ (steps, n) [rad], actuator tension (steps,) [N], slack (steps,)) along the tendon path ``td`` [mm] at
     times ``t`` [s] (empty: no rate terms). ``springs``, ``joints``, ``weight``: the fields of ``Springs``,
     ``Joints``, ``Weight`` as plain tuples (a plain tuple's type is found faster at each call); ``c_pull``,

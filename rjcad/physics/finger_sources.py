@@ -8,15 +8,20 @@ from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
+from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
-from rjcad import DEG
 
 
-def model_from_manifest(manifest: Any, mu_t: float = 0.0, friction: Sequence[float] | None = None,
-                        gamma: Sequence[float] | None = None, gravity: tuple[float, float] | None = None,
-                        gamma_pos: Sequence[float] | None = None,
-                        gamma_neg: Sequence[float] | None = None) -> FingerModel:
+def model_from_manifest(
+    manifest: Any,
+    mu_t: float = 0.0,
+    friction: Sequence[float] | None = None,
+    gamma: Sequence[float] | None = None,
+    gravity: tuple[float, float] | None = None,
+    gamma_pos: Sequence[float] | None = None,
+    gamma_neg: Sequence[float] | None = None,
+) -> FingerModel:
     """A finger model from a finger (or joint) manifest (a ``Manifest`` or its JSON object): stiffness,
     preload, range, measured arms and wraps, and each joint's child body's mass."""
     from rjcad.io.manifest import Manifest
@@ -39,8 +44,7 @@ def model_from_manifest(manifest: Any, mu_t: float = 0.0, friction: Sequence[flo
     coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
     link_com: tuple[tuple[float, float], ...] = ()
     if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
-        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1])
-                         for j in joints)
+        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1]) for j in joints)
     return FingerModel(
         stiffness=num("joint_stiffness_nmm_per_rad"),
         preload=tuple(x * DEG for x in num("preload_deg")),

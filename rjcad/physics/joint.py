@@ -21,9 +21,9 @@ from dataclasses import dataclass, fields, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
+from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
-from rjcad import DEG
 from rjcad.validate import in_range
 
 
@@ -50,8 +50,9 @@ class JointModel:
         in_range("pulley_radius", self.pulley_radius, 0.0, lo_open=True, limit="must be > 0 mm")
         in_range("relaxation_time", self.relaxation_time, 0.0, lo_open=True, limit="must be > 0 s")
         in_range("beta_pos", self.beta_pos, 1.0, limit="must be >= 1 (pulling through the path costs force)")
-        in_range("beta_neg", self.beta_neg, 0.0, 1.0, lo_open=True,
-                 limit="must be in (0, 1] (releasing needs less force)")
+        in_range(
+            "beta_neg", self.beta_neg, 0.0, 1.0, lo_open=True, limit="must be in (0, 1] (releasing needs less force)"
+        )
         in_range("viscous", self.viscous, 0.0, limit="must be >= 0")
         in_range("relaxation_stiffness", self.relaxation_stiffness, 0.0, limit="must be >= 0")
 
@@ -63,8 +64,9 @@ class JointModel:
         return np.array([getattr(self, n) for n in (PARAM_NAMES if names is None else names)], dtype=float)
 
     @classmethod
-    def from_vector(cls, x: ArrayLike, names: Sequence[str] | None = None,
-                    base: "JointModel | None" = None) -> "JointModel":
+    def from_vector(
+        cls, x: ArrayLike, names: Sequence[str] | None = None, base: "JointModel | None" = None
+    ) -> "JointModel":
         """A model whose parameters ``names`` take the values ``x``; the others come from ``base``."""
         names = PARAM_NAMES if names is None else tuple(names)
         x = np.asarray(x, dtype=float).ravel()
@@ -161,8 +163,14 @@ def spring_torque(m: JointModel, theta_j: ArrayLike) -> np.ndarray:
     return m.stiffness * th + m.cubic * th**3
 
 
-def simulate(m: JointModel, setup: Setup, theta_j: ArrayLike, t: ArrayLike | None = None,
-             direction: ArrayLike | None = None, velocity_: ArrayLike | None = None) -> np.ndarray:
+def simulate(
+    m: JointModel,
+    setup: Setup,
+    theta_j: ArrayLike,
+    t: ArrayLike | None = None,
+    direction: ArrayLike | None = None,
+    velocity_: ArrayLike | None = None,
+) -> np.ndarray:
     """The measured quantity along a trajectory: torque [N·mm] (bar) or actuator tendon force [N] (tendon).
 
     ``t`` (s) is needed for viscous damping and relaxation; ``direction`` (±1) may be given,
@@ -231,6 +239,13 @@ def cycle(rotation: float, samples: int = 401) -> tuple[np.ndarray, np.ndarray]:
 
 
 #: The paper's measured joint (rjcad.paper.JOINT).
-PAPER_JOINT = JointModel(stiffness=JOINT.stiffness, preload=JOINT.preload, mu_j=JOINT.mu_j,
-                         gamma_pos=JOINT.gamma_pos, gamma_neg=JOINT.gamma_neg, beta_pos=JOINT.beta_pos,
-                         beta_neg=JOINT.beta_neg, pulley_radius=JOINT.pulley_radius)
+PAPER_JOINT = JointModel(
+    stiffness=JOINT.stiffness,
+    preload=JOINT.preload,
+    mu_j=JOINT.mu_j,
+    gamma_pos=JOINT.gamma_pos,
+    gamma_neg=JOINT.gamma_neg,
+    beta_pos=JOINT.beta_pos,
+    beta_neg=JOINT.beta_neg,
+    pulley_radius=JOINT.pulley_radius,
+)

@@ -16,15 +16,22 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
+from rjcad import DEG
+from rjcad.design.params import JointParams
 from rjcad.errors import ParameterError
 from rjcad.io.outputs import check_writable, write_set
 from rjcad.paper import FINGER, JOINT
-from rjcad.design.params import JointParams
-from rjcad.physics.finger import (Closure, FingerModel, load_finger_model, onset_tendon, simulate_angles, simulate_path,
-                                  simulate_stroke)
+from rjcad.physics.finger import (
+    Closure,
+    FingerModel,
+    load_finger_model,
+    onset_tendon,
+    simulate_angles,
+    simulate_path,
+    simulate_stroke,
+)
 from rjcad.physics.uncertainty import parameter_std
 from rjcad.plotting import png_bytes, pyplot
-from rjcad import DEG
 
 MEASURED_DEG = np.array(FINGER.measured_end_deg)
 STROKE = FINGER.stroke
@@ -63,8 +70,15 @@ class Explanation:
         return bool(o[0] < min(o[1], o[2]) and abs(o[1] - o[2]) <= 0.25 * STROKE)
 
 
-def _fit(name: str, cause: str, names: Sequence[str], starts: Sequence[Sequence[float]], lb: Sequence[float],
-         ub: Sequence[float], build: Callable[[Sequence[float]], FingerModel]) -> Explanation:
+def _fit(
+    name: str,
+    cause: str,
+    names: Sequence[str],
+    starts: Sequence[Sequence[float]],
+    lb: Sequence[float],
+    ub: Sequence[float],
+    build: Callable[[Sequence[float]], FingerModel],
+) -> Explanation:
     """Bounded least squares from several starts (the stops make the problem non-smooth). The residuals take the
     end angles of a 120-step pull (``simulate_angles``); what is reported is the closure's on 200 steps."""
     path = np.linspace(0.0, STROKE, 121)
@@ -83,9 +97,18 @@ def _fit(name: str, cause: str, names: Sequence[str], starts: Sequence[Sequence[
     dof = len(MEASURED_DEG) - int(np.isfinite(std).sum())
     chi2 = 2.0 * float(best.cost)
     scale = math.sqrt(chi2 / dof) if dof > 0 and chi2 > dof else 1.0
-    return Explanation(name, cause, dict(zip(names, map(float, best.x))), dict(zip(names, map(float, std * scale))),
-                       list(map(float, end)), list(map(float, onset)),
-                       float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))), len(best.x), dict(zip(names, why)), scale)
+    return Explanation(
+        name,
+        cause,
+        dict(zip(names, map(float, best.x))),
+        dict(zip(names, map(float, std * scale))),
+        list(map(float, end)),
+        list(map(float, onset)),
+        float(np.sqrt(np.mean((end - MEASURED_DEG) ** 2))),
+        len(best.x),
+        dict(zip(names, why)),
+        scale,
+    )
 
 
 def _k(scale2: float, scale3: float) -> tuple[float, float, float]:
@@ -98,34 +121,63 @@ CAPSTAN_ALONG = "moment arm + capstan along the finger"
 #: name → (cause, parameter names, starts, lower, upper, model builder)
 FAMILIES = {
     "moment arm (common)": (
-        "the tendon runs farther from the axes than designed", ["r_mm"],
-        [[7.0], [9.0], [12.0]], [3.0], [15.0], lambda x: design_model(float(x[0]))),
+        "the tendon runs farther from the axes than designed",
+        ["r_mm"],
+        [[7.0], [9.0], [12.0]],
+        [3.0],
+        [15.0],
+        lambda x: design_model(float(x[0])),
+    ),
     FRICTION: (
-        "a longer arm and Coulomb friction bands in the pins", ["r_mm", "f1_nmm", "f2_nmm", "f3_nmm"],
-        [[9.0, 10.0, 2.0, 2.0], [8.7, 5.0, 0.5, 0.5]], [3.0, 0.0, 0.0, 0.0],
-        [15.0, 40.0, 40.0, 40.0], lambda x: design_model(float(x[0]), friction=tuple(map(float, x[1:])))),
+        "a longer arm and Coulomb friction bands in the pins",
+        ["r_mm", "f1_nmm", "f2_nmm", "f3_nmm"],
+        [[9.0, 10.0, 2.0, 2.0], [8.7, 5.0, 0.5, 0.5]],
+        [3.0, 0.0, 0.0, 0.0],
+        [15.0, 40.0, 40.0, 40.0],
+        lambda x: design_model(float(x[0]), friction=tuple(map(float, x[1:]))),
+    ),
     CAPSTAN_BASE: (
         "a longer arm and tendon friction in the base channel (the tension reaching every joint drops alike)",
-        ["r_mm", "mu_alpha"], [[8.0, 0.2], [10.0, 0.5]], [3.0, 0.0], [15.0, 2.0],
-        lambda x: design_model(float(x[0]), wrap=(float(x[1]), 0.0, 0.0), mu_t=1.0)),
+        ["r_mm", "mu_alpha"],
+        [[8.0, 0.2], [10.0, 0.5]],
+        [3.0, 0.0],
+        [15.0, 2.0],
+        lambda x: design_model(float(x[0]), wrap=(float(x[1]), 0.0, 0.0), mu_t=1.0),
+    ),
     CAPSTAN_ALONG: (
         "a longer arm and tendon friction in the channels of joints 2 and 3 (μ_t·α each)",
-        ["r_mm", "mu_alpha"], [[8.0, 0.2], [10.0, 0.5]], [3.0, 0.0], [15.0, 2.0],
-        lambda x: design_model(float(x[0]), wrap=(0.0, float(x[1]), float(x[1])), mu_t=1.0)),
+        ["r_mm", "mu_alpha"],
+        [[8.0, 0.2], [10.0, 0.5]],
+        [3.0, 0.0],
+        [15.0, 2.0],
+        lambda x: design_model(float(x[0]), wrap=(0.0, float(x[1]), float(x[1])), mu_t=1.0),
+    ),
     "moment arms per joint": (
         "each joint's tendon path sits at its own distance from the axis (distal arms longer)",
-        ["r1_mm", "r2_mm", "r3_mm"], [[6.0, 9.0, 12.0], [8.0, 8.0, 8.0], [10.0, 10.0, 10.0]],
-        [3.0] * 3, [15.0] * 3, lambda x: design_model(list(x))),
+        ["r1_mm", "r2_mm", "r3_mm"],
+        [[6.0, 9.0, 12.0], [8.0, 8.0, 8.0], [10.0, 10.0, 10.0]],
+        [3.0] * 3,
+        [15.0] * 3,
+        lambda x: design_model(list(x)),
+    ),
     "moment arm + distal springs softer": (
         "the printed springs of joints 2 and 3 are softer than designed (K scale factors)",
-        ["r_mm", "k2_scale", "k3_scale"], [[8.7, 0.8, 0.6], [10.0, 1.0, 1.0]], [3.0, 0.2, 0.2], [15.0, 2.0, 2.0],
-        lambda x: FingerModel(_k(float(x[1]), float(x[2])), (90 * DEG,) * 3, (90 * DEG,) * 3, (float(x[0]),) * 3)),
+        ["r_mm", "k2_scale", "k3_scale"],
+        [[8.7, 0.8, 0.6], [10.0, 1.0, 1.0]],
+        [3.0, 0.2, 0.2],
+        [15.0, 2.0, 2.0],
+        lambda x: FingerModel(_k(float(x[1]), float(x[2])), (90 * DEG,) * 3, (90 * DEG,) * 3, (float(x[0]),) * 3),
+    ),
     "moment arm + distal preloads lower": (
         "the springs of joints 2 and 3 hold less preload than 90° (hooking, relaxation)",
-        ["r_mm", "preload2_deg", "preload3_deg"], [[8.7, 60.0, 30.0], [10.0, 80.0, 80.0]],
-        [3.0, 0.0, 0.0], [15.0, 120.0, 120.0],
-        lambda x: FingerModel(K_DESIGN, (90 * DEG, float(x[1]) * DEG, float(x[2]) * DEG), (90 * DEG,) * 3,
-                              (float(x[0]),) * 3)),
+        ["r_mm", "preload2_deg", "preload3_deg"],
+        [[8.7, 60.0, 30.0], [10.0, 80.0, 80.0]],
+        [3.0, 0.0, 0.0],
+        [15.0, 120.0, 120.0],
+        lambda x: FingerModel(
+            K_DESIGN, (90 * DEG, float(x[1]) * DEG, float(x[2]) * DEG), (90 * DEG,) * 3, (float(x[0]),) * 3
+        ),
+    ),
 }
 
 
@@ -172,8 +224,10 @@ def _plot(c0: Closure, best: Explanation, arm_source: str) -> bytes:
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
     c1 = simulate_stroke(model_of(best), STROKE, steps=200)
-    for ax, c, title in ((axes[0], c0, f"design-time model, frictionless\n({arm_source})"),
-                         (axes[1], c1, f"best explanation: {best.name}")):
+    for ax, c, title in (
+        (axes[0], c0, f"design-time model, frictionless\n({arm_source})"),
+        (axes[1], c1, f"best explanation: {best.name}"),
+    ):
         for i in range(3):
             ax.plot(c.tendon_mm, np.degrees(c.theta[:, i]), color=f"C{i}", label=f"θ{i + 1} model")
             ax.plot([STROKE], [MEASURED_DEG[i]], "o", color=f"C{i}", ms=8, label=f"θ{i + 1} measured")
@@ -209,8 +263,9 @@ def _design_section(arms: Sequence[float], arm_source: str, end0: np.ndarray, on
         "|---|---|---|---|---|",
     ]
     for i in range(3):
-        lines.append(f"| {i + 1} | {MEASURED_DEG[i]:.0f} | {end0[i]:.1f} | {end0[i] - MEASURED_DEG[i]:+.1f} | "
-                     f"{onset0[i]:.2f} |")
+        lines.append(
+            f"| {i + 1} | {MEASURED_DEG[i]:.0f} | {end0[i]:.1f} | {end0[i] - MEASURED_DEG[i]:+.1f} | {onset0[i]:.2f} |"
+        )
     at_stop = [i + 1 for i in range(3) if end0[i] >= 90 - 1e-6]
     lines += [
         "",
@@ -218,8 +273,11 @@ def _design_section(arms: Sequence[float], arm_source: str, end0: np.ndarray, on
         f"{math.degrees(STROKE / np.mean(arms)):.0f}° (mean arm {np.mean(arms):.2f} mm), but the measured angles "
         f"add up to {MEASURED_DEG.sum():.0f}°: the design model closes the finger "
         f"{'too far' if end0.sum() > MEASURED_DEG.sum() else 'too little'}"
-        + (f" (joint{'s' if len(at_stop) > 1 else ''} {', '.join(map(str, at_stop))} on the 90° stop)" if at_stop
-           else "")
+        + (
+            f" (joint{'s' if len(at_stop) > 1 else ''} {', '.join(map(str, at_stop))} on the 90° stop)"
+            if at_stop
+            else ""
+        )
         + f". An inextensible tendon on the measured angles needs a mean arm of {STROKE / sum_meas:.2f} mm, "
         "or the tendon must lose displacement on the way.",
     ]
@@ -245,8 +303,10 @@ def _candidates_section(exps: list[Explanation]) -> list[str]:
     ]
     for e in exps:
         ps = "; ".join(_fmt_param(e, k) for k in e.params)
-        lines.append(f"| {e.name} | {e.cause} | {ps} | {_f(e.end_deg)} | {e.rms_deg:.2f} | {_f(e.onset_mm)} | "
-                     f"{'yes' if e.sequence_ok else 'no'} |")
+        lines.append(
+            f"| {e.name} | {e.cause} | {ps} | {_f(e.end_deg)} | {e.rms_deg:.2f} | {_f(e.onset_mm)} | "
+            f"{'yes' if e.sequence_ok else 'no'} |"
+        )
     return lines
 
 
@@ -281,16 +341,23 @@ def _verdict_section(exps: list[Explanation]) -> list[str]:
         "- Do not fit (RMS ≥ 0.5°): " + "; ".join(f"*{e.name}* {e.rms_deg:.1f}°" for e in misfits) + ".",
     ]
     if abs(cap.rms_deg - common.rms_deg) < 0.05:
-        lines.append(f"- A capstan in the base changes nothing ({cap.rms_deg:.1f}° RMS, as the common arm alone): it "
-                     "lowers the tension at every joint by the same factor, which the tendon constraint cancels, so "
-                     "its μ_t·α is not identified by the end angles.")
+        lines.append(
+            f"- A capstan in the base changes nothing ({cap.rms_deg:.1f}° RMS, as the common arm alone): it "
+            "lowers the tension at every joint by the same factor, which the tendon constraint cancels, so "
+            "its μ_t·α is not identified by the end angles."
+        )
     if along.rms_deg >= 0.5:
         at_bound = (along.why or {}).get("mu_alpha") == "at its bound"
-        lines.append(f"- Capstan along the finger lowers the tension reaching the distal joints, the wrong way for "
-                     "this measurement: "
-                     + ("its fit pushes μ_t·α onto its bound 0, so the data reject it" if at_bound else
-                        f"its fit puts μ_t·α at {along.params['mu_alpha']:.2g}")
-                     + f" ({along.rms_deg:.1f}° RMS).")
+        lines.append(
+            f"- Capstan along the finger lowers the tension reaching the distal joints, the wrong way for "
+            "this measurement: "
+            + (
+                "its fit pushes μ_t·α onto its bound 0, so the data reject it"
+                if at_bound
+                else f"its fit puts μ_t·α at {along.params['mu_alpha']:.2g}"
+            )
+            + f" ({along.rms_deg:.1f}° RMS)."
+        )
     lines += [
         f"- {len(fits)} of the {len(exps)} families fit the three end angles within 0.5° RMS: {_names(fits)}, with "
         f"{', '.join(str(e.n_params) for e in fits)} parameters for 3 numbers. The end angles alone cannot tell "
@@ -303,24 +370,31 @@ def _verdict_section(exps: list[Explanation]) -> list[str]:
     if by[FRICTION].rms_deg < 0.5:
         lines.append(_friction_verdict(by[FRICTION]))
     if len(ordered) > 1:
-        lines.append("- What is left cannot be separated by this data: it needs the joint torques (a bench test of "
-                     "each printed spring, as in the paper's joint experiments), the tendon force during the "
-                     "closure, or a measured moment arm on the printed links.")
+        lines.append(
+            "- What is left cannot be separated by this data: it needs the joint torques (a bench test of "
+            "each printed spring, as in the paper's joint experiments), the tendon force during the "
+            "closure, or a measured moment arm on the printed links."
+        )
     return lines
 
 
 def _friction_verdict(fric: Explanation) -> str:
     """Why pin friction, though it fits the end angles, does or does not keep the measured order."""
     kth = [k * math.radians(m) for k, m in zip(K_DESIGN, MEASURED_DEG)]
-    return (f"- Pin friction fits the end angles ({fric.n_params} parameters for 3 numbers, so the bands "
-            f"trade off; the solution found has f1 = {fric.params['f1_nmm']:.1f} N·mm at joint 1, for "
-            f"scale: the paper's bar test gives μ_j·F_n = {PAPER_MU_FN:.2f} N·mm under 1.5 N); on a pull a "
-            "friction band acts like extra preload torque, so it delays the joints it holds back: "
-            + ("the measured order is kept." if fric.sequence_ok else
-               f"joint {_first(fric)} starts first, against the measurement. This holds for all friction "
-               "(or preload) values that fit: with equal arms joint i starts K_i·θ_i/r below the end "
-               f"tension, and K_i·θ_i = ({_f(kth)}) N·mm at the measured angles is largest at joint "
-               f"{int(np.argmax(kth)) + 1}."))
+    return (
+        f"- Pin friction fits the end angles ({fric.n_params} parameters for 3 numbers, so the bands "
+        f"trade off; the solution found has f1 = {fric.params['f1_nmm']:.1f} N·mm at joint 1, for "
+        f"scale: the paper's bar test gives μ_j·F_n = {PAPER_MU_FN:.2f} N·mm under 1.5 N); on a pull a "
+        "friction band acts like extra preload torque, so it delays the joints it holds back: "
+        + (
+            "the measured order is kept."
+            if fric.sequence_ok
+            else f"joint {_first(fric)} starts first, against the measurement. This holds for all friction "
+            "(or preload) values that fit: with equal arms joint i starts K_i·θ_i/r below the end "
+            f"tension, and K_i·θ_i = ({_f(kth)}) N·mm at the measured angles is largest at joint "
+            f"{int(np.argmax(kth)) + 1}."
+        )
+    )
 
 
 def write_doc(out_dir: str | Path, manifest: str | None = None) -> list[Explanation]:

@@ -40,8 +40,9 @@ class Joints(NamedTuple):
 
 
 @njit(cache=True, inline="always")
-def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
-                      out: np.ndarray) -> None:
+def angles_at_tension(
+    T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, out: np.ndarray
+) -> None:
     """Fills ``out`` with θ_i(T) [rad]: stick inside the band, slide on its edge beyond it, clipped to the stops.
 
     Closing edge: θ = (r·c·T − E − f0 − γ⁺·θ0 + B·prev) / (B + γ⁺); opening edge: the same with −f0, +γ⁻·θ0,
@@ -62,8 +63,9 @@ def angles_at_tension(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, 
 
 
 @njit(cache=True, inline="always")
-def take_up(T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, comp: float,
-            th: np.ndarray) -> float:
+def take_up(
+    T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, comp: float, th: np.ndarray
+) -> float:
     """S(T) = T/k_t + Σ r·θ(T): the tendon displacement the tendon's stretch and the joints take up at tension T
     [mm] (``comp`` = 1/k_t [mm/N]); leaves θ(T) in ``th``."""
     angles_at_tension(T, prev, E, B, jt, rc, th)
@@ -87,8 +89,9 @@ def _sort_prefix(a: np.ndarray, m: int) -> None:
 
 
 @njit(cache=True, inline="always")
-def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray,
-                        bps: np.ndarray) -> int:
+def tension_breakpoints(
+    prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, bps: np.ndarray
+) -> int:
     """Writes 0 and the tensions [N] where some θ_i(T) changes slope (starts closing, starts opening, reaches its
     upper stop, its lower stop; clipped at 0) into ``bps``, sorted; returns how many."""
     th0, thmax, f0, gp, gn = jt.th0, jt.thmax, jt.f0, jt.gp, jt.gn
@@ -96,10 +99,12 @@ def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Join
     bps[0] = 0.0
     for i in range(len(E)):
         s = prev[i] + th0[i]
-        cand = ((E[i] + f0[i] + gp[i] * s) / rc[i],  # starts closing
-                (E[i] - f0[i] - gn[i] * s) / rc[i],  # starts opening
-                (E[i] + B[i] * (thmax[i] - prev[i]) + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i],  # upper stop
-                (E[i] - B[i] * prev[i] - f0[i] - gn[i] * th0[i]) / rc[i])  # lower stop
+        cand = (
+            (E[i] + f0[i] + gp[i] * s) / rc[i],  # starts closing
+            (E[i] - f0[i] - gn[i] * s) / rc[i],  # starts opening
+            (E[i] + B[i] * (thmax[i] - prev[i]) + f0[i] + gp[i] * (thmax[i] + th0[i])) / rc[i],  # upper stop
+            (E[i] - B[i] * prev[i] - f0[i] - gn[i] * th0[i]) / rc[i],
+        )  # lower stop
         for v in cand:
             if math.isfinite(v):
                 bps[m] = max(v, 0.0)
@@ -109,8 +114,18 @@ def tension_breakpoints(prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Join
 
 
 @njit(cache=True, inline="always")
-def solve_tendon(t_d: float, prev: np.ndarray, prev_T: float, E: np.ndarray, B: np.ndarray, jt: Joints,
-                 rc: np.ndarray, comp: float, th: np.ndarray, bps: np.ndarray) -> tuple[float, bool]:
+def solve_tendon(
+    t_d: float,
+    prev: np.ndarray,
+    prev_T: float,
+    E: np.ndarray,
+    B: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    th: np.ndarray,
+    bps: np.ndarray,
+) -> tuple[float, bool]:
     """(T [N], slack) with S(T) = t_d (``take_up``); fills ``th`` with the angles. ``bps``: scratch of 4n + 1.
 
     Slack (T = 0) where the joints at T = 0 already take up t_d. Beyond the last breakpoint only the tendon
@@ -119,7 +134,7 @@ def solve_tendon(t_d: float, prev: np.ndarray, prev_T: float, E: np.ndarray, B: 
     """
     if not take_up(0.0, prev, E, B, jt, rc, 0.0, th) < t_d:
         return 0.0, True
-    grid = bps[:tension_breakpoints(prev, E, B, jt, rc, bps)]
+    grid = bps[: tension_breakpoints(prev, E, B, jt, rc, bps)]
     tol = FLAT_MM * max(1.0, abs(t_d))
     # the first grid tension whose take-up reaches t_d − tol: S never decreases, so bisect
     g_lo, g_hi = 0, len(grid)  # S(grid[g]) < t_d − tol for g < g_lo; ≥ for g ≥ g_hi

@@ -10,8 +10,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
-def parameter_std(jac: ArrayLike, x: np.ndarray, lb: np.ndarray, ub: np.ndarray,
-                  names: Sequence[str]) -> tuple[np.ndarray, list[str]]:
+def parameter_std(
+    jac: ArrayLike, x: np.ndarray, lb: np.ndarray, ub: np.ndarray, names: Sequence[str]
+) -> tuple[np.ndarray, list[str]]:
     """1σ of each fitted parameter from (JᵀJ)⁻¹ over the identified ones (NaN otherwise), and why not.
 
     Why not: "at its bound" (the fit pushed it onto a bound: the data reject the values inside, and the

@@ -86,8 +86,10 @@ def _adjusted(d: SpringDesign, prev):
     if (b, L, p, r_in) == (d.width, d.length, d.pitch, d.inner_radius):
         return None
     same = (b, p, r_in) == (d.width, d.pitch, d.inner_radius)
-    return (replace(d, width=b, length=L, pitch=p, inner_radius=r_in, turns=float(turns_for_length(L, r_in, p))),
-            (d.length, k_ratio) if same else None)
+    return (
+        replace(d, width=b, length=L, pitch=p, inner_radius=r_in, turns=float(turns_for_length(L, r_in, p))),
+        (d.length, k_ratio) if same else None,
+    )
 
 
 def verify(d: SpringDesign, adjust: bool = True) -> SpringDesign:
@@ -107,10 +109,25 @@ def verify(d: SpringDesign, adjust: bool = True) -> SpringDesign:
         name = min(failed, key=list(REPORT_NAMES).index)
         value, limit, _ = report[name]
         rod = d.rod
-        raise RodRefusal(REPORT_NAMES[name], "rod-model check: " + infeasible_message(
-            REPORT_NAMES[name], value, limit, d.thickness, d.width, d.requirement.backlash,
-            contact_deg=_deg(rod.first_contact), gap_low_deg=_deg(rod.below(d.requirement.gap_min)),
-            windup_deg=math.degrees(d.requirement.max_windup), end=d.end, rod=True), value, limit)
+        raise RodRefusal(
+            REPORT_NAMES[name],
+            "rod-model check: "
+            + infeasible_message(
+                REPORT_NAMES[name],
+                value,
+                limit,
+                d.thickness,
+                d.width,
+                d.requirement.backlash,
+                contact_deg=_deg(rod.first_contact),
+                gap_low_deg=_deg(rod.below(d.requirement.gap_min)),
+                windup_deg=math.degrees(d.requirement.max_windup),
+                end=d.end,
+                rod=True,
+            ),
+            value,
+            limit,
+        )
     return d
 
 

@@ -15,8 +15,8 @@ import ``rjcad.life``, whose Table I stresses come from the spring formulas.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 from rjcad.errors import ParameterError
@@ -33,8 +33,10 @@ MIN_WIDTH_TO_THICKNESS = 2.0
 #: Stiffness tolerance the optimiser guarantees (relative).
 STIFFNESS_TOLERANCE = 0.005
 #: What the life keys of :meth:`SpringDesign.to_dict` rest on.
-LIFE_NOTE = ("rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 90 % interval; "
-             "an extrapolation for other materials and printers")
+LIFE_NOTE = (
+    "rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 90 % interval; "
+    "an extrapolation for other materials and printers"
+)
 
 #: (stress amplitude [MPa], thickness [mm], backlash [mm]) → (median, lower, upper) cycles, as arrays.
 LifePredictor = Callable[..., tuple[Any, Any, Any]]
@@ -86,8 +88,13 @@ class SpringRequirement:
     def __post_init__(self) -> None:
         # lower bounds far below any printable spring (a 1 m strip of 0.4 × 1 mm ABS is 0.01 N·mm/rad), but
         # away from 0: the optimiser divides by them
-        in_range("stiffness", self.joint_stiffness, 0.01, 1e4,
-                 limit="must be >= 0.01 and <= 10000 N·mm/rad (joint, both springs)")
+        in_range(
+            "stiffness",
+            self.joint_stiffness,
+            0.01,
+            1e4,
+            limit="must be >= 0.01 and <= 10000 N·mm/rad (joint, both springs)",
+        )
         _angle("rotation", self.rotation, math.radians(1.0), False, "must be >= 1 and <= 360 deg")
         _angle("preload", self.preload, 0, False, "must be >= 0 and <= 360 deg")
         in_range("safety_factor", self.safety_factor, 1.0, 100.0, limit="must be >= 1 and <= 100")
@@ -95,8 +102,12 @@ class SpringRequirement:
             shown = "max_outer_radius" if name == "outer_radius_max" else name  # as the CLI and TOML spell it
             in_range(shown, getattr(self, name), 0.01, 1000, limit="must be >= 0.01 and <= 1000 mm")
         in_range("width_max", self.width_max, self.width_min, limit=f"must be >= width_min = {self.width_min} mm")
-        in_range("inner_radius_max", self.inner_radius_max, self.inner_radius_min,
-                 limit=f"must be >= inner_radius_min = {self.inner_radius_min} mm")
+        in_range(
+            "inner_radius_max",
+            self.inner_radius_max,
+            self.inner_radius_min,
+            limit=f"must be >= inner_radius_min = {self.inner_radius_min} mm",
+        )
         in_range("min_turns", self.min_turns, 0.25, 100, limit="must be >= 0.25 and <= 100")
         if self.min_cycles is not None:
             in_range("min_cycles", self.min_cycles, 1, 1e9, limit="must be >= 1 and <= 1e9 cycles")
@@ -242,8 +253,10 @@ class SpringDesign:
     def predicted_life(self) -> tuple[float, float, float]:
         """Median cycles and 90 % interval from the life predictor (Table I's model, rjcad.life)."""
         if self.life is None:
-            raise ValueError("this spring design has no life predictor: build it with rjcad.spring.optimise "
-                             "(design_spring or design_from_dict)")
+            raise ValueError(
+                "this spring design has no life predictor: build it with rjcad.spring.optimise "
+                "(design_spring or design_from_dict)"
+            )
         med, lo, hi = self.life(self.stress_amplitude, self.thickness, self.requirement.backlash)
         return float(med[0]), float(lo[0]), float(hi[0])
 
@@ -262,7 +275,8 @@ class SpringDesign:
             extra["pin_gap_mm"] = (self.min_pin_gap, req.gap_min, self.min_pin_gap >= req.gap_min - tol)
         b_min = max(req.width_min, MIN_WIDTH_TO_THICKNESS * self.thickness)
         r_min = max(req.inner_radius_min, MIN_RADIUS_TO_THICKNESS * self.thickness)
-        return {**extra,
+        return {
+            **extra,
             "stiffness_error": (k_err, STIFFNESS_TOLERANCE, k_err <= STIFFNESS_TOLERANCE),
             "stress_mpa": (self.max_stress, req.allowed_stress, self.max_stress <= req.allowed_stress * (1 + tol)),
             "min_wall_mm": (self.thickness, pr.min_wall_mm, self.thickness >= pr.min_wall_mm - tol),
@@ -272,10 +286,16 @@ class SpringDesign:
             "width_min_mm": (self.width, b_min, self.width >= b_min - tol),
             "width_max_mm": (self.width, req.width_max, self.width <= req.width_max + tol),
             "inner_radius_min_mm": (self.inner_radius, r_min, self.inner_radius >= r_min - tol),
-            "inner_radius_max_mm": (self.inner_radius, req.inner_radius_max,
-                                    self.inner_radius <= req.inner_radius_max + tol),
-            "outer_radius_mm": (self.outer_radius, req.outer_radius_max,
-                                self.outer_radius <= req.outer_radius_max + tol),
+            "inner_radius_max_mm": (
+                self.inner_radius,
+                req.inner_radius_max,
+                self.inner_radius <= req.inner_radius_max + tol,
+            ),
+            "outer_radius_mm": (
+                self.outer_radius,
+                req.outer_radius_max,
+                self.outer_radius <= req.outer_radius_max + tol,
+            ),
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -27,8 +27,19 @@ def _contact(end, sense, arms=1, theta=math.pi):
 
     ``arms=2``: two such arms interleaved 180° apart, each at twice the pitch (the same coil-to-coil gap).
     """
-    res = rod.spiral_windup(OLD["r_in"], OLD["pitch"], OLD["turns"], OLD["b"], OLD["t"], OLD["E"], end=end,
-                            sense=sense, arms=arms, theta_max=theta, steps=72)
+    res = rod.spiral_windup(
+        OLD["r_in"],
+        OLD["pitch"],
+        OLD["turns"],
+        OLD["b"],
+        OLD["t"],
+        OLD["E"],
+        end=end,
+        sense=sense,
+        arms=arms,
+        theta_max=theta,
+        steps=72,
+    )
     fc = res.first_contact
     return (None if fc is None else math.degrees(fc)), float(res.gap.min())
 
@@ -57,8 +68,11 @@ def _paper_section() -> list[str]:
         "",
         "| outer end | joint K, slope over the range | error vs 5.19 | K at small wind-up | error vs 5.19 |",
         "|---|---|---|---|---|",
-        *[f"| {end} | {c[end]['slope']:.3f} | {c[end]['slope_error']:+.1%} | {c[end]['small']:.3f} | "
-          f"{c[end]['small_error']:+.1%} |" for end in ("clamped", "pinned")],
+        *[
+            f"| {end} | {c[end]['slope']:.3f} | {c[end]['slope_error']:+.1%} | {c[end]['small']:.3f} | "
+            f"{c[end]['small_error']:+.1%} |"
+            for end in ("clamped", "pinned")
+        ],
         "",
         f"Over Table I's five pitch/thickness pairs (r_in 3 mm, L from the same formula) the clamped slope is "
         f"{lo:+.1%} to {hi:+.1%} from the measurement and the pinned small-wind-up stiffness {plo:+.1%} to "
@@ -85,8 +99,10 @@ def _gap_section(cases: dict) -> list[str]:
     ]
     for end in ("clamped", "pinned"):
         for sense in ("tighten", "unwind"):
-            lines.append(f"| {end} | {sense} | {_fmt_contact(*cases[(end, sense, 1)])} | "
-                         f"{_fmt_contact(*cases[(end, sense, 2)])} |")
+            lines.append(
+                f"| {end} | {sense} | {_fmt_contact(*cases[(end, sense, 1)])} | "
+                f"{_fmt_contact(*cases[(end, sense, 2)])} |"
+            )
     fc = cases[("pinned", "tighten", 1)][0]
     lines += [
         "",
@@ -101,7 +117,7 @@ def _gap_section(cases: dict) -> list[str]:
 
 def _why_section(cases: dict) -> list[str]:
     (fc_t, _), (fc_u, gap_u) = cases[("clamped", "tighten", 1)], cases[("clamped", "unwind", 1)]
-    unwind = (f"keeps {gap_u:.3f} mm to 180°" if fc_u is None else f"touches only at {fc_u:.0f}°")
+    unwind = f"keeps {gap_u:.3f} mm to 180°" if fc_u is None else f"touches only at {fc_u:.0f}°"
     return [
         "## Why the designer's defaults are what they are",
         "",
@@ -127,8 +143,18 @@ def _surrogate_section(n: int = 40, seed: int = 5) -> list[str]:
         r_in = rng.uniform(3.0, 8.0)
         t = rng.uniform(0.5, min(1.6, r_in / 3))
         p, turns, theta = rng.uniform(t + 0.25, 2.5), rng.uniform(1.5, 8.0), rng.uniform(30, 270) * DEG
-        res = rod.spiral_windup(r_in, p, turns, 2 * t, t, 2200.0, end="clamped", sense=fx.JOINT_SENSE,
-                                theta_max=theta, steps=max(2, math.ceil(theta / (3.75 * DEG))))
+        res = rod.spiral_windup(
+            r_in,
+            p,
+            turns,
+            2 * t,
+            t,
+            2200.0,
+            end="clamped",
+            sense=fx.JOINT_SENSE,
+            theta_max=theta,
+            steps=max(2, math.ceil(theta / (3.75 * DEG))),
+        )
         ours = float(fx.coil_gap(theta, r_in, p, turns, t, "clamped"))
         if np.isfinite(ours) and (res.coil_gap.min() + t) / p >= 0.1:
             found.append(ours - float(res.coil_gap.min()))
@@ -173,10 +199,13 @@ def write_doc(out_dir) -> Path:
         "![spring](spring.png)",
         "",
     ]
-    cases = {(end, sense, arms): _contact(end, sense, arms) for end in ("clamped", "pinned")
-             for sense in ("tighten", "unwind") for arms in (1, 2)}
-    lines += (_paper_section() + [""] + _gap_section(cases) + [""] + _why_section(cases) + [""]
-              + _surrogate_section())
+    cases = {
+        (end, sense, arms): _contact(end, sense, arms)
+        for end in ("clamped", "pinned")
+        for sense in ("tighten", "unwind")
+        for arms in (1, 2)
+    }
+    lines += _paper_section() + [""] + _gap_section(cases) + [""] + _why_section(cases) + [""] + _surrogate_section()
     path = out / "spring-model.md"
     write_atomic(path, "\n".join(lines) + "\n")
     return path

@@ -70,8 +70,9 @@ def torque_ratio(theta, r_in, pitch, turns, end: str, sense: str = JOINT_SENSE):
 def stress_factor(theta, r_in, pitch, turns, end: str, sense: str = JOINT_SENSE):
     """m: the worst max|M|/T over 0..θ (conservative margin included)."""
     rho, n = _clip(np.asarray(r_in) / np.asarray(pitch), turns)
-    return sg.stress_factor(rho, n, np.clip(theta, 0.0, THETA_MAX), end=end, sense=sense, arms=ARMS,
-                            margin=use_margin(end, sense))
+    return sg.stress_factor(
+        rho, n, np.clip(theta, 0.0, THETA_MAX), end=end, sense=sense, arms=ARMS, margin=use_margin(end, sense)
+    )
 
 
 def coil_gap(theta, r_in, pitch, turns, t, end: str, sense: str = JOINT_SENSE):
@@ -83,8 +84,9 @@ def coil_gap(theta, r_in, pitch, turns, t, end: str, sense: str = JOINT_SENSE):
 def pin_gap(theta, r_in, pitch, turns, t, pin_radius, end: str, sense: str = JOINT_SENSE):
     """Smallest gap between the strip and the pin over 0..θ [mm] (NaN outside the table)."""
     n = np.maximum(turns, TURNS_RANGE[0])
-    return sg.pin_gap(theta, r_in, pitch, n, t, pin_radius, end=end, sense=sense, arms=ARMS,
-                      margin=use_margin(end, sense))
+    return sg.pin_gap(
+        theta, r_in, pitch, n, t, pin_radius, end=end, sense=sense, arms=ARMS, margin=use_margin(end, sense)
+    )
 
 
 def effective_factor(preload, rotation, r_in, pitch, turns, end: str, sense: str = JOINT_SENSE):
@@ -95,8 +97,9 @@ def effective_factor(preload, rotation, r_in, pitch, turns, end: str, sense: str
     return (theta * tm - preload * tp) / rotation
 
 
-def cycle_stresses(E, b, t, L, r_in, pitch, turns, preload, rotation, end: str, sense: str = JOINT_SENSE,
-                   fill: bool = False):
+def cycle_stresses(
+    E, b, t, L, r_in, pitch, turns, preload, rotation, end: str, sense: str = JOINT_SENSE, fill: bool = False
+):
     """(K_eff, peak, amplitude) of one spring cycled preload → preload + rotation [N·mm/rad, MPa, MPa].
 
     K = c·E·b·t³/(12L); T(θ) = K·θ·τ(θ); σ(θ) = 6·m·T(θ)/(b·t²) with m the worst factor over the
@@ -118,6 +121,18 @@ def cycle_stresses(E, b, t, L, r_in, pitch, turns, preload, rotation, end: str, 
 
 
 __all__ = [
-    "ARMS", "FALLBACK_M", "JOINT_SENSE", "RHO_RANGE", "THETA_MAX", "TURNS_RANGE", "coil_gap", "cycle_stresses",
-    "effective_factor", "pin_gap", "stiffness_ratio", "stress_factor", "torque_ratio", "use_margin",
+    "ARMS",
+    "FALLBACK_M",
+    "JOINT_SENSE",
+    "RHO_RANGE",
+    "THETA_MAX",
+    "TURNS_RANGE",
+    "coil_gap",
+    "cycle_stresses",
+    "effective_factor",
+    "pin_gap",
+    "stiffness_ratio",
+    "stress_factor",
+    "torque_ratio",
+    "use_margin",
 ]

@@ -34,10 +34,7 @@ TWO_PI = 2.0 * math.pi
 Value: TypeAlias = float | npt.NDArray[np.floating[Any]]
 
 #: Outer-end conditions: (stiffness factor on E·b·t³/(12L), peak-moment factor on T).
-END_CONDITIONS: dict[str, tuple[float, float]] = {
-    "clamped": (1.0, 1.0),
-    "pinned": (0.8, 2.0),
-}
+END_CONDITIONS: dict[str, tuple[float, float]] = {"clamped": (1.0, 1.0), "pinned": (0.8, 2.0)}
 #: The designer's default outer end: clamped (the paper's measured stiffness, 5.19 for 5.2 designed with
 #: the clamped formula, says its hooks behaved clamped; docs/spring-model.md).
 DEFAULT_END = "clamped"

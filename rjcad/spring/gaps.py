@@ -43,12 +43,12 @@ def nearest_nodes(P, X, aP=None, aX=None, chunk: int = 1 << 22):
     step = max(1, chunk // max(1, len(X)))
     xx = np.einsum("ij,ij->i", X, X)
     for s in range(0, len(P), step):
-        p = P[s:s + step]
+        p = P[s : s + step]
         d2 = np.einsum("ij,ij->i", p, p)[:, None] + xx[None, :] - 2.0 * (p @ X.T)  # |p − x|², to rounding
         if aP is not None:
-            d2[np.abs(aP[s:s + step, None] - aX[None, :]) < math.pi] = np.inf
-        j[s:s + step] = np.argmin(d2, axis=1)
-        found[s:s + step] = np.isfinite(d2.min(axis=1))
+            d2[np.abs(aP[s : s + step, None] - aX[None, :]) < math.pi] = np.inf
+        j[s : s + step] = np.argmin(d2, axis=1)
+        found[s : s + step] = np.isfinite(d2.min(axis=1))
     return j, found
 
 

@@ -19,6 +19,9 @@ from rjcad.errors import InfeasibleDesign
 from rjcad.life.constraint import amplitude_limit, predict_cycles
 from rjcad.materials import Material, Printer
 from rjcad.spring import factors as fx
+from rjcad.spring.correct import RodRefusal, verify
+from rjcad.spring.correct import snap_down as _snap_down
+from rjcad.spring.correct import snap_up as _snap_up
 from rjcad.spring.design import (
     MIN_RADIUS_TO_THICKNESS,
     MIN_WIDTH_TO_THICKNESS,
@@ -28,7 +31,6 @@ from rjcad.spring.design import (
     check_end,
 )
 from rjcad.spring.formulas import DEFAULT_END, archimedean_length, end_factors, outer_radius, turns_for_length
-from rjcad.spring.correct import RodRefusal, snap_down as _snap_down, snap_up as _snap_up, verify
 from rjcad.spring.messages import CONSTRAINTS, contact_angles, infeasible_message, row_message
 
 #: Thickest strip the optimiser tries [mm].
@@ -127,8 +129,7 @@ def _pitch(L, r_in, t, theta, g_min, end, sense, holes_ok=False, guess=None):
     return p, found
 
 
-def _widths(K, theta, s_allow, t, r_in, p, stiff, m_peak, b_life, wf, *, E, layer, width_min, width_max,
-            min_turns):
+def _widths(K, theta, s_allow, t, r_in, p, stiff, m_peak, b_life, wf, *, E, layer, width_min, width_max, min_turns):
     """(b, b_need): the cell's width in whole layers, b_lo·(b_max/b_lo)^wf with b_lo the narrowest meeting
     stress, minimum turns and life (≤ width_max), and the width that width_min and the strip rule b ≥ 2t
     alone need [mm].
@@ -138,8 +139,9 @@ def _widths(K, theta, s_allow, t, r_in, p, stiff, m_peak, b_life, wf, *, E, laye
     """
     b_stress = 6.0 * m_peak * K * theta / (t**2 * s_allow)
     b_turns = archimedean_length(r_in, p, min_turns) * 12.0 * K / (stiff * E * t**3)
-    b_lo = np.maximum.reduce([np.full(K.shape, width_min), MIN_WIDTH_TO_THICKNESS * t, b_stress, b_turns,
-                              np.minimum(b_life, 1e9)])
+    b_lo = np.maximum.reduce(
+        [np.full(K.shape, width_min), MIN_WIDTH_TO_THICKNESS * t, b_stress, b_turns, np.minimum(b_life, 1e9)]
+    )
     b_hi = max(_snap_down(width_max, layer), layer)
     b_need = _snap_up(np.maximum(width_min, MIN_WIDTH_TO_THICKNESS * t), layer)
     b_lo = np.minimum(b_lo, b_hi)
@@ -168,8 +170,9 @@ def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min
     loop once its length stops changing.
     """
     shape = np.broadcast_shapes(K.shape, t.shape, wf.shape)
-    K, theta, rot, s_allow, t, r_in, wf, life_amp = (np.broadcast_to(x, shape).ravel() for x in
-                                                     (K, theta, rot, s_allow, t, r_in, wf, life_amp))
+    K, theta, rot, s_allow, t, r_in, wf, life_amp = (
+        np.broadcast_to(x, shape).ravel() for x in (K, theta, rot, s_allow, t, r_in, wf, life_amp)
+    )
     layer = printer.layer_height_mm
     k_end, m_end = end_factors(end)
     stiff, m_peak, m = np.full(K.size, k_end), np.full(K.size, m_end), np.full(K.size, m_end)
@@ -180,8 +183,21 @@ def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min
         i = act
         with np.errstate(divide="ignore"):
             b_life = np.where(life_amp[i] > 0, 3.0 * m[i] * K[i] * rot[i] / (t[i] ** 2 * life_amp[i]), np.inf)
-        b_new, b_need[i] = _widths(K[i], theta[i], s_allow[i], t[i], r_in[i], p[i], stiff[i], m_peak[i], b_life,
-                                   wf[i], E=E, layer=layer, **bounds)
+        b_new, b_need[i] = _widths(
+            K[i],
+            theta[i],
+            s_allow[i],
+            t[i],
+            r_in[i],
+            p[i],
+            stiff[i],
+            m_peak[i],
+            b_life,
+            wf[i],
+            E=E,
+            layer=layer,
+            **bounds,
+        )
         b[i] = b_new if k < ROUNDS - 3 else np.maximum(b[i], b_new)  # the last rounds settle a layer flip-flop up
         L_old, L[i] = L[i], stiff[i] * E * b[i] * t[i] ** 3 / (12.0 * K[i])
         p[i], found[i] = _pitch(L[i], r_in[i], t[i], theta[i], g_min, end, sense, holes_ok, p[i] if k else None)
@@ -210,27 +226,62 @@ def _pick(viol, values, limits, r_out, columns: dict) -> dict:
     binding = np.where(feasible, -1, np.argmax(viol[:, rows, pick], axis=0))
     bi = np.maximum(binding, 0)
     out = {k: np.asarray(x)[rows, pick] for k, x in columns.items()}
-    out.update(feasible=feasible, binding=binding, binding_value=values[bi, rows, pick],
-               binding_limit=limits[bi, rows, pick])
+    out.update(
+        feasible=feasible, binding=binding, binding_value=values[bi, rows, pick], binding_limit=limits[bi, rows, pick]
+    )
     return out
 
 
-def _violations(sigma, s_allow, n, r_out, r_in, gap, pin, b_need, life_lo, k_err, *, g_min, min_turns,
-                outer_radius_max, inner_radius_max, width_max, min_cycles):
+def _violations(
+    sigma,
+    s_allow,
+    n,
+    r_out,
+    r_in,
+    gap,
+    pin,
+    b_need,
+    life_lo,
+    k_err,
+    *,
+    g_min,
+    min_turns,
+    outer_radius_max,
+    inner_radius_max,
+    width_max,
+    min_cycles,
+):
     """(violation, value, limit) stacks in the order of CONSTRAINTS (violation ≤ 0: met)."""
     shape = sigma.shape
     full = lambda x: np.full(shape, x)  # noqa: E731
     life = min_cycles is not None
-    viol = np.stack([
-        sigma / s_allow - 1.0, 1.0 - n / min_turns, r_out / outer_radius_max - 1.0, r_in / inner_radius_max - 1.0,
-        1.0 - gap / g_min, b_need / width_max - 1.0,
-        (1.0 - life_lo / min_cycles) if life else full(-1.0),
-        1.0 - pin / g_min if pin is not None else full(-1.0),
-        k_err / STIFFNESS_TOLERANCE - 1.0,
-    ])
+    viol = np.stack(
+        [
+            sigma / s_allow - 1.0,
+            1.0 - n / min_turns,
+            r_out / outer_radius_max - 1.0,
+            r_in / inner_radius_max - 1.0,
+            1.0 - gap / g_min,
+            b_need / width_max - 1.0,
+            (1.0 - life_lo / min_cycles) if life else full(-1.0),
+            1.0 - pin / g_min if pin is not None else full(-1.0),
+            k_err / STIFFNESS_TOLERANCE - 1.0,
+        ]
+    )
     values = np.stack([sigma, n, r_out, r_in, gap, b_need, life_lo, full(np.nan) if pin is None else pin, k_err])
-    limits = np.stack([s_allow, full(min_turns), full(outer_radius_max), full(inner_radius_max), full(g_min),
-                       full(width_max), full(min_cycles or 0.0), full(g_min), full(STIFFNESS_TOLERANCE)])
+    limits = np.stack(
+        [
+            s_allow,
+            full(min_turns),
+            full(outer_radius_max),
+            full(inner_radius_max),
+            full(g_min),
+            full(width_max),
+            full(min_cycles or 0.0),
+            full(g_min),
+            full(STIFFNESS_TOLERANCE),
+        ]
+    )
     return viol, values, limits
 
 
@@ -283,12 +334,29 @@ def optimise_arrays(
     rot = _rows(max_windup if rotation is None else rotation, shape)
     r_in = np.maximum(inner_radius_min, MIN_RADIUS_TO_THICKNESS * t)
     life = min_cycles is not None
-    life_amp = (np.broadcast_to(amplitude_limit(min_cycles, t[0], backlash)[None, :], shape)
-                if min_cycles is not None else np.full(shape, np.inf))
+    life_amp = (
+        np.broadcast_to(amplitude_limit(min_cycles, t[0], backlash)[None, :], shape)
+        if min_cycles is not None
+        else np.full(shape, np.inf)
+    )
     bounds = dict(width_min=width_min, width_max=width_max, min_turns=min_turns)
-    b, b_need, L, p, n, found = _solve(K, theta, rot, s_allow, t, r_in, wf, E=E, end=end, sense=sense,
-                                       printer=printer, g_min=g_min, life_amp=life_amp, bounds=bounds,
-                                       holes_ok=holes_ok)
+    b, b_need, L, p, n, found = _solve(
+        K,
+        theta,
+        rot,
+        s_allow,
+        t,
+        r_in,
+        wf,
+        E=E,
+        end=end,
+        sense=sense,
+        printer=printer,
+        g_min=g_min,
+        life_amp=life_amp,
+        bounds=bounds,
+        holes_ok=holes_ok,
+    )
     r_out = outer_radius(r_in, p, n) + t / 2.0
     K_eff, sigma, amp = fx.cycle_stresses(E, b, t, L, r_in, p, n, theta - rot, rot, end, sense, fill=holes_ok)
     gap = fx.coil_gap(theta, r_in, p, n, t, end, sense)
@@ -296,19 +364,48 @@ def optimise_arrays(
     unknown = (theta > fx.THETA_MAX + 1e-9) | (hole & (not holes_ok))
     gap = np.where(unknown, np.nan, np.where(np.isnan(gap), np.inf, gap))  # a hole passed over: met
     pin = None if pin_radius is None else fx.pin_gap(theta, r_in, p, n, t, pin_radius, end, sense)
-    life_lo = (predict_cycles(amp.ravel(), t.ravel(), backlash)[1].reshape(shape) if life
-               else np.full(shape, np.inf))
+    life_lo = predict_cycles(amp.ravel(), t.ravel(), backlash)[1].reshape(shape) if life else np.full(shape, np.inf)
     k_err = np.abs(K_eff / K - 1.0)
-    viol, values, limits = _violations(sigma, s_allow, n, r_out, r_in, gap, pin, b_need, life_lo, k_err,
-                                       g_min=g_min, min_turns=min_turns, outer_radius_max=outer_radius_max,
-                                       inner_radius_max=inner_radius_max, width_max=width_max, min_cycles=min_cycles)
+    viol, values, limits = _violations(
+        sigma,
+        s_allow,
+        n,
+        r_out,
+        r_in,
+        gap,
+        pin,
+        b_need,
+        life_lo,
+        k_err,
+        g_min=g_min,
+        min_turns=min_turns,
+        outer_radius_max=outer_radius_max,
+        inner_radius_max=inner_radius_max,
+        width_max=width_max,
+        min_cycles=min_cycles,
+    )
     viol = np.nan_to_num(viol, nan=-1.0)  # a value off the table is judged by the coil-gap row:
     viol[CONSTRAINTS.index("coil_gap")][~found | unknown] = np.inf
-    out = _pick(viol, values, limits, r_out, {
-        "width": b, "thickness": t, "length": L, "inner_radius": r_in, "pitch": p, "turns": n,
-        "outer_radius": r_out, "spring_stiffness": K_eff, "max_stress": sigma, "min_coil_gap": gap,
-        "stress_amplitude": amp, "windup": theta,
-    })
+    out = _pick(
+        viol,
+        values,
+        limits,
+        r_out,
+        {
+            "width": b,
+            "thickness": t,
+            "length": L,
+            "inner_radius": r_in,
+            "pitch": p,
+            "turns": n,
+            "outer_radius": r_out,
+            "spring_stiffness": K_eff,
+            "max_stress": sigma,
+            "min_coil_gap": gap,
+            "stress_amplitude": amp,
+            "windup": theta,
+        },
+    )
     out["contact_deg"], out["gap_low_deg"] = contact_angles(out, CONSTRAINTS.index("coil_gap"), g_min, end, sense)
     out["windup_deg"] = np.degrees(out.pop("windup"))
     return out
@@ -326,31 +423,57 @@ def design_spring(req: SpringRequirement) -> SpringDesign:
 
 def _optimise_one(req: SpringRequirement, holes_ok: bool = False, gap_margin: float = 0.0) -> dict:
     return optimise_arrays(
-        req.spring_stiffness, req.max_windup, material=req.material_spec, printer=req.printer_spec,
-        allowed_stress=req.allowed_stress, end=req.end, width_min=req.width_min, width_max=req.width_max,
-        inner_radius_min=req.inner_radius_min, inner_radius_max=req.inner_radius_max,
-        outer_radius_max=req.outer_radius_max, min_turns=req.min_turns, rotation=req.rotation,
-        min_cycles=req.min_cycles, backlash=req.backlash, pin_radius=req.pin_radius, holes_ok=holes_ok,
-        gap_margin=gap_margin, min_gap=req.min_gap,
+        req.spring_stiffness,
+        req.max_windup,
+        material=req.material_spec,
+        printer=req.printer_spec,
+        allowed_stress=req.allowed_stress,
+        end=req.end,
+        width_min=req.width_min,
+        width_max=req.width_max,
+        inner_radius_min=req.inner_radius_min,
+        inner_radius_max=req.inner_radius_max,
+        outer_radius_max=req.outer_radius_max,
+        min_turns=req.min_turns,
+        rotation=req.rotation,
+        min_cycles=req.min_cycles,
+        backlash=req.backlash,
+        pin_radius=req.pin_radius,
+        holes_ok=holes_ok,
+        gap_margin=gap_margin,
+        min_gap=req.min_gap,
     )
 
 
 def _searched(req: SpringRequirement, gap_margin: float = 0.0) -> SpringDesign:
     """The surrogate search's design (past a table hole if need be), or InfeasibleDesign."""
     res = _optimise_one(req, gap_margin=gap_margin)
-    hole = (not res["feasible"][0] and CONSTRAINTS[int(res["binding"][0])] == "coil_gap"
-            and np.isnan(res["binding_value"][0]) and req.max_windup <= fx.THETA_MAX + 1e-9)
+    hole = (
+        not res["feasible"][0]
+        and CONSTRAINTS[int(res["binding"][0])] == "coil_gap"
+        and np.isnan(res["binding_value"][0])
+        and req.max_windup <= fx.THETA_MAX + 1e-9
+    )
     if hole:  # the table has no value there: design past the hole, and let the full rod model judge
         res = _optimise_one(req, holes_ok=True, gap_margin=gap_margin)
     if not res["feasible"][0]:
         name = CONSTRAINTS[int(res["binding"][0])]
-        why = "" if gap_margin == 0 else f"rod-model check (the coils came {gap_margin:.3f} mm closer than the table " \
-                                         "said; searched again with that margin): "
+        why = (
+            ""
+            if gap_margin == 0
+            else f"rod-model check (the coils came {gap_margin:.3f} mm closer than the table "
+            "said; searched again with that margin): "
+        )
         raise InfeasibleDesign(name, why + row_message(res, 0, req.backlash, req.end))
     return SpringDesign(
-        width=float(res["width"][0]), thickness=float(res["thickness"][0]), length=float(res["length"][0]),
-        inner_radius=float(res["inner_radius"][0]), pitch=float(res["pitch"][0]), turns=float(res["turns"][0]),
-        requirement=req, life=predict_cycles,
+        width=float(res["width"][0]),
+        thickness=float(res["thickness"][0]),
+        length=float(res["length"][0]),
+        inner_radius=float(res["inner_radius"][0]),
+        pitch=float(res["pitch"][0]),
+        turns=float(res["turns"][0]),
+        requirement=req,
+        life=predict_cycles,
     )
 
 
@@ -370,13 +493,26 @@ def _design(req: SpringRequirement) -> SpringDesign:
 def design_from_dict(d: dict, req: SpringRequirement) -> SpringDesign:
     """Rebuild a design from its ``to_dict()`` keys (e.g. a manifest's ``spring``)."""
     return SpringDesign(
-        width=d["width_mm"], thickness=d["thickness_mm"], length=d["length_mm"],
-        inner_radius=d["inner_radius_mm"], pitch=d["pitch_mm"], turns=d["turns"], requirement=req,
+        width=d["width_mm"],
+        thickness=d["thickness_mm"],
+        length=d["length_mm"],
+        inner_radius=d["inner_radius_mm"],
+        pitch=d["pitch_mm"],
+        turns=d["turns"],
+        requirement=req,
         life=predict_cycles,
     )
 
 
 __all__ = [
-    "CONSTRAINTS", "MAX_THICKNESS", "RodRefusal", "design_from_dict", "design_spring", "infeasible_message",
-    "optimise_arrays", "row_message", "thickness_candidates", "verify",
+    "CONSTRAINTS",
+    "MAX_THICKNESS",
+    "RodRefusal",
+    "design_from_dict",
+    "design_spring",
+    "infeasible_message",
+    "optimise_arrays",
+    "row_message",
+    "thickness_candidates",
+    "verify",
 ]

@@ -41,9 +41,16 @@ def paper_spring() -> dict:
     """The paper's spring: t, r_in and pitch as rjcad's optimiser picks them (b held at 4.8 mm), L by formula."""
     from rjcad.spring.optimise import optimise_arrays  # the optimiser imports rjcad.life, which imports factors
 
-    res = optimise_arrays(JOINT.designed_stiffness / 2, JOINT.preload + ROTATION, material=get_material(MATERIAL),
-                          printer=get_printer(PRINTER), allowed_stress=get_material(MATERIAL).yield_strength_mpa / 1.5,
-                          width_min=WIDTH, width_max=WIDTH + 0.1, rotation=ROTATION)
+    res = optimise_arrays(
+        JOINT.designed_stiffness / 2,
+        JOINT.preload + ROTATION,
+        material=get_material(MATERIAL),
+        printer=get_printer(PRINTER),
+        allowed_stress=get_material(MATERIAL).yield_strength_mpa / 1.5,
+        width_min=WIDTH,
+        width_max=WIDTH + 0.1,
+        rotation=ROTATION,
+    )
     t, r_in, p = (float(res[k][0]) for k in ("thickness", "inner_radius", "pitch"))
     L = paper_length(t)
     return dict(t=t, r_in=r_in, pitch=p, length=L, turns=float(turns_for_length(L, r_in, p)), b=WIDTH)
@@ -54,8 +61,18 @@ def joint_stiffness(r_in, pitch, t, end: str, preload=JOINT.preload, rotation=RO
     E = get_material(MATERIAL).youngs_modulus_mpa
     L = paper_length(t)
     n = float(turns_for_length(L, r_in, pitch))
-    res = rod.spiral_windup(r_in, pitch, n, WIDTH, t, E, end=end, sense=JOINT_SENSE, theta_max=preload + rotation,
-                            steps=max(8, math.ceil((preload + rotation) / math.radians(5.0))))
+    res = rod.spiral_windup(
+        r_in,
+        pitch,
+        n,
+        WIDTH,
+        t,
+        E,
+        end=end,
+        sense=JOINT_SENSE,
+        theta_max=preload + rotation,
+        steps=max(8, math.ceil((preload + rotation) / math.radians(5.0))),
+    )
     slope = (res.torque[-1] - np.interp(preload, res.theta, res.torque)) / rotation
     small = rod.stiffness_ratio(r_in, pitch, n, t, end=end) * E * WIDTH * t**3 / (12.0 * L)
     return 2.0 * float(slope), 2.0 * float(small)
@@ -67,8 +84,12 @@ def paper_check() -> dict:
     out = {"measured": JOINT.stiffness, "designed": JOINT.designed_stiffness, "spring": s}
     for end in ("clamped", "pinned"):
         slope, small = joint_stiffness(s["r_in"], s["pitch"], s["t"], end)
-        out[end] = dict(slope=slope, small=small, slope_error=slope / JOINT.stiffness - 1.0,
-                        small_error=small / JOINT.stiffness - 1.0)
+        out[end] = dict(
+            slope=slope,
+            small=small,
+            slope_error=slope / JOINT.stiffness - 1.0,
+            small_error=small / JOINT.stiffness - 1.0,
+        )
     return out
 
 

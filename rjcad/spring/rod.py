@@ -49,6 +49,7 @@ from dataclasses import dataclass
 from typing import SupportsInt, cast
 
 import numpy as np
+
 from rjcad.spring import banded
 from rjcad.spring.gaps import nearest_gap
 
@@ -215,8 +216,9 @@ def _newton(X0, U, lam, f_ext, fixed, target, EA, EI, tol, max_iter):
     return None
 
 
-def solve_rod(nodes, bc, load=None, *, EI, EA, steps=20, tangents=None, tol: float = 1e-6,
-              max_iter: int = 30, max_cuts: int = 12) -> RodSolution:
+def solve_rod(
+    nodes, bc, load=None, *, EI, EA, steps=20, tangents=None, tol: float = 1e-6, max_iter: int = 30, max_cuts: int = 12
+) -> RodSolution:
     """Quasi-static large-rotation solve of a planar rod through its nodes (a chain of elements).
 
     ``nodes`` (N, 2) stress-free centreline [mm]; ``bc`` {node: (ux, uy, rot)} with
@@ -233,7 +235,7 @@ def solve_rod(nodes, bc, load=None, *, EI, EA, steps=20, tangents=None, tol: flo
     fixed, values = _bc_setup(bc, n)
     f_ext = np.zeros(3 * n)
     for node, F in (load or {}).items():
-        f_ext[3 * (int(node) % n): 3 * (int(node) % n) + 3] += F
+        f_ext[3 * (int(node) % n) : 3 * (int(node) % n) + 3] += F
     EA = np.broadcast_to(np.asarray(EA, float), (n - 1,))
     EI = np.broadcast_to(np.asarray(EI, float), (n - 1,))
     U = np.zeros((n, 3))
@@ -286,8 +288,9 @@ def archimedean_length(r_in, pitch, turns):
     return float(0.5 * k * (prim[1] - prim[0]))
 
 
-def spiral_nodes(r_in: float, pitch: float, turns: float, phi0: float,
-                 per_turn: float = 80) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def spiral_nodes(
+    r_in: float, pitch: float, turns: float, phi0: float, per_turn: float = 80
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Nodes (N, 2), exact tangent angles (N,) and spiral angle φ − φ0 (N,) of one arm."""
     m = max(8, math.ceil(turns * per_turn))
     a = np.linspace(0.0, TWO_PI * turns, m + 1)
@@ -302,7 +305,7 @@ def spiral_nodes(r_in: float, pitch: float, turns: float, phi0: float,
 def _refined_min(g, floor=-np.inf):
     """Minimum of a sampled profile: parabola through the three samples around it, ≥ floor."""
     i = int(np.argmin(g))
-    if 0 < i < len(g) - 1 and np.all(np.isfinite(g[i - 1: i + 2])):
+    if 0 < i < len(g) - 1 and np.all(np.isfinite(g[i - 1 : i + 2])):
         a, b, c = g[i - 1], g[i], g[i + 1]
         den = a - 2 * b + c
         if den > 0:
@@ -355,10 +358,12 @@ class RodResult:
 
 def _rotation_path(X_end, angle, clamped):
     """λ ↦ prescribed (ux, uy, rot) of the outer end carried round the axis by λ·angle."""
+
     def path(lam):
         c, s = math.cos(lam * angle), math.sin(lam * angle)
         x, y = X_end
         return (c * x - s * y - x, s * x + c * y - y, lam * angle if clamped else None)
+
     return path
 
 
@@ -387,15 +392,35 @@ def _measure(sol, k, a, s, t, arms, pin_radius, sgn):
     gap, i_g = _refined_min(coil if hub is None else np.minimum(coil, hub), -t)
     return dict(
         torque=arms * sgn * (R[-1, 2] + X[-1, 0] * R[-1, 1] - X[-1, 1] * R[-1, 0]),
-        max_moment=m[i_m], stress_s=s[i_m], stress_xy=X[i_m], gap=gap, gap_s=s[i_g], gap_xy=X[i_g],
-        coil_gap=_refined_min(coil, -t)[0], hub_gap=np.nan if hub is None else _refined_min(hub)[0],
+        max_moment=m[i_m],
+        stress_s=s[i_m],
+        stress_xy=X[i_m],
+        gap=gap,
+        gap_s=s[i_g],
+        gap_xy=X[i_g],
+        coil_gap=_refined_min(coil, -t)[0],
+        hub_gap=np.nan if hub is None else _refined_min(hub)[0],
         pin_force=np.hypot(*R[-1, :2]),
-        hub_force=np.hypot(*R[0, :2]) if arms == 1 else 0.0)  # arm 2's hub force is −arm 1's
+        hub_force=np.hypot(*R[0, :2]) if arms == 1 else 0.0,
+    )  # arm 2's hub force is −arm 1's
 
 
-def spiral_windup(r_in, pitch, turns, b, t, E, end: str = "clamped", arms: int = 1, phi0=None,
-                  sense: str = "tighten", theta_max: float = math.pi, steps: int = 36,
-                  per_turn: int = 80, pin_radius=None) -> RodResult:
+def spiral_windup(
+    r_in,
+    pitch,
+    turns,
+    b,
+    t,
+    E,
+    end: str = "clamped",
+    arms: int = 1,
+    phi0=None,
+    sense: str = "tighten",
+    theta_max: float = math.pi,
+    steps: int = 36,
+    per_turn: int = 80,
+    pin_radius=None,
+) -> RodResult:
     """Wind one printed spiral spring from 0 to ``theta_max`` [rad] in ``steps`` equal steps.
 
     r_in, pitch (coil-to-coil; each arm has arms·pitch), turns (per arm), b, t [mm], E [MPa];
@@ -409,8 +434,7 @@ def spiral_windup(r_in, pitch, turns, b, t, E, end: str = "clamped", arms: int =
     X, tang, a = spiral_nodes(r_in, arms * pitch, turns, phi0, per_turn)
     sgn = SENSES[sense]
     path = _rotation_path(X[-1], sgn * theta_max, end == "clamped")
-    sol = solve_rod(X, {0: (0.0, 0.0, 0.0), -1: path}, EI=E * b * t**3 / 12.0, EA=E * b * t,
-                    steps=steps, tangents=tang)
+    sol = solve_rod(X, {0: (0.0, 0.0, 0.0), -1: path}, EI=E * b * t**3 / 12.0, EA=E * b * t, steps=steps, tangents=tang)
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(X, axis=0).T))])
     rows = [_measure(sol, k, a, s, t, arms, pin_radius, sgn) for k in range(len(sol.lam))]
     col = {key: np.array([r[key] for r in rows]) for key in rows[0]}
@@ -418,12 +442,16 @@ def spiral_windup(r_in, pitch, turns, b, t, E, end: str = "clamped", arms: int =
     L = archimedean_length(r_in, arms * pitch, turns)
     Xend = sol.positions(-1)
     return RodResult(
-        theta=theta, stress=col["max_moment"] * 6 / (b * t * t),
+        theta=theta,
+        stress=col["max_moment"] * 6 / (b * t * t),
         hub_gap=None if pin_radius is None else col.pop("hub_gap"),
         first_contact=first_crossing(theta, col["gap"]),
-        centreline=np.stack([Xend, -Xend])[:arms], length=L,
-        k_formula=arms * E * b * t**3 / (12.0 * L), iterations=sol.iterations,
-        **{k: v for k, v in col.items() if k != "hub_gap"})
+        centreline=np.stack([Xend, -Xend])[:arms],
+        length=L,
+        k_formula=arms * E * b * t**3 / (12.0 * L),
+        iterations=sol.iterations,
+        **{k: v for k, v in col.items() if k != "hub_gap"},
+    )
 
 
 def first_crossing(theta, gap):
@@ -439,18 +467,37 @@ def first_crossing(theta, gap):
 
 
 def _small(r_in, pitch, turns, t, end, arms, sense, per_turn, theta):
-    return spiral_windup(r_in, pitch, turns, 1.0, t, 1.0, end, arms, sense=sense, theta_max=theta,
-                         steps=1, per_turn=per_turn)
+    return spiral_windup(
+        r_in, pitch, turns, 1.0, t, 1.0, end, arms, sense=sense, theta_max=theta, steps=1, per_turn=per_turn
+    )
 
 
-def stiffness_ratio(r_in, pitch, turns, t, end: str = "clamped", arms: int = 1,
-                    sense: str = "tighten", per_turn: int = 80, theta: float = 1e-3) -> float:
+def stiffness_ratio(
+    r_in,
+    pitch,
+    turns,
+    t,
+    end: str = "clamped",
+    arms: int = 1,
+    sense: str = "tighten",
+    per_turn: int = 80,
+    theta: float = 1e-3,
+) -> float:
     """Small-wind-up K_rod / (arms·E·b·t³/12L_arm) (independent of E and b)."""
     return float(_small(r_in, pitch, turns, t, end, arms, sense, per_turn, theta).stiffness_ratio[-1])
 
 
-def stress_factor(r_in, pitch, turns, t, end: str = "clamped", arms: int = 1,
-                  sense: str = "tighten", per_turn: int = 80, theta: float = 1e-3) -> float:
+def stress_factor(
+    r_in,
+    pitch,
+    turns,
+    t,
+    end: str = "clamped",
+    arms: int = 1,
+    sense: str = "tighten",
+    per_turn: int = 80,
+    theta: float = 1e-3,
+) -> float:
     """Small-wind-up max|M| / T of one arm (the closed form's m: 1 clamped, 2 pinned)."""
     res = _small(r_in, pitch, turns, t, end, arms, sense, per_turn, theta)
     return float(res.max_moment[-1] * arms / res.torque[-1])
@@ -458,5 +505,6 @@ def stress_factor(r_in, pitch, turns, t, end: str = "clamped", arms: int = 1,
 
 def windup_design(design, E, theta_max: float, **kw) -> RodResult:
     """:func:`spiral_windup` for an object with width, thickness, inner_radius, pitch, turns."""
-    return spiral_windup(design.inner_radius, design.pitch, design.turns, design.width,
-                         design.thickness, E, theta_max=theta_max, **kw)
+    return spiral_windup(
+        design.inner_radius, design.pitch, design.turns, design.width, design.thickness, E, theta_max=theta_max, **kw
+    )

@@ -147,8 +147,9 @@ def gap_lookup(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "ti
     return _multilinear(values, cells), spread[i, j, k] * (1.0 - w) + spread[i, j, k + 1] * w
 
 
-def error_margin(column: str, theta, end: str = "clamped", sense: str = "tighten", arms: int = 1, path=None,
-                 spread=0.0):
+def error_margin(
+    column: str, theta, end: str = "clamped", sense: str = "tighten", arms: int = 1, path=None, spread=0.0
+):
     """The margin built into a lookup at wind-up θ: ``h``, ``q`` [units of p], ``m`` (absolute).
 
     For ``h`` it is β·spread + floor(θ): the interpolation error grows with how much the
@@ -161,8 +162,16 @@ def error_margin(column: str, theta, end: str = "clamped", sense: str = "tighten
     return floor + float(np.ravel(f[f"beta_h_{name}"])[0]) * spread if column == "h" else floor  # stored 1-d
 
 
-def gap_ratio_min(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "tighten", arms: int = 1,
-                  margin: bool = True, path=None):
+def gap_ratio_min(
+    theta,
+    r_in_over_p,
+    turns,
+    end: str = "clamped",
+    sense: str = "tighten",
+    arms: int = 1,
+    margin: bool = True,
+    path=None,
+):
     """h: min over 0 ≤ θ' ≤ θ of the smallest centreline distance between coils / p (≥ 0).
 
     Coil gap = p·h − t. ``margin``: lowered by the error the generator measured (conservative).
@@ -173,8 +182,16 @@ def gap_ratio_min(theta, r_in_over_p, turns, end: str = "clamped", sense: str = 
     return np.maximum(h, 0.0)
 
 
-def hub_ratio_min(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "tighten", arms: int = 1,
-                  margin: bool = True, path=None):
+def hub_ratio_min(
+    theta,
+    r_in_over_p,
+    turns,
+    end: str = "clamped",
+    sense: str = "tighten",
+    arms: int = 1,
+    margin: bool = True,
+    path=None,
+):
     """q: min over 0 ≤ θ' ≤ θ of (smallest radius beyond the first quarter turn − r_in) / p.
 
     Pin gap = r_in − t/2 − r_pin + p·q. ``margin``: lowered by the measured worst error.
@@ -185,8 +202,16 @@ def hub_ratio_min(theta, r_in_over_p, turns, end: str = "clamped", sense: str = 
     return q
 
 
-def stress_factor(r_in_over_p, turns, theta=None, end: str = "clamped", sense: str = "tighten", arms: int = 1,
-                  margin: bool = True, path=None):
+def stress_factor(
+    r_in_over_p,
+    turns,
+    theta=None,
+    end: str = "clamped",
+    sense: str = "tighten",
+    arms: int = 1,
+    margin: bool = True,
+    path=None,
+):
     """m = max|M| / T of one arm: at small wind-up (``theta`` None) or the worst over 0 ≤ θ' ≤ θ.
 
     Peak stress = 6·m·T_arm/(b t²). ``margin``: raised by the measured worst error.
@@ -198,8 +223,7 @@ def stress_factor(r_in_over_p, turns, theta=None, end: str = "clamped", sense: s
     return m
 
 
-def torque_ratio(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "tighten", arms: int = 1,
-                 path=None):
+def torque_ratio(theta, r_in_over_p, turns, end: str = "clamped", sense: str = "tighten", arms: int = 1, path=None):
     """T(θ) / (K·θ): the torque at wind-up θ over the small-wind-up stiffness times θ (1 at θ → 0)."""
     return _lookup("tau", end, sense, arms, path, r_in_over_p, turns, theta)
 

@@ -69,13 +69,36 @@ class RodCheck:
 
 
 @functools.lru_cache(maxsize=256)
-def rod_check(r_in: float, pitch: float, turns: float, b: float, t: float, E: float, end: str, sense: str,
-              preload: float, rotation: float, pin_radius: float | None = None) -> RodCheck:
+def rod_check(
+    r_in: float,
+    pitch: float,
+    turns: float,
+    b: float,
+    t: float,
+    E: float,
+    end: str,
+    sense: str,
+    preload: float,
+    rotation: float,
+    pin_radius: float | None = None,
+) -> RodCheck:
     """Wind the spring by the rod model to preload + rotation in ``sense``; see :class:`RodCheck`."""
     theta_max = preload + rotation
     steps = max(4, math.ceil(theta_max / STEP - 1e-9))
-    res = rod.spiral_windup(r_in, pitch, turns, b, t, E, end=end, sense=sense, theta_max=theta_max,
-                            steps=steps, per_turn=PER_TURN, pin_radius=pin_radius)
+    res = rod.spiral_windup(
+        r_in,
+        pitch,
+        turns,
+        b,
+        t,
+        E,
+        end=end,
+        sense=sense,
+        theta_max=theta_max,
+        steps=steps,
+        per_turn=PER_TURN,
+        pin_radius=pin_radius,
+    )
     i_gap = int(np.argmin(res.gap))
     i_stress = int(np.argmax(res.stress))
     T_pre = float(np.interp(preload, res.theta, res.torque))
@@ -83,16 +106,38 @@ def rod_check(r_in: float, pitch: float, turns: float, b: float, t: float, E: fl
     for arr in (res.theta, res.torque, res.stress, res.gap, res.coil_gap):
         arr.setflags(write=False)
     return RodCheck(
-        theta=res.theta, torque=res.torque, stiffness=(float(res.torque[-1]) - T_pre) / rotation,
-        stress=res.stress, stress_xy=res.stress_xy[i_stress], gap=res.gap, coil_gap=res.coil_gap,
-        pin_gap=res.hub_gap, min_gap=float(res.gap[i_gap]),
-        min_gap_theta=float(res.theta[i_gap]), gap_xy=res.gap_xy[i_gap], first_contact=res.first_contact,
-        pin_force=float(res.pin_force.max()), wound=res.centreline[0], printed=printed, preload=preload)
+        theta=res.theta,
+        torque=res.torque,
+        stiffness=(float(res.torque[-1]) - T_pre) / rotation,
+        stress=res.stress,
+        stress_xy=res.stress_xy[i_stress],
+        gap=res.gap,
+        coil_gap=res.coil_gap,
+        pin_gap=res.hub_gap,
+        min_gap=float(res.gap[i_gap]),
+        min_gap_theta=float(res.theta[i_gap]),
+        gap_xy=res.gap_xy[i_gap],
+        first_contact=res.first_contact,
+        pin_force=float(res.pin_force.max()),
+        wound=res.centreline[0],
+        printed=printed,
+        preload=preload,
+    )
 
 
 def check_design(design) -> RodCheck:
     """:func:`rod_check` of a :class:`~rjcad.spring.design.SpringDesign` under its requirement."""
     req = design.requirement
-    return rod_check(float(design.inner_radius), float(design.pitch), float(design.turns), float(design.width),
-                     float(design.thickness), float(design.youngs_modulus), design.end, design.sense,
-                     float(req.preload), float(req.rotation), req.pin_radius)
+    return rod_check(
+        float(design.inner_radius),
+        float(design.pitch),
+        float(design.turns),
+        float(design.width),
+        float(design.thickness),
+        float(design.youngs_modulus),
+        design.end,
+        design.sense,
+        float(req.preload),
+        float(req.rotation),
+        req.pin_radius,
+    )

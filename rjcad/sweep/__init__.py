@@ -27,8 +27,21 @@ from rjcad.sweep.resume import Earlier, read_earlier
 from rjcad.sweep.spec import DESIGN_KEYS, INPUTS, SweepSpec, point_id
 
 __all__ = [
-    "DESIGN_KEYS", "INPUTS", "Progress", "SweepResult", "SweepSpec", "analytic_rows", "build_task", "pareto_front",
-    "point_id", "read_earlier", "read_results", "run_sweep", "run_tasks", "write_report", "write_results",
+    "DESIGN_KEYS",
+    "INPUTS",
+    "Progress",
+    "SweepResult",
+    "SweepSpec",
+    "analytic_rows",
+    "build_task",
+    "pareto_front",
+    "point_id",
+    "read_earlier",
+    "read_results",
+    "run_sweep",
+    "run_tasks",
+    "write_report",
+    "write_results",
 ]
 
 
@@ -44,9 +57,17 @@ class SweepResult:
     notes: list[str] = field(default_factory=list)
 
 
-def run_sweep(spec: SweepSpec, out_dir: str | Path, *, build: bool = False, workers: int | None = None,
-              scheduler: str | None = None, resume: bool = False, keep_meshes: bool = False,
-              stream=None) -> SweepResult:
+def run_sweep(
+    spec: SweepSpec,
+    out_dir: str | Path,
+    *,
+    build: bool = False,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    keep_meshes: bool = False,
+    stream=None,
+) -> SweepResult:
     """Run a sweep and write results.csv (+ .parquet), pareto.png and summary.md into ``out_dir`` (one set).
 
     ``resume``: keep the intact rows of an earlier run (``rjcad.sweep.resume``) and compute the other designs.
@@ -67,7 +88,7 @@ def run_sweep(spec: SweepSpec, out_dir: str | Path, *, build: bool = False, work
         _build_rows(todo, out, log_path, workers, scheduler, keep_meshes, progress, new_rows)
     else:
         for k in range(0, len(todo), 100_000):
-            part = analytic_rows(todo[k:k + 100_000])
+            part = analytic_rows(todo[k : k + 100_000])
             new_rows.extend(part)
             progress.update(len(part))
     rows = _finish(out, points, earlier.rows + new_rows, build, notes, log_path)
@@ -94,8 +115,16 @@ def _ends_a_line(path: Path) -> bool:
         return f.read(1) == b"\n"
 
 
-def _build_rows(todo: list[dict], out: Path, log_path: Path, workers: int | None, scheduler: str | None,
-                keep_meshes: bool, progress: Progress, new_rows: list[dict]) -> None:
+def _build_rows(
+    todo: list[dict],
+    out: Path,
+    log_path: Path,
+    workers: int | None,
+    scheduler: str | None,
+    keep_meshes: bool,
+    progress: Progress,
+    new_rows: list[dict],
+) -> None:
     """Build mode: run the tasks, each row appended to the log ``log_path`` as it comes (kept by an
     interrupted run; an earlier interrupted run's rows stay in it too, until a run finishes)."""
     workers = (os.cpu_count() or 1) if workers is None else workers
@@ -119,15 +148,17 @@ def _build_rows(todo: list[dict], out: Path, log_path: Path, workers: int | None
 
     try:
         with log:
-            run_tasks(build_task, todo, workers, scheduler, progress, keep,
-                      mesh_dir=str(mesh_dir) if mesh_dir else None)
+            run_tasks(
+                build_task, todo, workers, scheduler, progress, keep, mesh_dir=str(mesh_dir) if mesh_dir else None
+            )
     finally:
         if log_path.exists() and log_path.stat().st_size == 0:
             log_path.unlink()  # no row came: leave no empty log behind
 
 
-def _finish(out: Path, points: list[dict], rows: list[dict], build: bool, notes: list[str],
-            log_path: Path) -> list[dict]:
+def _finish(
+    out: Path, points: list[dict], rows: list[dict], build: bool, notes: list[str], log_path: Path
+) -> list[dict]:
     """Rows in point order, written as one set (results.csv, .parquet, pareto.png, summary.md); the log goes."""
     order = {point_id(pt): i for i, pt in enumerate(points)}
     rows.sort(key=lambda r: order.get(r["id"], len(order)))

@@ -10,10 +10,10 @@ import math
 
 import numpy as np
 
+from rjcad.design.params import RANGES
 from rjcad.errors import RjcadError
 from rjcad.life.constraint import predict_cycles
 from rjcad.materials import get_material, get_printer
-from rjcad.design.params import RANGES
 from rjcad.spring.design import SpringRequirement
 from rjcad.spring.optimise import CONSTRAINTS, optimise_arrays, row_message
 from rjcad.sweep.spec import point_id
@@ -41,9 +41,15 @@ def analytic_rows(points: list[dict]) -> list[dict]:
     for i, pt in enumerate(points):
         try:
             # validates every input with the same rules as `rjcad spring`
-            SpringRequirement(float(pt["stiffness_nmm_per_rad"]), math.radians(float(pt["rotation_deg"])),
-                              math.radians(float(pt["preload_deg"])), pt["material"], pt["printer"],
-                              float(pt["safety_factor"]), pt["end"])
+            SpringRequirement(
+                float(pt["stiffness_nmm_per_rad"]),
+                math.radians(float(pt["rotation_deg"])),
+                math.radians(float(pt["preload_deg"])),
+                pt["material"],
+                pt["printer"],
+                float(pt["safety_factor"]),
+                pt["end"],
+            )
             # the joint's own inputs, as the builder checks them (its link's lower bound needs the CAD layout)
             in_range("clearance_mm", pt["clearance_mm"], *RANGES["clearance"][:2], unit="mm")
             get_printer(pt["printer"]).check_gap("clearance_mm", pt["clearance_mm"])
@@ -60,23 +66,36 @@ def analytic_rows(points: list[dict]) -> list[dict]:
         pre = np.radians([float(points[i]["preload_deg"]) for i in idx])
         sf = np.array([float(points[i]["safety_factor"]) for i in idx])
         allow = material.yield_strength_mpa / sf
-        res = optimise_arrays(K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end,
-                              rotation=rot)
+        res = optimise_arrays(
+            K / 2, rot + pre, material=material, printer=printer, allowed_stress=allow, end=end, rotation=rot
+        )
         Ks = res["spring_stiffness"]
         cols = {
-            "width_mm": res["width"], "thickness_mm": res["thickness"], "length_mm": res["length"],
-            "inner_radius_mm": res["inner_radius"], "pitch_mm": res["pitch"], "turns": res["turns"],
-            "outer_radius_mm": res["outer_radius"], "spring_stiffness_nmm_per_rad": Ks,
-            "joint_stiffness_nmm_per_rad": 2 * Ks, "max_stress_mpa": res["max_stress"],
-            "allowed_stress_mpa": allow, "min_coil_gap_mm": res["min_coil_gap"],
+            "width_mm": res["width"],
+            "thickness_mm": res["thickness"],
+            "length_mm": res["length"],
+            "inner_radius_mm": res["inner_radius"],
+            "pitch_mm": res["pitch"],
+            "turns": res["turns"],
+            "outer_radius_mm": res["outer_radius"],
+            "spring_stiffness_nmm_per_rad": Ks,
+            "joint_stiffness_nmm_per_rad": 2 * Ks,
+            "max_stress_mpa": res["max_stress"],
+            "allowed_stress_mpa": allow,
+            "min_coil_gap_mm": res["min_coil_gap"],
             "stress_amplitude_mpa": res["stress_amplitude"],
         }
         for k, i in enumerate(idx):
             row = {**points[i], "id": point_id(points[i]), "material": mat, "printer": prn, "verified": False}
             if res["feasible"][k]:
                 row.update({c: float(v[k]) for c, v in cols.items()})
-                row.update(status="ok", feasible=True, binding="", error="",
-                           stress_margin=float(allow[k] / res["max_stress"][k]))
+                row.update(
+                    status="ok",
+                    feasible=True,
+                    binding="",
+                    error="",
+                    stress_margin=float(allow[k] / res["max_stress"][k]),
+                )
             else:
                 name = CONSTRAINTS[int(res["binding"][k])]
                 row.update(status="infeasible", feasible=False, binding=name, error=row_message(res, k, 0.25, end))
@@ -84,4 +103,3 @@ def analytic_rows(points: list[dict]) -> list[dict]:
     out = [r for r in rows if r is not None]
     _life_columns(out)
     return out
-

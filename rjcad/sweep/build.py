@@ -6,8 +6,8 @@ import math
 import time
 from pathlib import Path
 
-from rjcad.io.config import write_atomic
 from rjcad.errors import RjcadError
+from rjcad.io.config import write_atomic
 from rjcad.io.outputs import OutputError
 from rjcad.sweep.spec import DESIGN_KEYS, point_id
 
@@ -20,11 +20,17 @@ def build_task(point: dict, mesh_dir: str | None = None) -> dict:
         from rjcad.cad.build import build, render_files
         from rjcad.design.params import JointParams
 
-        p = JointParams(stiffness=float(point["stiffness_nmm_per_rad"]),
-                        rotation=math.radians(float(point["rotation_deg"])),
-                        preload=math.radians(float(point["preload_deg"])), material=point["material"],
-                        printer=point["printer"], safety_factor=float(point["safety_factor"]), end=point["end"],
-                        clearance=float(point["clearance_mm"]), link_length=float(point["link_length_mm"]))
+        p = JointParams(
+            stiffness=float(point["stiffness_nmm_per_rad"]),
+            rotation=math.radians(float(point["rotation_deg"])),
+            preload=math.radians(float(point["preload_deg"])),
+            material=point["material"],
+            printer=point["printer"],
+            safety_factor=float(point["safety_factor"]),
+            end=point["end"],
+            clearance=float(point["clearance_mm"]),
+            link_length=float(point["link_length_mm"]),
+        )
         b = build(p)
         row["build_s"] = time.perf_counter() - t0
         row.update({k: b.manifest["spring"][k] for k in DESIGN_KEYS})
@@ -49,7 +55,11 @@ def _check_joint(b) -> dict:
     """Run the print-readiness checks (rjcad.check) on a built joint."""
     from rjcad.check import run_checks
 
-    d = run_checks(list(b.meshes.values()), manifest=b.manifest, clearance=b.manifest["clearance_mm"],
-                   printer=b.manifest["printer"]).to_dict()
+    d = run_checks(
+        list(b.meshes.values()),
+        manifest=b.manifest,
+        clearance=b.manifest["clearance_mm"],
+        printer=b.manifest["printer"],
+    ).to_dict()
     failed = [c["name"] for c in d["checks"] if c["passed"] is False]
     return {"checks_passed": bool(d["passed"]), "checks_failed": ";".join(failed)}

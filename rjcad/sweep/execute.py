@@ -41,8 +41,15 @@ class Progress:
             self.stream.flush()
 
 
-def run_tasks(fn: Callable, points: list[dict], workers: int, scheduler: str | None,
-              progress: Progress, on_row: Callable[[dict], None], **kw) -> None:
+def run_tasks(
+    fn: Callable,
+    points: list[dict],
+    workers: int,
+    scheduler: str | None,
+    progress: Progress,
+    on_row: Callable[[dict], None],
+    **kw,
+) -> None:
     """Run ``fn(point, **kw)`` for every point on a local process pool or a Dask cluster."""
     if not points:
         return
@@ -63,8 +70,9 @@ def run_tasks(fn: Callable, points: list[dict], workers: int, scheduler: str | N
     _pool_tasks(fn, points, workers, progress, on_row, **kw)
 
 
-def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progress,
-                on_row: Callable[[dict], None], **kw) -> None:
+def _pool_tasks(
+    fn: Callable, points: list[dict], workers: int, progress: Progress, on_row: Callable[[dict], None], **kw
+) -> None:
     """Run the tasks on a local process pool whose workers never outlive this process.
 
     Each worker holds the read end of a pipe whose only write end is here (its lifeline): when this process
@@ -72,8 +80,9 @@ def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progre
     tracker, which wait only for them, exit too. On an interrupt or error the lifeline is closed on purpose:
     the running designs are dropped (``--resume`` redoes them), the queued ones cancelled.
     """
-    from concurrent.futures import ProcessPoolExecutor, as_completed as done
     import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import as_completed as done
     from multiprocessing.context import BaseContext
 
     # forkserver where the platform has it: a clean server process imports CadQuery once (about 2 s) and
@@ -85,8 +94,7 @@ def _pool_tasks(fn: Callable, points: list[dict], workers: int, progress: Progre
     else:
         ctx = mp.get_context("spawn")
     lifeline_r, lifeline_w = ctx.Pipe(duplex=False)
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_start,
-                               initargs=(lifeline_r,))
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_start, initargs=(lifeline_r,))
     try:
         futs = [pool.submit(fn, pt, **kw) for pt in points]
         for fut in done(futs):

@@ -70,8 +70,11 @@ def pareto_front(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 def write_report(out: Path, rows: list[dict], build: bool, notes: Sequence[str] = ()) -> None:
     """pareto.png (outer radius vs stress margin, and vs life when known) and summary.md (with ``notes``)."""
-    ok = [r for r in rows
-          if str(r.get("feasible")) in ("True", "true", "1") and r.get("outer_radius_mm") not in ("", None)]
+    ok = [
+        r
+        for r in rows
+        if str(r.get("feasible")) in ("True", "true", "1") and r.get("outer_radius_mm") not in ("", None)
+    ]
     has_life = any(r.get("predicted_cycles") not in ("", None) for r in ok)
     fig, axes = pyplot().subplots(1, 2 if has_life else 1, figsize=(12 if has_life else 7, 5), squeeze=False)
     mats = sorted({r["material"] for r in ok})
@@ -84,8 +87,11 @@ def write_report(out: Path, rows: list[dict], build: bool, notes: Sequence[str] 
         f = pareto_front(x, y)
         axes[0, 0].plot(x[f], y[f], "-o", ms=3, color=c, label=f"{mat} (Pareto front)")
         if has_life:
-            lp = [(float(r["outer_radius_mm"]), float(r["predicted_cycles"])) for r in sub
-                  if r.get("predicted_cycles") not in ("", None)]
+            lp = [
+                (float(r["outer_radius_mm"]), float(r["predicted_cycles"]))
+                for r in sub
+                if r.get("predicted_cycles") not in ("", None)
+            ]
             if lp:
                 lx, ly = np.array(lp).T
                 axes[0, 1].scatter(lx, ly, s=8, alpha=0.35, color=c)
@@ -112,24 +118,44 @@ def write_report(out: Path, rows: list[dict], build: bool, notes: Sequence[str] 
     for r in rows:
         if r.get("binding"):
             binding[r["binding"]] = binding.get(r["binding"], 0) + 1
-    verified = ("every design was built through `design_spring`, so wound by the full rod model (`verified` = true)"
-                if build else "the springs come from the rod model's table only (`verified` = false); `rjcad spring` "
-                "or build mode winds each one with the full rod model")
-    lines = [f"# Sweep summary ({'build' if build else 'analytic'} mode)", "", f"Spring physics: {verified}.", "",
-             f"- designs: {n}", *[f"- {k or 'unknown'}: {v}" for k, v in sorted(by_status.items())]]
+    verified = (
+        "every design was built through `design_spring`, so wound by the full rod model (`verified` = true)"
+        if build
+        else "the springs come from the rod model's table only (`verified` = false); `rjcad spring` "
+        "or build mode winds each one with the full rod model"
+    )
+    lines = [
+        f"# Sweep summary ({'build' if build else 'analytic'} mode)",
+        "",
+        f"Spring physics: {verified}.",
+        "",
+        f"- designs: {n}",
+        *[f"- {k or 'unknown'}: {v}" for k, v in sorted(by_status.items())],
+    ]
     if notes:
         lines += ["", "## This run", "", *[f"- {note}" for note in notes]]
     if binding:
-        lines += ["", "## Binding constraints of the infeasible designs", "",
-                  *[f"- {k}: {v}" for k, v in sorted(binding.items(), key=lambda kv: -kv[1])]]
+        lines += [
+            "",
+            "## Binding constraints of the infeasible designs",
+            "",
+            *[f"- {k}: {v}" for k, v in sorted(binding.items(), key=lambda kv: -kv[1])],
+        ]
     if ok:
-        lines += ["", "## Smallest feasible spring per material", "", "| material | outer radius [mm] | "
-                  "stiffness [N·mm/rad] | rotation [deg] | stress margin |", "|---|---|---|---|---|"]
+        lines += [
+            "",
+            "## Smallest feasible spring per material",
+            "",
+            "| material | outer radius [mm] | stiffness [N·mm/rad] | rotation [deg] | stress margin |",
+            "|---|---|---|---|---|",
+        ]
         for mat in mats:
             best = min((r for r in ok if r["material"] == mat), key=lambda r: float(r["outer_radius_mm"]))
-            lines.append(f"| {mat} | {float(best['outer_radius_mm']):.2f} | "
-                         f"{float(best['stiffness_nmm_per_rad']):.2f} | {float(best['rotation_deg']):.0f} | "
-                         f"{float(best['allowed_stress_mpa']) / float(best['max_stress_mpa']):.2f} |")
+            lines.append(
+                f"| {mat} | {float(best['outer_radius_mm']):.2f} | "
+                f"{float(best['stiffness_nmm_per_rad']):.2f} | {float(best['rotation_deg']):.0f} | "
+                f"{float(best['allowed_stress_mpa']) / float(best['max_stress_mpa']):.2f} |"
+            )
     if build:
         times = [float(r["build_s"]) for r in rows if r.get("build_s") not in ("", None)]
         if times:

@@ -25,8 +25,12 @@ STATUSES = ("ok", "check_failed", "infeasible", "failed")
 _ID = re.compile(r"[0-9a-f]{12}\Z")
 #: Lines a quoted field (an error message with a line break) may span; a stray quote spoils no more.
 _MAX_SPAN = 20
-CUT, DAMAGED, NOT_A_ROW, REPEATED = ("cut short at the end of the file", "with unreadable bytes (NUL, not UTF-8)",
-                                     "not a complete row", "repeating a design already read")
+CUT, DAMAGED, NOT_A_ROW, REPEATED = (
+    "cut short at the end of the file",
+    "with unreadable bytes (NUL, not UTF-8)",
+    "not a complete row",
+    "repeating a design already read",
+)
 
 
 @dataclass
@@ -39,9 +43,12 @@ class Earlier:
     def note(self) -> str:
         """One line for the user: rows kept, lines dropped and why."""
         why = ", ".join(f"{n} {reason}" for reason, n in self.dropped.items())
-        return (f"resume: {len(self.rows)} earlier rows kept" if not self.dropped else
-                f"resume: {len(self.rows)} earlier rows kept; dropped {sum(self.dropped.values())} lines ({why}); "
-                "a design without an intact row is computed again")
+        return (
+            f"resume: {len(self.rows)} earlier rows kept"
+            if not self.dropped
+            else f"resume: {len(self.rows)} earlier rows kept; dropped {sum(self.dropped.values())} lines ({why}); "
+            "a design without an intact row is computed again"
+        )
 
 
 def read_earlier(csv_path: Path, log_path: Path) -> Earlier:
@@ -62,8 +69,10 @@ def _text(path: Path) -> str:
     except OSError as e:
         raise RjcadError(f"{path}: cannot read: {e.strerror or e}") from None
     if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        raise RjcadError(f"{path}: UTF-16 text, not a results file written by rjcad sweep (UTF-8); "
-                         "move it away or run without --resume")
+        raise RjcadError(
+            f"{path}: UTF-16 text, not a results file written by rjcad sweep (UTF-8); "
+            "move it away or run without --resume"
+        )
     return data.removeprefix(b"\xef\xbb\xbf").decode("utf-8", errors="replace")
 
 
@@ -83,8 +92,10 @@ def _read_csv(path: Path, earlier: Earlier, seen: set[str]) -> None:
     need = ["id", "status", "feasible", *INPUTS]
     if "\ufffd" in lines[0] or "\0" in lines[0] or not all(c in header for c in need):
         missing = next((c for c in need if c not in header), "id")
-        raise RjcadError(f"{path}: its first line is not the header rjcad sweep writes (no {missing} column); "
-                         "move the file away or run without --resume")
+        raise RjcadError(
+            f"{path}: its first line is not the header rjcad sweep writes (no {missing} column); "
+            "move the file away or run without --resume"
+        )
     i = 1
     while i < len(lines):
         line = lines[i]

@@ -28,8 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from rjcad.io.config import load_toml
 from rjcad.errors import ParameterError
+from rjcad.io.config import load_toml
 from rjcad.spring.formulas import DEFAULT_END
 from rjcad.validate import in_range
 
@@ -45,9 +45,20 @@ INPUTS: dict[str, tuple[type, Any]] = {
     "clearance_mm": (float, 0.25),
     "link_length_mm": (float, 40.0),
 }
-DESIGN_KEYS = ("width_mm", "thickness_mm", "length_mm", "inner_radius_mm", "pitch_mm", "turns",
-               "outer_radius_mm", "spring_stiffness_nmm_per_rad", "joint_stiffness_nmm_per_rad",
-               "max_stress_mpa", "allowed_stress_mpa", "min_coil_gap_mm")
+DESIGN_KEYS = (
+    "width_mm",
+    "thickness_mm",
+    "length_mm",
+    "inner_radius_mm",
+    "pitch_mm",
+    "turns",
+    "outer_radius_mm",
+    "spring_stiffness_nmm_per_rad",
+    "joint_stiffness_nmm_per_rad",
+    "max_stress_mpa",
+    "allowed_stress_mpa",
+    "min_coil_gap_mm",
+)
 
 
 #: Most design points one sweep may name (a grid's product of steps and value counts, or lhs samples).
@@ -90,8 +101,9 @@ def _param(name: str, spec, mode: str) -> int:
         raise ParameterError(where, spec, "give exactly one of values = [...] or range = [lo, hi]")
     extra = set(spec) - {"values", "range", "steps"}
     if extra:
-        raise ParameterError(f"{where}.{sorted(extra)[0]}", spec[sorted(extra)[0]], "unknown key; known keys: "
-                             "values, range, steps")
+        raise ParameterError(
+            f"{where}.{sorted(extra)[0]}", spec[sorted(extra)[0]], "unknown key; known keys: values, range, steps"
+        )
     if "values" in spec:
         values = spec["values"]
         if not isinstance(values, list) or not values:
@@ -153,8 +165,9 @@ class SweepSpec:
         for where, names in (("fixed", fixed), ("params", params)):
             for name in names:
                 if name not in INPUTS:
-                    raise ParameterError(f"{where}.{name}", names[name],
-                                         f"unknown parameter; known: {', '.join(INPUTS)}")
+                    raise ParameterError(
+                        f"{where}.{name}", names[name], f"unknown parameter; known: {', '.join(INPUTS)}"
+                    )
         for name, value in fixed.items():
             if name in params:
                 raise ParameterError(f"fixed.{name}", value, "is also in [params]: fix it or vary it, not both")
@@ -176,8 +189,11 @@ class SweepSpec:
             axes = []
             for n in names:
                 s = self.params[n]
-                axes.append(list(s["values"]) if "values" in s
-                            else list(np.linspace(s["range"][0], s["range"][1], int(s["steps"]))))
+                axes.append(
+                    list(s["values"])
+                    if "values" in s
+                    else list(np.linspace(s["range"][0], s["range"][1], int(s["steps"])))
+                )
             combos = itertools.product(*axes) if axes else [()]
         else:
             combos = self._lhs(names)
@@ -209,4 +225,3 @@ def point_id(point: dict) -> str:
     """Stable id of a design point: a hash of its inputs (so that --resume matches rows)."""
     key = json.dumps({k: point[k] for k in INPUTS}, sort_keys=True, default=float)
     return hashlib.sha1(key.encode()).hexdigest()[:12]
-

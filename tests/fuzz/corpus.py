@@ -73,6 +73,7 @@ class Shared:
 
 # ------------------------------------------------------------------------------------------ helpers
 
+
 def write(path: Path, data: bytes | str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
@@ -134,11 +135,17 @@ def make_shared(root: Path, python: str, repo: Path) -> Shared:
     env = dict(os.environ, MPLBACKEND="Agg")
     write(root / "sweep.toml", SWEEP_TOML)
     write(root / "finger1.toml", FINGER_ONE)
-    runs = [["joint", "--out", str(root / "joint"), "--no-png"],
-            ["bench", "--out", str(root / "campaign"), "--samples", "200"],
-            ["sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0"]]
-    procs = [subprocess.Popen([python, "-m", "rjcad", *args], cwd=repo, env=env, stdout=subprocess.DEVNULL,
-                              stderr=subprocess.PIPE) for args in runs]  # independent: side by side
+    runs = [
+        ["joint", "--out", str(root / "joint"), "--no-png"],
+        ["bench", "--out", str(root / "campaign"), "--samples", "200"],
+        ["sweep", str(root / "sweep.toml"), "--out", str(root / "sweep"), "--workers", "0"],
+    ]
+    procs = [
+        subprocess.Popen(
+            [python, "-m", "rjcad", *args], cwd=repo, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE
+        )
+        for args in runs
+    ]  # independent: side by side
     try:
         for args, proc in zip(runs, procs):
             _, err = proc.communicate(timeout=600)
@@ -151,27 +158,65 @@ def make_shared(root: Path, python: str, repo: Path) -> Shared:
                 proc.wait()
     for p in [root, *root.rglob("*")]:
         p.chmod(0o755 if p.is_dir() else 0o644)
-    return Shared(root, root / "joint", root / "finger1.toml", root / "campaign", root / "sweep.toml",
-                  root / "sweep")
+    return Shared(root, root / "joint", root / "finger1.toml", root / "campaign", root / "sweep.toml", root / "sweep")
 
 
 # ------------------------------------------------------------------------- 1. option values
 
 NUMERIC = {
-    "spring": (["spring", "--stiffness", "5.2"],
-               ["--stiffness", "--rotation", "--preload", "--safety-factor", "--min-gap", "--width-min",
-                "--width-max", "--inner-radius-min", "--inner-radius-max", "--max-outer-radius", "--min-turns",
-                "--min-cycles", "--backlash"]),
-    "joint": (["joint", "--out", "o", "--no-png"],
-              ["--stiffness", "--rotation", "--preload", "--clearance", "--link-length", "--tendon-diameter",
-               "--tendon-moment-arm", "--pin-radius", "--safety-factor"]),
+    "spring": (
+        ["spring", "--stiffness", "5.2"],
+        [
+            "--stiffness",
+            "--rotation",
+            "--preload",
+            "--safety-factor",
+            "--min-gap",
+            "--width-min",
+            "--width-max",
+            "--inner-radius-min",
+            "--inner-radius-max",
+            "--max-outer-radius",
+            "--min-turns",
+            "--min-cycles",
+            "--backlash",
+        ],
+    ),
+    "joint": (
+        ["joint", "--out", "o", "--no-png"],
+        [
+            "--stiffness",
+            "--rotation",
+            "--preload",
+            "--clearance",
+            "--link-length",
+            "--tendon-diameter",
+            "--tendon-moment-arm",
+            "--pin-radius",
+            "--safety-factor",
+        ],
+    ),
     "check": (["check", "{joint}/joint.stl", "--manifest", "{joint}/joint.json"], ["--clearance", "--allowance"]),
-    "simjoint": (["simulate", "joint", "--rotation", "90"],
-                 ["--normal-load", "--stiffness", "--preload", "--mu-j", "--gamma-pos", "--gamma-neg",
-                  "--beta-pos", "--beta-neg", "--pulley-radius", "--rotation"]),
+    "simjoint": (
+        ["simulate", "joint", "--rotation", "90"],
+        [
+            "--normal-load",
+            "--stiffness",
+            "--preload",
+            "--mu-j",
+            "--gamma-pos",
+            "--gamma-neg",
+            "--beta-pos",
+            "--beta-neg",
+            "--pulley-radius",
+            "--rotation",
+        ],
+    ),
     "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t"]),
-    "design": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "f.toml"],
-               ["--stroke", "--base-stiffness"]),
+    "design": (
+        ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "f.toml"],
+        ["--stroke", "--base-stiffness"],
+    ),
     "bench": (["bench", "--out", "c", "--samples", "200"], ["--rotation"]),
     "view": (["view", "{joint}/joint.json", "--out", "v.html"], ["--stroke", "--mu-t"]),
 }
@@ -198,23 +243,37 @@ def option_cases(sh: Shared) -> list[Case]:
                 cases.append(Case(f"num-{cmd}{opt}-{i}", _fmt(base, sh) + [f"{opt}={v}"], mention=(opt[2:],)))
             if cmd in ("spring", "simjoint"):
                 for i, v in enumerate(LOOSE if cmd == "spring" else LOOSE[::3]):
-                    cases.append(Case(f"num-{cmd}{opt}-loose{i}", _fmt(base, sh) + [f"{opt}={v}"], expect="either",
-                                      mention=(opt[2:],)))
+                    cases.append(
+                        Case(
+                            f"num-{cmd}{opt}-loose{i}",
+                            _fmt(base, sh) + [f"{opt}={v}"],
+                            expect="either",
+                            mention=(opt[2:],),
+                        )
+                    )
     for cmd, (base, options) in INTEGER.items():
         for opt in options:
             for i, v in enumerate(("abc", "1.5", "nan", "", BIG)):
                 expect = "either" if (opt, v) == ("--seed", BIG) else "error"  # numpy takes any integer seed
-                cases.append(Case(f"int-{cmd}{opt}-{i}", _fmt(base, sh) + [f"{opt}={v}"], expect,
-                                  mention=(opt[2:],)))
+                cases.append(Case(f"int-{cmd}{opt}-{i}", _fmt(base, sh) + [f"{opt}={v}"], expect, mention=(opt[2:],)))
     for i, t in enumerate(("abc", "nan,50,50", "1e400,50,50", "", "65,,50", "65;50", "-10,50,50", "inf")):
-        cases.append(Case(f"num-design--target-{i}", ["finger-design", f"--target={t}", "--stroke", "25",
-                                                          "--out", "f.toml"], mention=("target",)))
+        cases.append(
+            Case(
+                f"num-design--target-{i}",
+                ["finger-design", f"--target={t}", "--stroke", "25", "--out", "f.toml"],
+                mention=("target",),
+            )
+        )
     for i, n in enumerate(("torque_nmm=abc", "theta_deg=nan", "nosuchcolumn=0.1", "torque_nmm=-1", "=", "x")):
         cases.append(Case(f"num-bench--noise-{i}", ["bench", "--out", "c", f"--noise={n}"], mention=("noise",)))
     for i, p in enumerate(("mu_j_mm=abc", "mu_j_mm=nan", "nosuch=1", "mu_j_mm", "mu_j_mm=1e400", "=1")):
         cases.append(Case(f"num-bench--param-{i}", ["bench", "--out", "c", f"--param={p}"], mention=("param",)))
-    for opt, v in (("--material", "unobtainium"), ("--printer", "toaster"), ("--end", "glued"),
-                   ("--material", "x" * 100_000)):
+    for opt, v in (
+        ("--material", "unobtainium"),
+        ("--printer", "toaster"),
+        ("--end", "glued"),
+        ("--material", "x" * 100_000),
+    ):
         for cmd in ("spring", "joint"):
             base = ["spring", "--stiffness", "5.2"] if cmd == "spring" else ["joint", "--out", "o"]
             cases.append(Case(f"num-{cmd}{opt}-{len(v)}", base + [f"{opt}={v}"], mention=(opt[2:],)))
@@ -223,6 +282,7 @@ def option_cases(sh: Shared) -> list[Case]:
 
 
 # ------------------------------------------------------------------ 2. damaged TOML and JSON files
+
 
 @dataclass(frozen=True)
 class TomlUser:
@@ -238,15 +298,21 @@ def toml_users(sh: Shared) -> list[TomlUser]:
     campaign = (sh.campaign / "campaign.toml").read_text()
     finger = FINGER_ONE
     return [
-        TomlUser("spring", ("spring", "--config", "{f}"), "stiffness_nmm_per_rad = 5.2\n",
-                 "stiffness_nmm_per_rad = 5.2"),
-        TomlUser("joint", ("joint", "--config", "{f}", "--out", "o", "--no-png"),
-                 "stiffness_nmm_per_rad = 5.2\n", "stiffness_nmm_per_rad = 5.2"),
+        TomlUser(
+            "spring", ("spring", "--config", "{f}"), "stiffness_nmm_per_rad = 5.2\n", "stiffness_nmm_per_rad = 5.2"
+        ),
+        TomlUser(
+            "joint",
+            ("joint", "--config", "{f}", "--out", "o", "--no-png"),
+            "stiffness_nmm_per_rad = 5.2\n",
+            "stiffness_nmm_per_rad = 5.2",
+        ),
         TomlUser("finger", ("finger", "{f}", "--out", "o", "--no-png"), finger, "preload_deg = 90"),
         TomlUser("simfinger", ("simulate", "finger", "{f}", "--json"), finger, "preload_deg = 90"),
         TomlUser("sweep", ("sweep", "{f}", "--out", "o", "--workers", "0"), SWEEP_TOML, "preload_deg = 90"),
-        TomlUser("identify", ("identify", "camp/campaign.toml", "--json", "r.json"), campaign,
-                 "stiffness_nmm_per_rad = 5.2"),
+        TomlUser(
+            "identify", ("identify", "camp/campaign.toml", "--json", "r.json"), campaign, "stiffness_nmm_per_rad = 5.2"
+        ),
     ]
 
 
@@ -263,7 +329,7 @@ def toml_damages(valid: str, line: str) -> dict[str, bytes | str | None]:
         "deep-arrays-head": "deep = " + "[" * 5000 + "]" * 5000 + "\n" + valid,
         "garbage": garbage(4096, 1),
         "utf16": valid.encode("utf-16"),
-        "nul": valid[: len(valid) // 2] + "\x00" + valid[len(valid) // 2:],
+        "nul": valid[: len(valid) // 2] + "\x00" + valid[len(valid) // 2 :],
         "missing": None,
         "string": sub('"5.2"'),
         "bool": sub("true"),
@@ -286,23 +352,45 @@ def toml_cases(sh: Shared) -> list[Case]:
     for user in toml_users(sh):
         fname = "camp/campaign.toml" if user.name == "identify" else "in.toml"
         for kind, data in toml_damages(user.valid, user.line).items():
+
             def setup(d, data=data, user=user, fname=fname):
                 if user.name == "identify":
                     copy_tree(sh.campaign, d / "camp")
                     (d / fname).unlink()
                 if data is not None:
                     write(d / fname, data)
+
             argv = [a.replace("{f}", fname) for a in user.argv]
             expect = "error"
             key = user.line.split("=")[0].strip()
-            cases.append(Case(f"toml-{user.name}-{kind}", argv, expect, setup, mention=(Path(fname).name, key),
-                              timeout=120 if kind == "huge" else 60))
+            cases.append(
+                Case(
+                    f"toml-{user.name}-{kind}",
+                    argv,
+                    expect,
+                    setup,
+                    mention=(Path(fname).name, key),
+                    timeout=120 if kind == "huge" else 60,
+                )
+            )
         if user.name == "identify":
-            cases.append(Case("toml-identify-directory", list(user.argv), setup=lambda d: (d / fname).mkdir(
-                parents=True), mention=("campaign.toml",)))
+            cases.append(
+                Case(
+                    "toml-identify-directory",
+                    list(user.argv),
+                    setup=lambda d: (d / fname).mkdir(parents=True),
+                    mention=("campaign.toml",),
+                )
+            )
         else:
-            cases.append(Case(f"toml-{user.name}-directory", [a.replace("{f}", "adir") for a in user.argv],
-                              setup=lambda d: (d / "adir").mkdir(), mention=("adir",)))
+            cases.append(
+                Case(
+                    f"toml-{user.name}-directory",
+                    [a.replace("{f}", "adir") for a in user.argv],
+                    setup=lambda d: (d / "adir").mkdir(),
+                    mention=("adir",),
+                )
+            )
     return cases
 
 
@@ -371,12 +459,20 @@ def json_cases(sh: Shared) -> list[Case]:
             # the physics does not read the bodies nor the axis: a manifest without them may still simulate
             expect = "either" if name != "check" and kind.startswith(("bod", "no-bodies", "no-axis")) else "error"
             words = ("m.json", "manifest", *kind.split("-")[:2])
-            cases.append(Case(f"json-{name}-{kind}", argv, expect, lambda d, data=data: data is not None and
-                              write(d / "m.json", data), mention=words))
+            cases.append(
+                Case(
+                    f"json-{name}-{kind}",
+                    argv,
+                    expect,
+                    lambda d, data=data: data is not None and write(d / "m.json", data),
+                    mention=words,
+                )
+            )
     return cases
 
 
 # -------------------------------------------------------------------------- 3. output places
+
 
 def writers(sh: Shared) -> dict[str, tuple[list[str], str]]:
     """Command lines that write, ``{o}`` the place: (argv, 'dir' when {o} is a directory, else 'file')."""
@@ -414,12 +510,25 @@ def output_cases(sh: Shared) -> list[Case]:
         big = "error" if heavy else "either"  # small outputs may fit in what is left
 
         def mk(place, o, setup, expect="error", **kw):
-            cases.append(Case(f"out-{name}-{place}", [a.replace("{o}", o) for a in argv], expect, setup,
-                              mention=(o.split("/")[0],), timeout=180 if heavy else 90, **kw))
+            cases.append(
+                Case(
+                    f"out-{name}-{place}",
+                    [a.replace("{o}", o) for a in argv],
+                    expect,
+                    setup,
+                    mention=(o.split("/")[0],),
+                    timeout=180 if heavy else 90,
+                    **kw,
+                )
+            )
 
         mk("parent-is-file", "afile/sub", lambda d: write(d / "afile", "a regular file\n"))
-        mk("ro-earlier", "rodir", lambda d: (_earlier_run(open_dir(d / "rodir")), read_only(d / "rodir")),
-           read_only=True)
+        mk(
+            "ro-earlier",
+            "rodir",
+            lambda d: (_earlier_run(open_dir(d / "rodir")), read_only(d / "rodir")),
+            read_only=True,
+        )
         if name not in SLOW_WRITERS:  # every place once for the slow ones is enough: they share the writer
             mk("ro-empty", "rodir", lambda d: read_only(open_dir(d / "rodir")), read_only=True)
             mk("ro-parent", "rodir/new", lambda d: read_only(open_dir(d / "rodir")), read_only=True)
@@ -431,8 +540,9 @@ def output_cases(sh: Shared) -> list[Case]:
 def _mount_small(path: Path) -> None:
     """A 64 kB tmpfs at ``path`` holding an earlier run (unmounted by the test's teardown)."""
     path.mkdir(parents=True, exist_ok=True)
-    subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k,mode=0777", "tmpfs", str(path)], check=True,
-                   capture_output=True)
+    subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k,mode=0777", "tmpfs", str(path)], check=True, capture_output=True
+    )
     _earlier_run(path)
 
 
@@ -440,14 +550,17 @@ def can_mount(tmp: Path) -> bool:
     """Whether this process may mount a tmpfs (root outside a locked-down container)."""
     probe = tmp / "mount-probe"
     probe.mkdir(exist_ok=True)
-    ok = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", str(probe)],
-                        capture_output=True).returncode == 0
+    ok = (
+        subprocess.run(["mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", str(probe)], capture_output=True).returncode
+        == 0
+    )
     if ok:
         subprocess.run(["umount", str(probe)], capture_output=True)
     return ok
 
 
 # ----------------------------------------------------------------------------- 4. rjcad check
+
 
 def _binary_stl(n_claimed: int, triangles: int) -> bytes:
     body = struct.pack("<12fH", *([0.0] * 9 + [1.0, 0.0, 0.0]), 0) * triangles
@@ -491,23 +604,41 @@ def check_cases(sh: Shared) -> list[Case]:
     }
     cases = []
     for kind, (data, expect) in meshes.items():
-        cases.append(Case(f"mesh-stl-{kind}", ["check", "m.stl"], expect,
-                          lambda d, data=data: data is not None and write(d / "m.stl", data), mention=("m.stl",)))
+        cases.append(
+            Case(
+                f"mesh-stl-{kind}",
+                ["check", "m.stl"],
+                expect,
+                lambda d, data=data: data is not None and write(d / "m.stl", data),
+                mention=("m.stl",),
+            )
+        )
     zbuf = io.BytesIO()
     with zipfile.ZipFile(zbuf, "w") as z:
         z.writestr("readme.txt", "no model here")
     for kind, data in {"garbage": garbage(5000, 4), "no-model": zbuf.getvalue(), "empty": b""}.items():
-        cases.append(Case(f"mesh-3mf-{kind}", ["check", "m.3mf"], setup=lambda d, data=data: write(d / "m.3mf", data),
-                          mention=("m.3mf",)))
+        cases.append(
+            Case(
+                f"mesh-3mf-{kind}",
+                ["check", "m.3mf"],
+                setup=lambda d, data=data: write(d / "m.3mf", data),
+                mention=("m.3mf",),
+            )
+        )
     cases.append(Case("mesh-directory", ["check", "adir"], setup=lambda d: (d / "adir").mkdir(), mention=("adir",)))
-    cases.append(Case("mesh-unknown-suffix", ["check", "m.xyz"], setup=lambda d: write(d / "m.xyz", "1 2 3\n"),
-                      mention=("m.xyz",)))
-    cases.append(Case("mesh-printer", ["check", str(sh.joint / "joint.stl"), "--printer", "toaster"],
-                      mention=("printer",)))
+    cases.append(
+        Case(
+            "mesh-unknown-suffix", ["check", "m.xyz"], setup=lambda d: write(d / "m.xyz", "1 2 3\n"), mention=("m.xyz",)
+        )
+    )
+    cases.append(
+        Case("mesh-printer", ["check", str(sh.joint / "joint.stl"), "--printer", "toaster"], mention=("printer",))
+    )
     return cases
 
 
 # ------------------------------------------------------------------------------ 5. sweep files
+
 
 def sweep_damages() -> dict[str, tuple[str, tuple[str, ...]]]:
     """Damaged sweep files: (text, words of which the error line names one)."""
@@ -516,8 +647,10 @@ def sweep_damages() -> dict[str, tuple[str, tuple[str, ...]]]:
     mat = 'values = ["absplus-p430", "pla"]'
     return {
         "string-in-values": (s.replace('["absplus-p430", "pla"]', '["absplus-p430", 3]'), ("material",)),
-        "number-string-in-values": (s.replace(mat, mat + '\n[params.rotation_deg]\nvalues = [60, "ninety", 120]'),
-                                    ("rotation_deg",)),
+        "number-string-in-values": (
+            s.replace(mat, mat + '\n[params.rotation_deg]\nvalues = [60, "ninety", 120]'),
+            ("rotation_deg",),
+        ),
         "string-in-fixed": (s.replace("preload_deg = 90", 'preload_deg = "ninety"'), ("preload_deg",)),
         "bool-in-fixed": (s.replace("preload_deg = 90", "preload_deg = true"), ("preload_deg",)),
         "nan-in-fixed": (s.replace("preload_deg = 90", "preload_deg = nan"), ("preload_deg",)),
@@ -560,13 +693,20 @@ def _row_error(col: str):
         bad = [r for r in rows if r["status"] != "ok"]
         assert bad, f"a design with an invalid {col} came out ok"
         assert all(r.get("error") for r in bad), bad
+
     return post
 
 
 def sweep_cases(sh: Shared) -> list[Case]:
-    cases = [Case(f"sweep-{k}", ["sweep", "s.toml", "--out", "o", "--workers", "0"],
-                  setup=lambda d, t=t: write(d / "s.toml", t), mention=("s.toml",) + words)
-             for k, (t, words) in sweep_damages().items()]
+    cases = [
+        Case(
+            f"sweep-{k}",
+            ["sweep", "s.toml", "--out", "o", "--workers", "0"],
+            setup=lambda d, t=t: write(d / "s.toml", t),
+            mention=("s.toml",) + words,
+        )
+        for k, (t, words) in sweep_damages().items()
+    ]
     bad_design = {  # a bad design is a row with its error, not a bad file
         "clearance-negative": ("clearance_mm", "clearance_mm = -3", []),
         "clearance-negative-build": ("clearance_mm", "clearance_mm = -3", ["--build"]),
@@ -576,14 +716,26 @@ def sweep_cases(sh: Shared) -> list[Case]:
         "material-unknown": ("material", "", []),
     }
     for name, (col, line, extra) in bad_design.items():
-        text = (SWEEP_TOML.replace("preload_deg = 90", f"preload_deg = 90\n{line}") if line
-                else SWEEP_TOML.replace('"pla"]', '"cheese"]'))
-        cases.append(Case(f"sweep-design-{name}", ["sweep", "s.toml", "--out", "o", "--workers", "0", *extra],
-                          "ok", lambda d, t=text: write(d / "s.toml", t), post=_row_error(col), timeout=180))
+        text = (
+            SWEEP_TOML.replace("preload_deg = 90", f"preload_deg = 90\n{line}")
+            if line
+            else SWEEP_TOML.replace('"pla"]', '"cheese"]')
+        )
+        cases.append(
+            Case(
+                f"sweep-design-{name}",
+                ["sweep", "s.toml", "--out", "o", "--workers", "0", *extra],
+                "ok",
+                lambda d, t=text: write(d / "s.toml", t),
+                post=_row_error(col),
+                timeout=180,
+            )
+        )
     return cases
 
 
 # ---------------------------------------------------------------------------- 6. --resume
+
 
 def resume_damages(csv_text: str) -> dict[str, bytes | str]:
     lines = csv_text.splitlines(keepends=True)
@@ -615,6 +767,7 @@ def _exactly_once(sh: Shared):
             return
         ids = [r["id"] for r in _rows(d / "o")]
         assert sorted(ids) == sorted(want), f"{len(ids)} rows, {len(set(ids))} designs, want each of {len(want)} once"
+
     return post
 
 
@@ -622,16 +775,26 @@ def resume_cases(sh: Shared) -> list[Case]:
     text = (sh.sweep_out / "results.csv").read_text(encoding="utf-8")
     cases = []
     for kind, data in resume_damages(text).items():
+
         def setup(d, data=data):
             copy_tree(sh.sweep_out, d / "o")
             write(d / "o" / "results.csv", data)
-        cases.append(Case(f"resume-{kind}", ["sweep", str(sh.sweep_file), "--out", "o", "--workers", "0",
-                                             "--resume"], "either", setup, mention=("results.csv",),
-                          post=_exactly_once(sh)))
+
+        cases.append(
+            Case(
+                f"resume-{kind}",
+                ["sweep", str(sh.sweep_file), "--out", "o", "--workers", "0", "--resume"],
+                "either",
+                setup,
+                mention=("results.csv",),
+                post=_exactly_once(sh),
+            )
+        )
     return cases
 
 
 # ---------------------------------------------------------------------------- 7. identify
+
 
 def identify_cases(sh: Shared) -> list[Case]:
     cases = []
@@ -653,19 +816,36 @@ def identify_cases(sh: Shared) -> list[Case]:
         "dev-zero": lambda t: t.replace(f'"{first}"', '"/dev/zero"'),
     }
     for kind, edit in outside.items():
+
         def setup(d, edit=edit):
             campaign(d, edit)
             shutil.copy(sh.campaign / first, d / "outside.csv")
-        cases.append(Case(f"ident-{kind}", ["identify", "camp/campaign.toml", "--json", "r.json"], setup=setup,
-                          mention=("campaign.toml", "allow-outside", "outside"), forbid=("root:", "PATH="),
-                          timeout=30))
+
+        cases.append(
+            Case(
+                f"ident-{kind}",
+                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                setup=setup,
+                mention=("campaign.toml", "allow-outside", "outside"),
+                forbid=("root:", "PATH="),
+                timeout=30,
+            )
+        )
 
     def symlink_out(d):
         campaign(d)
         (d / "camp" / first).unlink()
         (d / "camp" / first).symlink_to("/etc/passwd")
-    cases.append(Case("ident-symlink-out", ["identify", "camp/campaign.toml", "--json", "r.json"], setup=symlink_out,
-                      mention=(first, "allow-outside", "outside"), forbid=("root:",)))
+
+    cases.append(
+        Case(
+            "ident-symlink-out",
+            ["identify", "camp/campaign.toml", "--json", "r.json"],
+            setup=symlink_out,
+            mention=(first, "allow-outside", "outside"),
+            forbid=("root:",),
+        )
+    )
 
     def radians(d):
         campaign(d)
@@ -677,8 +857,15 @@ def identify_cases(sh: Shared) -> list[Case]:
             buf = io.StringIO()
             csv.writer(buf, lineterminator="\n").writerows(rows)
             p.write_text(buf.getvalue())
-    cases.append(Case("ident-radians", ["identify", "camp/campaign.toml", "--json", "r.json"], setup=radians,
-                      mention=("theta_deg", "radian")))
+
+    cases.append(
+        Case(
+            "ident-radians",
+            ["identify", "camp/campaign.toml", "--json", "r.json"],
+            setup=radians,
+            mention=("theta_deg", "radian"),
+        )
+    )
     csv_damage = {
         "not-csv": garbage(3000, 7),
         "empty": "",
@@ -687,15 +874,20 @@ def identify_cases(sh: Shared) -> list[Case]:
         "text-values": "t_s,theta_deg,torque_nmm\n0,one,2\n0.1,two,3\n",
         "nan-values": "t_s,theta_deg,torque_nmm\n" + "".join(f"{i / 10},nan,{i}\n" for i in range(300)),
         "inf-values": "t_s,theta_deg,torque_nmm\n" + "".join(f"{i / 10},{i},inf\n" for i in range(300)),
-        "time-backwards": "t_s,theta_deg,torque_nmm\n" + "".join(f"{-i / 10},{i % 90},{i % 7}\n"
-                                                                 for i in range(300)),
+        "time-backwards": "t_s,theta_deg,torque_nmm\n" + "".join(f"{-i / 10},{i % 90},{i % 7}\n" for i in range(300)),
         "utf16": "t_s,theta_deg,torque_nmm\n0,1,2\n".encode("utf-16"),
         "huge-number": "t_s,theta_deg,torque_nmm\n" + "".join(f"{i / 10},{BIG},{i}\n" for i in range(300)),
         "ragged": "t_s,theta_deg,torque_nmm\n0,1\n0.1,2,3,4\n",
     }
     for kind, data in csv_damage.items():
-        cases.append(Case(f"ident-csv-{kind}", ["identify", "camp/campaign.toml", "--json", "r.json"],
-                          setup=lambda d, data=data: campaign(d, files={first: data}), mention=(first,)))
+        cases.append(
+            Case(
+                f"ident-csv-{kind}",
+                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                setup=lambda d, data=data: campaign(d, files={first: data}),
+                mention=(first,),
+            )
+        )
     for kind, edit in {
         "no-file-key": lambda t: t.replace(f'file = "{first}"\n', "", 1),
         "file-number": lambda t: t.replace(f'"{first}"', "3", 1),
@@ -703,28 +895,45 @@ def identify_cases(sh: Shared) -> list[Case]:
         "drive-unknown": lambda t: t.replace('drive = "bar"', 'drive = "rope"', 1),
         "missing-data-file": lambda t: t.replace(f'"{first}"', '"nope.csv"', 1),
     }.items():
-        cases.append(Case(f"ident-toml-{kind}", ["identify", "camp/campaign.toml", "--json", "r.json"],
-                          setup=lambda d, edit=edit: campaign(d, edit), mention=("campaign.toml", "nope.csv",
-                                                                                  "experiment", "drive", "file")))
+        cases.append(
+            Case(
+                f"ident-toml-{kind}",
+                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                setup=lambda d, edit=edit: campaign(d, edit),
+                mention=("campaign.toml", "nope.csv", "experiment", "drive", "file"),
+            )
+        )
     return cases
 
 
 # ------------------------------------------------------------------------------- 8. long values
 
+
 def long_cases(sh: Shared) -> list[Case]:
     huge = "x" * 2_000_000
     return [
-        Case("long-config-string", ["spring", "--config", "c.toml"],
-             setup=lambda d: write(d / "c.toml", f'material = "{huge}"\nstiffness_nmm_per_rad = 5.2\n'),
-             mention=("material", "c.toml")),
-        Case("long-sweep-value", ["sweep", "s.toml", "--out", "o", "--workers", "0"],
-             setup=lambda d: write(d / "s.toml", SWEEP_TOML.replace('"pla"', f'"{huge}"')), expect="either",
-             mention=("material", "s.toml")),
-        Case("long-cli-material", ["spring", "--stiffness", "5.2", "--material", huge[:100_000]],
-             mention=("material",)),
-        Case("long-key", ["spring", "--config", "c.toml"],
-             setup=lambda d: write(d / "c.toml", f"{'k' * 500_000} = 1\nstiffness_nmm_per_rad = 5.2\n"),
-             mention=("c.toml",)),
+        Case(
+            "long-config-string",
+            ["spring", "--config", "c.toml"],
+            setup=lambda d: write(d / "c.toml", f'material = "{huge}"\nstiffness_nmm_per_rad = 5.2\n'),
+            mention=("material", "c.toml"),
+        ),
+        Case(
+            "long-sweep-value",
+            ["sweep", "s.toml", "--out", "o", "--workers", "0"],
+            setup=lambda d: write(d / "s.toml", SWEEP_TOML.replace('"pla"', f'"{huge}"')),
+            expect="either",
+            mention=("material", "s.toml"),
+        ),
+        Case(
+            "long-cli-material", ["spring", "--stiffness", "5.2", "--material", huge[:100_000]], mention=("material",)
+        ),
+        Case(
+            "long-key",
+            ["spring", "--config", "c.toml"],
+            setup=lambda d: write(d / "c.toml", f"{'k' * 500_000} = 1\nstiffness_nmm_per_rad = 5.2\n"),
+            mention=("c.toml",),
+        ),
         Case("long-path", ["check", "a" * 5000 + ".stl"], mention=("aaaa", "file name")),
     ]
 
@@ -738,14 +947,25 @@ def parse_only(case: Case) -> bool:
     size limit or mount, nothing to check afterwards. tests/test_fuzz_corpus.py runs these in its own process (the
     promises are the same); every other case runs as a process of its own."""
     cls = case.id.split("-")[0]
-    return ((cls in PARSE_CLASSES or case.id == "long-cli-material")
-            and (case.expect == "error" or case.expect == "either" and case.argv[0] in ("spring", "simulate"))
-            and not (case.read_only or case.fsize or case.needs or case.post))
+    return (
+        (cls in PARSE_CLASSES or case.id == "long-cli-material")
+        and (case.expect == "error" or case.expect == "either" and case.argv[0] in ("spring", "simulate"))
+        and not (case.read_only or case.fsize or case.needs or case.post)
+    )
 
 
 def all_cases(sh: Shared) -> list[Case]:
-    cases = (option_cases(sh) + toml_cases(sh) + json_cases(sh) + output_cases(sh) + check_cases(sh)
-             + sweep_cases(sh) + resume_cases(sh) + identify_cases(sh) + long_cases(sh))
+    cases = (
+        option_cases(sh)
+        + toml_cases(sh)
+        + json_cases(sh)
+        + output_cases(sh)
+        + check_cases(sh)
+        + sweep_cases(sh)
+        + resume_cases(sh)
+        + identify_cases(sh)
+        + long_cases(sh)
+    )
     ids = [c.id for c in cases]
     dup = {i for i in ids if ids.count(i) > 1}
     assert not dup, dup

@@ -66,9 +66,19 @@ def _preload() -> None:
     """Import what the commands import lazily, so that every child starts warm."""
     os.environ.setdefault("MPLBACKEND", "Agg")
     import rjcad.cli  # noqa: F401
+
     # rjcad.cad.build imports no CadQuery (the joint's CAD process does): the builders are named as well
-    for name in ("rjcad.cad.build", "rjcad.cad.measure", "rjcad.cad.finger", "rjcad.check",
-                 "rjcad.identify", "rjcad.sweep", "rjcad.physics.finger", "matplotlib.pyplot", "scipy.optimize"):
+    for name in (
+        "rjcad.cad.build",
+        "rjcad.cad.measure",
+        "rjcad.cad.finger",
+        "rjcad.check",
+        "rjcad.identify",
+        "rjcad.sweep",
+        "rjcad.physics.finger",
+        "matplotlib.pyplot",
+        "scipy.optimize",
+    ):
         try:
             __import__(name)
         except Exception:  # a missing optional module is the command's business, not the runner's
@@ -99,6 +109,7 @@ def _child(case: dict) -> None:
         if case.get("read_only") and not _obey_permissions():
             os._exit(NO_CAPS)
         from rjcad.cli import main
+
         try:
             main(list(case["argv"]))
             code = 0

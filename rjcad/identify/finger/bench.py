@@ -15,22 +15,38 @@ from pathlib import Path
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_of
 from rjcad.identify.finger.data import ORIENTATIONS, as_designed, design_from_file
 from rjcad.io.outputs import write_set
 from rjcad.paper import FINGER
 from rjcad.physics.finger import simulate_angles
-from rjcad import DEG
 
 DEFAULT_NOISE = {"theta_deg": 0.3, "tendon_force_n": 0.02, "tendon_mm": 0.005}
 #: (name, orientation, segments as (duration s, start, end) in units of the stroke)
 EXPERIMENTS = (
     ("A_pulls", "horizontal-palm-up", ((1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0), (1.0, 0, 0), (1.5, 0, 1), (1.5, 1, 0))),
-    ("B_turns", "horizontal-palm-down", ((1.0, 0, 0), (4.0, 0, 1), (2.5, 1, 0.4), (2.5, 0.4, 1), (4.0, 1, 0),
-                                         (1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0))),
-    ("C_holds", "vertical-tip-down", ((1.0, 0, 0), (4.0, 0, 1), (2.0, 1, 1), (2.0, 1, 0.5), (2.0, 0.5, 0.5),
-                                      (2.0, 0.5, 0), (1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0))),
+    (
+        "B_turns",
+        "horizontal-palm-down",
+        ((1.0, 0, 0), (4.0, 0, 1), (2.5, 1, 0.4), (2.5, 0.4, 1), (4.0, 1, 0), (1.0, 0, 0), (4.0, 0, 1), (4.0, 1, 0)),
+    ),
+    (
+        "C_holds",
+        "vertical-tip-down",
+        (
+            (1.0, 0, 0),
+            (4.0, 0, 1),
+            (2.0, 1, 1),
+            (2.0, 1, 0.5),
+            (2.0, 0.5, 0.5),
+            (2.0, 0.5, 0),
+            (1.0, 0, 0),
+            (4.0, 0, 1),
+            (4.0, 1, 0),
+        ),
+    ),
 )
 #: Per-joint factors of the typical sizes: each joint differs, as printed joints do.
 K_FACTORS = (0.85, 0.92, 0.78, 0.88, 0.95, 0.83)
@@ -91,8 +107,18 @@ def _template_text(d: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed=0, noise=None, samples=3000,
-                          stroke=FINGER.stroke, tension=True) -> dict:
+def write_finger_campaign(
+    out_dir,
+    effects=(),
+    params=None,
+    *,
+    finger=None,
+    seed=0,
+    noise=None,
+    samples=3000,
+    stroke=FINGER.stroke,
+    tension=True,
+) -> dict:
     """Write campaign.toml, finger.(toml|json), one CSV per experiment, truth.json and README.md; return the truth.
 
     ``finger``: a finger manifest (.json) or template (.toml); None: the default finger (templates/finger.toml).
@@ -110,8 +136,8 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
     if out.exists() and not out.is_dir():
         raise RjcadError(f"{out}: exists and is not a directory")
     if finger is None:
-        from rjcad.physics.finger import model_from_template
         from rjcad.io.templates import DEFAULT_FINGER
+        from rjcad.physics.finger import model_from_template
 
         finger_name, finger_bytes = "finger.toml", _template_text(DEFAULT_FINGER).encode()
         design = as_designed(model_from_template(DEFAULT_FINGER), finger_name).model
@@ -141,7 +167,9 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
         pulling = _pulling(td)
         cols = {"t_s": t, "tendon_mm": td + rng.normal(0, sig["tendon_mm"], samples)}
         if tension:
-            cols["tendon_force_n"] = actuator_tension(values, T, pulling) + rng.normal(0, sig["tendon_force_n"], samples)
+            cols["tendon_force_n"] = actuator_tension(values, T, pulling) + rng.normal(
+                0, sig["tendon_force_n"], samples
+            )
         for i in range(design.n):
             cols[f"theta{i + 1}_deg"] = theta[:, i] / DEG + rng.normal(0, sig["theta_deg"], samples)
         header = ",".join(cols)
@@ -150,18 +178,28 @@ def write_finger_campaign(out_dir, effects=(), params=None, *, finger=None, seed
         campaign_toml += f'\n[[experiment]]\nfile = "{name}.csv"\ndrive = "finger"\norientation = "{orient}"\n'
         exps.append({"file": f"{name}.csv", "orientation": orient})
     files["campaign.toml"] = campaign_toml
-    truth = {"synthetic": True, "generator": "rjcad bench --finger",
-             "note": "SYNTHETIC data simulated from rjcad's finger model (rjcad/physics/finger.py), not measured",
-             "finger": finger_name, "effects": list(effects),
-             "params": {k: v for k, v in values.items() if any(k in cat[e].param_names for e in effects)},
-             "noise": sig, "seed": seed, "samples": samples, "stroke_mm": stroke, "tension": tension,
-             "experiments": exps}
+    truth = {
+        "synthetic": True,
+        "generator": "rjcad bench --finger",
+        "note": "SYNTHETIC data simulated from rjcad's finger model (rjcad/physics/finger.py), not measured",
+        "finger": finger_name,
+        "effects": list(effects),
+        "params": {k: v for k, v in values.items() if any(k in cat[e].param_names for e in effects)},
+        "noise": sig,
+        "seed": seed,
+        "samples": samples,
+        "stroke_mm": stroke,
+        "tension": tension,
+        "experiments": exps,
+    }
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"
-    files["README.md"] = ("# SYNTHETIC whole-finger campaign\n\nSimulated by `rjcad bench --finger` from rjcad's finger "
-                          "model, not measured. Effects in the truth: "
-                          + (", ".join(f"`{e}`" for e in effects) or "none (the design model)")
-                          + f"; noise σ: {sig}; seed {seed}; {samples} samples per experiment; stroke {stroke:g} mm."
-                          "\n\nExperiments: A two full pulls (palm up; the second 2.7× faster), B a pull that turns back at 40 % and closes "
-                          "again (palm down), C pulls with holds at full and half stroke (tip down).\n")
+    files["README.md"] = (
+        "# SYNTHETIC whole-finger campaign\n\nSimulated by `rjcad bench --finger` from rjcad's finger "
+        "model, not measured. Effects in the truth: "
+        + (", ".join(f"`{e}`" for e in effects) or "none (the design model)")
+        + f"; noise σ: {sig}; seed {seed}; {samples} samples per experiment; stroke {stroke:g} mm."
+        "\n\nExperiments: A two full pulls (palm up; the second 2.7× faster), B a pull that turns back at 40 % and closes "
+        "again (palm down), C pulls with holds at full and half stroke (tip down).\n"
+    )
     write_set(out, files)
     return truth

@@ -19,18 +19,18 @@ from pathlib import Path
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.data import MIN_SAMPLES, _check_time, _data_path, _read_csv
-from rjcad.physics.finger import FingerModel, model_from_manifest, model_from_template
-from rjcad import DEG
 from rjcad.io.untrusted import confined
+from rjcad.physics.finger import FingerModel, model_from_manifest, model_from_template
 
 #: Gravity in the finger's plane, as a unit vector in the finger's frame (x along the straight finger towards
 #: the tip, y towards the palm: the side the finger flexes to). A number is the angle of gravity from x
 #: towards y [deg].
 ORIENTATIONS = {
-    "horizontal-palm-down": (0.0, 1.0),   # gravity helps flexion
-    "horizontal-palm-up": (0.0, -1.0),    # gravity opposes flexion
+    "horizontal-palm-down": (0.0, 1.0),  # gravity helps flexion
+    "horizontal-palm-up": (0.0, -1.0),  # gravity opposes flexion
     "vertical-tip-down": (1.0, 0.0),
     "vertical-tip-up": (-1.0, 0.0),
 }
@@ -74,10 +74,16 @@ class FingerDesign:
 
     def as_json(self) -> dict:
         m = self.model
-        return {"finger": self.source, "joints": m.n, "stiffness_nmm_per_rad": list(m.stiffness),
-                "preload_deg": [p / DEG for p in m.preload], "rotation_deg": [r / DEG for r in m.rotation],
-                "tendon_moment_arm_mm": list(m.moment_arm), "link_length_mm": list(m.link_length),
-                "link_mass_g": list(m.link_mass)}
+        return {
+            "finger": self.source,
+            "joints": m.n,
+            "stiffness_nmm_per_rad": list(m.stiffness),
+            "preload_deg": [p / DEG for p in m.preload],
+            "rotation_deg": [r / DEG for r in m.rotation],
+            "tendon_moment_arm_mm": list(m.moment_arm),
+            "link_length_mm": list(m.link_length),
+            "link_mass_g": list(m.link_mass),
+        }
 
 
 @dataclass(frozen=True)
@@ -98,8 +104,10 @@ def load_finger_campaign(path: Path, doc: dict, allow_outside: bool = False) -> 
     ``[[endpoint]]`` tables is read by rjcad.identify.finger.endpoint)."""
     for key in doc:
         if key not in TOP_KEYS:
-            raise RjcadError(f"{path}: unknown key or table {quote(key)}; a finger campaign has finger = \"PATH\" "
-                             "and [[experiment]] (records) or [[endpoint]] tables")
+            raise RjcadError(
+                f'{path}: unknown key or table {quote(key)}; a finger campaign has finger = "PATH" '
+                "and [[experiment]] (records) or [[endpoint]] tables"
+            )
     design = finger_design(path, doc.get("finger"), allow_outside)
     tables = doc.get("experiment")
     if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
@@ -119,8 +127,9 @@ def load_finger_campaign(path: Path, doc: dict, allow_outside: bool = False) -> 
 def finger_design(path: Path, value, allow_outside: bool) -> FingerDesign:
     """The design of a campaign's ``finger`` key (relative to the campaign file ``path``)."""
     if value is None:
-        raise RjcadError(f"{path}: missing key 'finger' (a finger manifest .json or template .toml, relative to "
-                         "the campaign file)")
+        raise RjcadError(
+            f"{path}: missing key 'finger' (a finger manifest .json or template .toml, relative to the campaign file)"
+        )
     if not isinstance(value, str) or not value.strip():
         raise ParameterError(f"{path}: finger", value, "must name a finger manifest (.json) or template (.toml)")
     where = f"{path}: finger"
@@ -137,8 +146,8 @@ def design_from_file(file: Path, label: str, where: str) -> FingerDesign:
 
         model = model_from_manifest(Manifest.read(file))
     elif file.suffix.lower() == ".toml":
-        from rjcad.physics.finger_sources import check_template_keys
         from rjcad.io.untrusted import read_toml
+        from rjcad.physics.finger_sources import check_template_keys
 
         data = read_toml(file)
         check_template_keys(data, file.name)
@@ -150,8 +159,9 @@ def design_from_file(file: Path, label: str, where: str) -> FingerDesign:
 
 def as_designed(model: FingerModel, label: str) -> FingerDesign:
     """The design model: as designed, frictionless, no capstan, inextensible tendon, no gravity."""
-    model = replace(model, mu_t=0.0, friction=(), gamma=(), gamma_pos=(), gamma_neg=(), gravity=None,
-                    tendon_stiffness=math.inf)
+    model = replace(
+        model, mu_t=0.0, friction=(), gamma=(), gamma_pos=(), gamma_neg=(), gravity=None, tendon_stiffness=math.inf
+    )
     return FingerDesign(model, label)
 
 
@@ -162,9 +172,13 @@ def _orientation(where: str, value) -> tuple[float, float] | None:
         raise ParameterError(f"{where}orientation", value, "must be a name or an angle [deg]")
     if isinstance(value, str):
         if value not in ORIENTATIONS:
-            raise ParameterError(f"{where}orientation", value, f"unknown; known: {', '.join(ORIENTATIONS)}, "
-                                                               "or the angle of gravity from the finger's axis "
-                                                               "towards the palm [deg]")
+            raise ParameterError(
+                f"{where}orientation",
+                value,
+                f"unknown; known: {', '.join(ORIENTATIONS)}, "
+                "or the angle of gravity from the finger's axis "
+                "towards the palm [deg]",
+            )
         return ORIENTATIONS[value]
     if not math.isfinite(value):
         raise ParameterError(f"{where}orientation", value, "must be finite")
@@ -181,30 +195,35 @@ def _experiment(toml: Path, i: int, table: dict, n: int, allow_outside: bool):
     if not isinstance(file, str) or not file.strip():
         raise RjcadError(f"{where}missing key 'file' (the CSV file, relative to the campaign file)")
     if table.get("drive") != "finger":
-        raise RjcadError(f"{where}drive must be 'finger' in a finger campaign (got {quote(table.get('drive'))}); "
-                         "joint and finger experiments cannot be mixed")
+        raise RjcadError(
+            f"{where}drive must be 'finger' in a finger campaign (got {quote(table.get('drive'))}); "
+            "joint and finger experiments cannot be mixed"
+        )
     gravity = _orientation(where, table.get("orientation"))
     csv = _data_path(toml, i, file, allow_outside)
     header = _header(csv, file)
     thetas = [f"theta{k + 1}_deg" for k in range(n)]
     extra = sorted(h for h in header if h.startswith("theta") and h.endswith("_deg") and h not in thetas)
     if extra:
-        raise RjcadError(f"{file}: column {quote(extra[0])} but the finger has {n} joint{'s' * (n > 1)} "
-                         f"(theta1_deg … theta{n}_deg)")
+        raise RjcadError(
+            f"{file}: column {quote(extra[0])} but the finger has {n} joint{'s' * (n > 1)} (theta1_deg … theta{n}_deg)"
+        )
     with_force = "tendon_force_n" in header
     columns = ("t_s", "tendon_mm", *thetas) + (("tendon_force_n",) if with_force else ())
     values, lines, rows, dropped, note = _read_csv(file, csv, columns, "finger")
     t, tendon = values[0], values[1]
-    theta = np.column_stack(values[2:2 + n]) * DEG if len(t) else np.zeros((0, n))
+    theta = np.column_stack(values[2 : 2 + n]) * DEG if len(t) else np.zeros((0, n))
     if len(t) < MIN_SAMPLES:
         raise RjcadError(f"{file}: only {len(t)} usable samples; at least {MIN_SAMPLES} are needed")
     _check_time(file, t, lines)
     if np.ptp(tendon) < MIN_STROKE_MM:
-        raise RjcadError(f"{file}: tendon_mm moves only {np.ptp(tendon):.3g} mm; a pull needs at least "
-                         f"{MIN_STROKE_MM:g} mm")
+        raise RjcadError(
+            f"{file}: tendon_mm moves only {np.ptp(tendon):.3g} mm; a pull needs at least {MIN_STROKE_MM:g} mm"
+        )
     tension = values[-1] if with_force else None
-    return FingerExperiment(file, csv, t, tendon, tension, theta, gravity, table.get("orientation"), rows,
-                            dropped), note
+    return FingerExperiment(
+        file, csv, t, tendon, tension, theta, gravity, table.get("orientation"), rows, dropped
+    ), note
 
 
 def _header(path: Path, file: str) -> list[str]:

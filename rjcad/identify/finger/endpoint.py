@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
+from rjcad import DEG
 from rjcad.errors import RjcadError, quote
 from rjcad.identify.catalogue import Param
 from rjcad.identify.finger.catalogue import FingerEffect, catalogue, model_of
@@ -33,7 +34,6 @@ from rjcad.identify.finger.data import FingerDesign, finger_design
 from rjcad.identify.result import _r
 from rjcad.physics.finger import FingerModel, simulate_angles
 from rjcad.physics.uncertainty import parameter_std
-from rjcad import DEG
 
 ENDPOINT_KEYS = ("tendon_mm", "theta_deg", "sigma_deg")
 DEFAULT_SIGMA_DEG = 2.0
@@ -42,10 +42,16 @@ EXPLAINS_SIGMA = 1.0
 #: steps of the simulated pull per endpoint stroke
 STEPS = 160
 #: what an endpoint cannot carry (the catalogue's needs) and why
-NEEDS_RECORD = {"tension": "a tension record", "speeds": "several speeds", "holds": "holds",
-                "orientation": "the finger's orientation (gravity)"}
-SEPARATE_BY = ("a full pull/release record (each joint's angle against the tendon stroke, both ways): "
-               "`rjcad paper-finger --records` shows on SYNTHETIC records which of these sets it separates")
+NEEDS_RECORD = {
+    "tension": "a tension record",
+    "speeds": "several speeds",
+    "holds": "holds",
+    "orientation": "the finger's orientation (gravity)",
+}
+SEPARATE_BY = (
+    "a full pull/release record (each joint's angle against the tendon stroke, both ways): "
+    "`rjcad paper-finger --records` shows on SYNTHETIC records which of these sets it separates"
+)
 
 
 @dataclass(frozen=True)
@@ -70,10 +76,15 @@ def load_endpoint_campaign(path: Path, doc: dict, allow_outside: bool = False) -
     """A finger campaign of ``[[endpoint]]`` tables (one error line naming the file, table and key)."""
     for key in doc:
         if key not in ("finger", "endpoint"):
-            raise RjcadError(f"{path}: unknown key or table {quote(key)}" + (
-                ": [[endpoint]] and [[experiment]] cannot be mixed; identify the records, or the endpoints, in "
-                "campaigns of their own" if key == "experiment" else "; an endpoint campaign has finger = "
-                "\"PATH\" and [[endpoint]] tables"))
+            raise RjcadError(
+                f"{path}: unknown key or table {quote(key)}"
+                + (
+                    ": [[endpoint]] and [[experiment]] cannot be mixed; identify the records, or the endpoints, in "
+                    "campaigns of their own"
+                    if key == "experiment"
+                    else '; an endpoint campaign has finger = "PATH" and [[endpoint]] tables'
+                )
+            )
     design = finger_design(path, doc.get("finger"), allow_outside)
     return EndpointCampaign(path, design, read_endpoints(path, doc["endpoint"], design.model.n))
 
@@ -142,8 +153,10 @@ class EndpointProblem:
     def ends(self, values: dict) -> np.ndarray:
         scale = values.get(ARM_SCALE.name)
         if scale is not None:  # one scale on every joint's arm (the moment_arm effect, constrained)
-            values = {**values, **{f"tendon_moment_arm_mm_j{j + 1}": scale * a
-                                   for j, a in enumerate(self.design.moment_arm)}}
+            values = {
+                **values,
+                **{f"tendon_moment_arm_mm_j{j + 1}": scale * a for j, a in enumerate(self.design.moment_arm)},
+            }
         theta, _ = simulate_angles(model_of(values, self.design, None), self.path)
         return theta[self.at]
 
@@ -240,8 +253,16 @@ def _setfit(prob, effects, names, values, r, res, lb, ub) -> SetFit:
         std, why = parameter_std(res.jac, res.x, lb, ub, list(names))
     else:
         std, why = np.zeros(0), []
-    return SetFit(effects, names, values, float(r @ r), float(np.sqrt(np.mean(r**2))), ends.tolist(),
-                  dict(zip(names, why)), dict(zip(names, map(float, std))))
+    return SetFit(
+        effects,
+        names,
+        values,
+        float(r @ r),
+        float(np.sqrt(np.mean(r**2))),
+        ends.tolist(),
+        dict(zip(names, why)),
+        dict(zip(names, map(float, std))),
+    )
 
 
 def identify_endpoints(camp: EndpointCampaign) -> dict:
@@ -264,11 +285,19 @@ def _json(camp, prob, design, answer, explain, fits, n_data) -> dict:
         d = np.asarray(design.end_deg[i]) - e.theta / DEG
         f = np.asarray(answer.end_deg[i]) - e.theta / DEG
         sig = e.sigma / DEG
-        exps.append({"file": f"endpoint {i + 1}", "drive": "finger", "tendon_mm": e.tendon, "quantities": q,
-                     "measured_deg": [_r(x) for x in e.theta / DEG],
-                     "rmse_design": {k: _r(abs(x)) for k, x in zip(q, d)},
-                     "rmse_final": {k: _r(abs(x)) for k, x in zip(q, f)}, "noise": {k: _r(sig) for k in q},
-                     "final_over_noise": {k: _r(abs(x) / sig) for k, x in zip(q, f)}})
+        exps.append(
+            {
+                "file": f"endpoint {i + 1}",
+                "drive": "finger",
+                "tendon_mm": e.tendon,
+                "quantities": q,
+                "measured_deg": [_r(x) for x in e.theta / DEG],
+                "rmse_design": {k: _r(abs(x)) for k, x in zip(q, d)},
+                "rmse_final": {k: _r(abs(x)) for k, x in zip(q, f)},
+                "noise": {k: _r(sig) for k in q},
+                "final_over_noise": {k: _r(abs(x) / sig) for k, x in zip(q, f)},
+            }
+        )
     # RMS errors in σ; an exact fit (as many parameters as angles) counts as the noise floor, not as infinite gain
     rd, rf = math.sqrt(design.chi2 / n_data), max(math.sqrt(answer.chi2 / n_data), 1.0)
     others = [f for f in explain if f is not answer]
@@ -276,21 +305,40 @@ def _json(camp, prob, design, answer, explain, fits, n_data) -> dict:
         "kind": "finger-endpoint",
         "effects": list(answer.effects),
         "params": params,
-        "param_ci95": {n: [_r(answer.values[n] - 1.96 * s), _r(answer.values[n] + 1.96 * s)]
-                       for n, s in answer.std.items() if n in params and math.isfinite(s)},
+        "param_ci95": {
+            n: [_r(answer.values[n] - 1.96 * s), _r(answer.values[n] + 1.96 * s)]
+            for n, s in answer.std.items()
+            if n in params and math.isfinite(s)
+        },
         "not_identifiable": sorted(not_ident),
         "not_identifiable_why": dict(sorted(not_ident.items())),
         "explained": bool(explain),
         "experiments": exps,
         "gain": _r(max(rd, 1.0) / rf),
-        "ambiguous": [{"effects": list(f.effects), "delta_bic": _r(f.bic(n_data) - answer.bic(n_data)),
-                       "free_parameters": f.k, "only_bounded": sorted(n for n, w in f.why.items() if w),
-                       "separate_by": SEPARATE_BY,
-                       "params": {n: _r(f.values[n]) for n in f.names}} for f in others],
-        "candidates": [{"effects": list(f.effects), "parameters": list(f.names), "answer": f is answer,
-                        "free_parameters": f.k, "rms_over_sigma": _r(f.rms_sigma),
-                        "chi2": _r(f.chi2), "explains": f.rms_sigma <= EXPLAINS_SIGMA,
-                        "end_deg": [[_r(x, 4) for x in row] for row in f.end_deg]} for f in fits],
+        "ambiguous": [
+            {
+                "effects": list(f.effects),
+                "delta_bic": _r(f.bic(n_data) - answer.bic(n_data)),
+                "free_parameters": f.k,
+                "only_bounded": sorted(n for n, w in f.why.items() if w),
+                "separate_by": SEPARATE_BY,
+                "params": {n: _r(f.values[n]) for n in f.names},
+            }
+            for f in others
+        ],
+        "candidates": [
+            {
+                "effects": list(f.effects),
+                "parameters": list(f.names),
+                "answer": f is answer,
+                "free_parameters": f.k,
+                "rms_over_sigma": _r(f.rms_sigma),
+                "chi2": _r(f.chi2),
+                "explains": f.rms_sigma <= EXPLAINS_SIGMA,
+                "end_deg": [[_r(x, 4) for x in row] for row in f.end_deg],
+            }
+            for f in fits
+        ],
         "cannot_show": {e.id: NEEDS_RECORD[e.needs] for e in catalogue(prob.design) if e.needs in NEEDS_RECORD},
         "design": camp.design.as_json(),
         "notes": list(camp.notes) + _notes(answer, explain, n_data),
@@ -298,15 +346,21 @@ def _json(camp, prob, design, answer, explain, fits, n_data) -> dict:
 
 
 def _notes(answer, explain, n_data) -> list[str]:
-    out = [f"{n_data} measured angle(s): single effects and pairs with up to {n_data + EXTRA_PARAMS} free parameters "
-           "are tried (those with more parameters than angles cannot be identified, but may explain the endpoints); "
-           "joint 1's stiffness is the reference (no tension record)"]
+    out = [
+        f"{n_data} measured angle(s): single effects and pairs with up to {n_data + EXTRA_PARAMS} free parameters "
+        "are tried (those with more parameters than angles cannot be identified, but may explain the endpoints); "
+        "joint 1's stiffness is the reference (no tension record)"
+    ]
     if not explain:
-        out.append("no single effect or pair explains the endpoints within their error: the best by BIC is "
-                   "reported, and the model misses something the catalogue does not hold")
+        out.append(
+            "no single effect or pair explains the endpoints within their error: the best by BIC is "
+            "reported, and the model misses something the catalogue does not hold"
+        )
     elif len(explain) > 1:
-        out.append(f"{len(explain)} sets explain the endpoints within their error: the endpoints cannot tell them "
-                   "apart; the simplest is the answer")
+        out.append(
+            f"{len(explain)} sets explain the endpoints within their error: the endpoints cannot tell them "
+            "apart; the simplest is the answer"
+        )
     return out
 
 
@@ -314,29 +368,45 @@ def render_markdown(js: dict) -> str:
     """report.md of an endpoint identification."""
     from rjcad.identify.formatting import fmt
 
-    lines = ["# Identification report: finger endpoints", "",
-             f"Finger: `{js['design']['finger']}`, {js['design']['joints']} joints; "
-             f"{len(js['experiments'])} endpoint(s).", ""]
+    lines = [
+        "# Identification report: finger endpoints",
+        "",
+        f"Finger: `{js['design']['finger']}`, {js['design']['joints']} joints; {len(js['experiments'])} endpoint(s).",
+        "",
+    ]
     if js["explained"]:
         lines.append("Explained by: " + (", ".join(f"`{e}`" for e in js["effects"]) or "the design model") + ".")
     else:
-        lines.append("Not explained within the angles' error by any one or two catalogue effects; closest: "
-                     + (", ".join(f"`{e}`" for e in js["effects"]) or "the design model") + ".")
+        lines.append(
+            "Not explained within the angles' error by any one or two catalogue effects; closest: "
+            + (", ".join(f"`{e}`" for e in js["effects"]) or "the design model")
+            + "."
+        )
     lines += ["", "| endpoint | tendon [mm] | measured [deg] | design [deg] | answer [deg] |", "|---|---|---|---|---|"]
     design = js["candidates"][0]["end_deg"]
     ans = next(c for c in js["candidates"] if c["answer"])["end_deg"]
     for i, e in enumerate(js["experiments"]):
-        lines.append(f"| {e['file']} | {fmt(e['tendon_mm'])} | {_row(e['measured_deg'])} | {_row(design[i])} | "
-                     f"{_row(ans[i])} |")
+        lines.append(
+            f"| {e['file']} | {fmt(e['tendon_mm'])} | {_row(e['measured_deg'])} | {_row(design[i])} | {_row(ans[i])} |"
+        )
     lines += ["", "## Parameters", ""] + [f"- `{k}` = {fmt(v)}" for k, v in js["params"].items()]
     lines += [f"- `{k}`: not identifiable ({w})" for k, w in js["not_identifiable_why"].items()]
     if js["ambiguous"]:
-        lines += ["", "## What the endpoints cannot decide", "",
-                  "Every set below explains the endpoints as well as the answer:", "",
-                  "| set | free parameters | ΔBIC vs the answer | fitted |", "|---|---|---|---|"]
+        lines += [
+            "",
+            "## What the endpoints cannot decide",
+            "",
+            "Every set below explains the endpoints as well as the answer:",
+            "",
+            "| set | free parameters | ΔBIC vs the answer | fitted |",
+            "|---|---|---|---|",
+        ]
         for a in js["ambiguous"]:
-            lines.append(f"| {', '.join(a['effects'])} | {a['free_parameters']} | {fmt(a['delta_bic'], 3)} | "
-                         + "; ".join(f"{k} = {fmt(v)}" for k, v in a["params"].items()) + " |")
+            lines.append(
+                f"| {', '.join(a['effects'])} | {a['free_parameters']} | {fmt(a['delta_bic'], 3)} | "
+                + "; ".join(f"{k} = {fmt(v)}" for k, v in a["params"].items())
+                + " |"
+            )
         lines += ["", f"Separate them by {SEPARATE_BY}."]
     lines += ["", "## What endpoints cannot show", ""]
     lines += [f"- `{k}`: needs {v}" for k, v in js["cannot_show"].items()]

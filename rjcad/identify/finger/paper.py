@@ -19,14 +19,18 @@ from rjcad.identify.finger.bench import _template_text, write_finger_campaign
 from rjcad.identify.finger.data import FingerCampaign
 from rjcad.identify.finger.problem import identify_finger
 from rjcad.identify.finger.result import to_json
-from rjcad.physics import paper_finger as pf
 from rjcad.io.templates import PAPER_FINGER
+from rjcad.physics import paper_finger as pf
 
 #: A record is explained when every quantity's final RMSE is within this of its noise.
 SEPARATED_RMSE = 1.1
 #: The families that fit the endpoint, in the finger catalogue's terms: family → (effects, params of the fit).
-FIT_FAMILIES = ("moment arms per joint", "moment arm + distal springs softer", "moment arm + distal preloads lower",
-                pf.FRICTION)
+FIT_FAMILIES = (
+    "moment arms per joint",
+    "moment arm + distal springs softer",
+    "moment arm + distal preloads lower",
+    pf.FRICTION,
+)
 
 
 def family_truth(e: pf.Explanation) -> tuple[list[str], dict[str, float]]:
@@ -37,11 +41,17 @@ def family_truth(e: pf.Explanation) -> tuple[list[str], dict[str, float]]:
     arms = {f"tendon_moment_arm_mm_j{j}": p["r_mm"] for j in (1, 2, 3)}
     if e.name == "moment arm + distal springs softer":
         k = pf.K_DESIGN
-        return ["moment_arm", "spring_calibration"], {**arms, "stiffness_nmm_per_rad_j2": k[1] * p["k2_scale"],
-                                                      "stiffness_nmm_per_rad_j3": k[2] * p["k3_scale"]}
+        return ["moment_arm", "spring_calibration"], {
+            **arms,
+            "stiffness_nmm_per_rad_j2": k[1] * p["k2_scale"],
+            "stiffness_nmm_per_rad_j3": k[2] * p["k3_scale"],
+        }
     if e.name == "moment arm + distal preloads lower":
-        return ["moment_arm", "spring_calibration"], {**arms, "preload_deg_j2": p["preload2_deg"],
-                                                      "preload_deg_j3": p["preload3_deg"]}
+        return ["moment_arm", "spring_calibration"], {
+            **arms,
+            "preload_deg_j2": p["preload2_deg"],
+            "preload_deg_j3": p["preload3_deg"],
+        }
     if e.name == pf.FRICTION:
         return ["moment_arm", "coulomb_pin"], {**arms, **{f"friction_nmm_j{j}": p[f"f{j}_nmm"] for j in (1, 2, 3)}}
     raise KeyError(e.name)
@@ -58,11 +68,17 @@ def record_row(e: pf.Explanation, tmp: Path, seed: int = 11) -> dict:
     assert isinstance(campaign, FingerCampaign)  # write_finger_campaign writes a record campaign
     js = to_json(identify_finger(campaign))
     ratios = [r for x in js["experiments"] for r in x["final_over_noise"].values()]
-    return {"family": e.name, "hidden": sorted(truth["effects"]), "found": sorted(js["effects"]),
-            "ambiguous": [sorted(a["effects"]) for a in js["ambiguous"]],
-            "separated": (sorted(js["effects"]) == sorted(truth["effects"]) and not js["ambiguous"]
-                          and max(ratios) <= SEPARATED_RMSE),
-            "worst_final_over_noise": max(ratios), "not_identifiable": js["not_identifiable"]}
+    return {
+        "family": e.name,
+        "hidden": sorted(truth["effects"]),
+        "found": sorted(js["effects"]),
+        "ambiguous": [sorted(a["effects"]) for a in js["ambiguous"]],
+        "separated": (
+            sorted(js["effects"]) == sorted(truth["effects"]) and not js["ambiguous"] and max(ratios) <= SEPARATED_RMSE
+        ),
+        "worst_final_over_noise": max(ratios),
+        "not_identifiable": js["not_identifiable"],
+    }
 
 
 def rows() -> list[dict]:
@@ -88,13 +104,16 @@ def render(table: list[dict]) -> str:
         "|---|---|---|---|---|---|",
     ]
     for r in table:
-        lines.append(f"| {r['family']} | {', '.join(r['hidden'])} | {', '.join(r['found']) or 'nothing'} | "
-                     f"{'; '.join(', '.join(a) for a in r['ambiguous']) or 'none'} | "
-                     f"{r['worst_final_over_noise']:.3f} | {'yes' if r['separated'] else 'no'} |")
+        lines.append(
+            f"| {r['family']} | {', '.join(r['hidden'])} | {', '.join(r['found']) or 'nothing'} | "
+            f"{'; '.join(', '.join(a) for a in r['ambiguous']) or 'none'} | "
+            f"{r['worst_final_over_noise']:.3f} | {'yes' if r['separated'] else 'no'} |"
+        )
     lines += [
         "",
         f"- A full record separates {len(sep)} of the {len(table)} families: "
-        + (", ".join(f"*{s}*" for s in sep) or "none") + ".",
+        + (", ".join(f"*{s}*" for s in sep) or "none")
+        + ".",
         "- *separated*: identify found exactly the hidden effects, nothing ambiguous, every quantity explained "
         f"to within {SEPARATED_RMSE:g}× its noise. A row whose final RMSE stays far above the noise is a record "
         "identify did not explain: its search stopped in another minimum (the found effects are then not an "
@@ -115,4 +134,3 @@ def write_doc(out_dir) -> Path:
     path = Path(out_dir) / "paper-finger-records.md"
     write_atomic(path, render(rows()))
     return path
-

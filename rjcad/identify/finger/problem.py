@@ -15,13 +15,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from rjcad import DEG
 from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_of
 from rjcad.identify.finger.data import FingerCampaign, FingerExperiment
 from rjcad.identify.fit import Problem
 from rjcad.identify.select import Selector
 from rjcad.identify.signal import Motion, analyse_motion, noise_sigma, spikes
 from rjcad.physics.finger import simulate_angles
-from rjcad import DEG
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,15 +33,15 @@ class Channel:
     index: int
     quantity: str
     y: np.ndarray
-    path: np.ndarray      # the tendon path the model is driven with [mm]
-    pulling: np.ndarray   # bool per sample
-    motion: Motion        # of the tendon (cycles, reversals, holds)
+    path: np.ndarray  # the tendon path the model is driven with [mm]
+    pulling: np.ndarray  # bool per sample
+    motion: Motion  # of the tendon (cycles, reversals, holds)
     sigma: float
     span: float
     folds: np.ndarray
     outliers: np.ndarray
     full_path: np.ndarray | None = None  # the whole record's path; with gravity the model runs on it (lag per step)
-    kept: np.ndarray | None = None       # indices of the fitted samples in the whole record
+    kept: np.ndarray | None = None  # indices of the fitted samples in the whole record
 
     @property
     def valid(self) -> np.ndarray:
@@ -172,7 +172,8 @@ class FingerSelector(Selector):
         if not campaign.has_tension:
             self.reference["stiffness_nmm_per_rad_j1"] = (
                 "joint angles alone fix the springs' stiffness ratios, not their scale (a stiffer finger pulled "
-                "harder closes the same): joint 1's stiffness is the reference; a tension record would fix it")
+                "harder closes the same): joint 1's stiffness is the reference; a tension record would fix it"
+            )
         super().__init__(campaign)  # type: ignore[arg-type]  # (see ``campaign`` above)
 
     def free_names(self, effects, frozen=None) -> tuple[str, ...]:
@@ -187,9 +188,11 @@ class FingerSelector(Selector):
             if name in self.param_names(ident.effects):
                 ident.not_identifiable[name] = why
         if not self.campaign.has_tension and "spring_calibration" in ident.effects:
-            ident.notes.append("without a tension record joint 1's stiffness is held at its design value (joint "
-                               "angles cannot fix the springs' common scale: a stiffer finger pulled harder closes "
-                               "the same); the other joints' springs are fitted with it held there")
+            ident.notes.append(
+                "without a tension record joint 1's stiffness is held at its design value (joint "
+                "angles cannot fix the springs' common scale: a stiffer finger pulled harder closes "
+                "the same); the other joints' springs are fitted with it held there"
+            )
         return ident
 
     def _base(self, campaign) -> dict[str, float]:

@@ -32,10 +32,22 @@ def _model(ident: Identification) -> FingerModel:
 def _per_exp(ident: Identification, fits: tuple[list[float], list[float]]) -> list[dict[str, Any]]:
     out: dict[int, dict[str, Any]] = {}
     for ch, rd, rf in zip(_channels(ident), *fits):
-        e = out.setdefault(ch.exp_index, {"file": ch.exp.file, "drive": "finger", "orientation": ch.exp.orientation,
-                                          "samples": len(ch.exp.t), "cycles": ch.motion.n_cycles,
-                                          "quantities": [], "rmse_design": {}, "rmse_final": {}, "noise": {},
-                                          "final_over_noise": {}, "samples_fitted": {}})
+        e = out.setdefault(
+            ch.exp_index,
+            {
+                "file": ch.exp.file,
+                "drive": "finger",
+                "orientation": ch.exp.orientation,
+                "samples": len(ch.exp.t),
+                "cycles": ch.motion.n_cycles,
+                "quantities": [],
+                "rmse_design": {},
+                "rmse_final": {},
+                "noise": {},
+                "final_over_noise": {},
+                "samples_fitted": {},
+            },
+        )
         q = ch.quantity
         e["quantities"].append(q)
         e["rmse_design"][q], e["rmse_final"][q], e["noise"][q] = _r(rd), _r(rf), _r(ch.sigma)
@@ -66,10 +78,16 @@ def _joints(ident: Identification) -> list[dict[str, Any]]:
         for name in ident.final.names:
             if name.endswith(f"_j{j + 1}"):
                 moved[name] = (ident.design.values[name], ident.final.values[name])
-        out.append({"joint": j + 1, "design_worst_error_deg": _r(worst),
-                    "design_worst_at": {"file": where[0], "tendon_mm": _r(where[1])} if where else None,
-                    "rmse_design_deg": _r(np.sqrt(sq / max(cnt, 1))), "rmse_final_deg": _r(np.sqrt(sqf / max(cnt, 1))),
-                    "own_parameters": {k: {"design": _r(a), "final": _r(b)} for k, (a, b) in moved.items()}})
+        out.append(
+            {
+                "joint": j + 1,
+                "design_worst_error_deg": _r(worst),
+                "design_worst_at": {"file": where[0], "tendon_mm": _r(where[1])} if where else None,
+                "rmse_design_deg": _r(np.sqrt(sq / max(cnt, 1))),
+                "rmse_final_deg": _r(np.sqrt(sqf / max(cnt, 1))),
+                "own_parameters": {k: {"design": _r(a), "final": _r(b)} for k, (a, b) in moved.items()},
+            }
+        )
     return out
 
 
@@ -86,8 +104,10 @@ def to_json(ident: Identification) -> dict[str, Any]:
         "experiments": _per_exp(ident, (rd, rf)),
         "joints": _joints(ident),
         "notes": list(ident.campaign.notes) + list(ident.notes),
-        "units": {"rmse": "each quantity's unit (theta*_deg: deg, tendon_force_n: N)",
-                  "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)"},
+        "units": {
+            "rmse": "each quantity's unit (theta*_deg: deg, tendon_force_n: N)",
+            "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
+        },
     }
 
 
@@ -103,11 +123,16 @@ def joint_sentences(js: dict[str, Any]) -> list[str]:
     for j in js["joints"]:
         w = j["design_worst_error_deg"] or 0.0
         at = j["design_worst_at"]
-        line = (f"joint {j['joint']}: the design model is up to {abs(w):.1f}° too {'closed' if w > 0 else 'open'}"
-                + (f" ({at['file']}, tendon at {at['tendon_mm']:.1f} mm)" if at else "")
-                + f"; RMSE {fmt(j['rmse_design_deg'], 3)}° → {fmt(j['rmse_final_deg'], 3)}°")
-        own = [f"{k} {fmt(v['design'], 3)} → {fmt(v['final'], 3)}" for k, v in j["own_parameters"].items()
-               if k in js["params"] and abs((v['final'] or 0) - (v['design'] or 0)) > 1e-9]
+        line = (
+            f"joint {j['joint']}: the design model is up to {abs(w):.1f}° too {'closed' if w > 0 else 'open'}"
+            + (f" ({at['file']}, tendon at {at['tendon_mm']:.1f} mm)" if at else "")
+            + f"; RMSE {fmt(j['rmse_design_deg'], 3)}° → {fmt(j['rmse_final_deg'], 3)}°"
+        )
+        own = [
+            f"{k} {fmt(v['design'], 3)} → {fmt(v['final'], 3)}"
+            for k, v in j["own_parameters"].items()
+            if k in js["params"] and abs((v["final"] or 0) - (v["design"] or 0)) > 1e-9
+        ]
         if own:
             line += "; its own parameters: " + ", ".join(own)
         out.append(line)
@@ -117,21 +142,35 @@ def joint_sentences(js: dict[str, Any]) -> list[str]:
 def render_markdown(js: dict[str, Any]) -> str:
     """report.md of a whole-finger identification."""
     cat = {c["effect"]: c for c in js["candidates"]}
-    lines = ["# Identification report: whole finger", "",
-             f"Finger: `{js['design']['finger']}`, {js['design']['joints']} joints; design model as designed "
-             "(frictionless, inextensible tendon, no gravity).", ""]
+    lines = [
+        "# Identification report: whole finger",
+        "",
+        f"Finger: `{js['design']['finger']}`, {js['design']['joints']} joints; design model as designed "
+        "(frictionless, inextensible tendon, no gravity).",
+        "",
+    ]
     if js["effects"]:
-        lines += ["Found: " + ", ".join(f"`{e}`" for e in js["effects"]) + f" (RMSE shrinks {fmt(js['gain'], 3)}-fold, "
-                  "geometric mean over the measured quantities).", ""]
+        lines += [
+            "Found: " + ", ".join(f"`{e}`" for e in js["effects"]) + f" (RMSE shrinks {fmt(js['gain'], 3)}-fold, "
+            "geometric mean over the measured quantities).",
+            "",
+        ]
     else:
         lines += ["Nothing beyond the design model was needed.", ""]
     lines += ["## Per joint", ""] + [f"- {s}" for s in joint_sentences(js)]
     if js["ambiguous"]:
-        lines += ["", "## What the data cannot decide", "",
-                  "| other set | ΔBIC vs the answer | free parameters | only bounded | separate them by |",
-                  "|---|---|---|---|---|"]
-        lines += [f"| {', '.join(a['effects'])} | {fmt(a['delta_bic'], 3)} | {a['free_parameters']} | "
-                  f"{', '.join(a['only_bounded']) or 'none'} | {a['separate_by']} |" for a in js["ambiguous"]]
+        lines += [
+            "",
+            "## What the data cannot decide",
+            "",
+            "| other set | ΔBIC vs the answer | free parameters | only bounded | separate them by |",
+            "|---|---|---|---|---|",
+        ]
+        lines += [
+            f"| {', '.join(a['effects'])} | {fmt(a['delta_bic'], 3)} | {a['free_parameters']} | "
+            f"{', '.join(a['only_bounded']) or 'none'} | {a['separate_by']} |"
+            for a in js["ambiguous"]
+        ]
     lines += ["", "## Parameters", "", "| parameter | value | 95 % interval |", "|---|---|---|"]
     for k, v in js["params"].items():
         ci = js["param_ci95"].get(k)
@@ -139,12 +178,19 @@ def render_markdown(js: dict[str, Any]) -> str:
     if js["not_identifiable"]:
         lines += ["", "## Not identifiable from this campaign", ""]
         lines += [f"- `{k}`: {why}" for k, why in js["not_identifiable_why"].items()]
-    lines += ["", "## Experiments", "", "| file | quantity | RMSE design | RMSE final | noise σ | final / noise |",
-              "|---|---|---|---|---|---|"]
+    lines += [
+        "",
+        "## Experiments",
+        "",
+        "| file | quantity | RMSE design | RMSE final | noise σ | final / noise |",
+        "|---|---|---|---|---|---|",
+    ]
     for e in js["experiments"]:
         for q in e["quantities"]:
-            lines.append(f"| {e['file']} | {q} | {fmt(e['rmse_design'][q])} | {fmt(e['rmse_final'][q])} | "
-                         f"{fmt(e['noise'][q], 3)} | {fmt(e['final_over_noise'][q], 3)} |")
+            lines.append(
+                f"| {e['file']} | {q} | {fmt(e['rmse_design'][q])} | {fmt(e['rmse_final'][q])} | "
+                f"{fmt(e['noise'][q], 3)} | {fmt(e['final_over_noise'][q], 3)} |"
+            )
     rejected = [c for c in js["candidates"] if c["reason"] != "accepted"]
     if rejected:
         lines += ["", "## Candidates not accepted (last verdict)", ""]
