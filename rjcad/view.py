@@ -41,9 +41,10 @@ def chains(joints: list[dict]) -> dict[str, list[int]]:
     """Per body, the joints (indices, root first) whose rotation moves it: those between the root and it."""
     parent_joint = {j["child"]: i for i, j in enumerate(joints)}
     out: dict[str, list[int]] = {}
-    for i, j in enumerate(joints):
+    for j in joints:
         for name in (j["parent"], j["child"]):
-            path, body = [], name
+            path: list[int] = []
+            body = name
             while body in parent_joint:
                 k = parent_joint[body]
                 path.insert(0, k)

@@ -18,6 +18,7 @@ inside the command functions, so each command imports only what it needs.
 from __future__ import annotations
 
 import atexit
+import contextlib
 import importlib
 import os
 import re
@@ -130,6 +131,7 @@ def entry() -> None:
     if os.environ.get(QUICK_EXIT, "1") == "0":
         main()
         return
+    code: str | int | None
     try:
         main()
         code = 0
@@ -147,10 +149,8 @@ def _leave(code: int) -> None:
     getattr(threading, "_shutdown", lambda: None)()
     getattr(atexit, "_run_exitfuncs", lambda: None)()
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(OSError, ValueError):  # a closed pipe or stream: nothing more can be said
             stream.flush()
-        except (OSError, ValueError):  # a closed pipe or stream: nothing more can be said
-            pass
     os._exit(code)
 
 

@@ -11,9 +11,7 @@ From the spring package this imports only ``rjcad.spring.formulas`` (which impor
 so ``rjcad.spring.optimise`` can import ``rjcad.life`` without a cycle.
 """
 
-from rjcad.life.constraint import (
-    _CACHE as _CACHE,  # re-exported: the tests swap the cached design model
-)
+from rjcad.life.constraint import _CACHE as _CACHE  # re-exported: the tests swap the cached design model
 from rjcad.life.constraint import (
     DESIGN_EFFECTS,
     DESIGN_STRESS_TERM,

@@ -11,7 +11,9 @@ else the stated defaults below.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 import numpy as np
 
@@ -19,6 +21,10 @@ from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.io.manifest import Manifest
 from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON, BodySpec, FingerSpec, JointSpec, to_xml, unit
+
+if TYPE_CHECKING:
+    import trimesh
+    from trimesh.parent import Geometry
 
 #: Stated defaults where nothing is known: damping = K·DAMPING_S [N·m·s/rad] (a 20 ms spring–damper time
 #: constant, a guess), no armature (no rotor), no friction loss (the design model is frictionless).
@@ -36,11 +42,14 @@ GRAVITY = {
 DEFAULT_GRAVITY = "horizontal-palm-down"
 G = 9.81
 
+_T = TypeVar("_T")
+
 
 def gravity_of(value: str | float) -> tuple[float, float, float]:
     """Gravity [m/s²] in the finger frame for a --gravity value: a name, or the angle from x towards y [deg]."""
     if isinstance(value, str) and value in GRAVITY:
-        return tuple(G * x for x in GRAVITY[value])
+        gx, gy, gz = GRAVITY[value]
+        return (G * gx, G * gy, G * gz)
     try:
         a = float(value) * DEG
     except (TypeError, ValueError):
@@ -76,6 +85,18 @@ def _path_points(man: Manifest, source: str) -> np.ndarray:
     return np.asarray(pts, dtype=float)
 
 
+def _checked(value: _T | None) -> _T:
+    """A manifest field that ``check_manifest`` has found present."""
+    assert value is not None, "check_manifest first"
+    return value
+
+
+def _point_m(point_mm: Sequence[float]) -> tuple[float, float, float]:
+    """A point [mm] in metres."""
+    x, y, z = point_mm
+    return (x * 1e-3, y * 1e-3, z * 1e-3)
+
+
 def check_manifest(man: Manifest, source: str) -> None:
     """A finger manifest the MJCF can be made of: joints with axes, stiffness, preload, rotation, arm; bodies."""
     if not man.joints:
@@ -106,7 +127,7 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
     p = Path(manifest_path)
     out = {}
     threemf = p.with_suffix(".3mf")
-    for b in man.bodies:
+    for b in _checked(man.bodies):
         stl = p.with_name(f"{p.stem}_{b.name}.stl")
         if stl.is_file():
             out[b.name] = stl
@@ -120,14 +141,16 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
     return out
 
 
-def read_meshes(sources: dict[str, Path]) -> dict:
+def read_meshes(sources: dict[str, Path]) -> dict[str, trimesh.Trimesh]:
     """Each body's trimesh from its source (a per-body STL, or the named part of a 3MF)."""
     import trimesh
 
     from rjcad.check.load import load_bodies
 
-    out, parts = {}, {}
+    out: dict[str, trimesh.Trimesh] = {}
+    parts: dict[Path, dict[str, trimesh.Trimesh]] = {}
     for name, path in sources.items():
+        mesh: Geometry | None
         if path.suffix.lower() == ".stl":
             try:
                 mesh = trimesh.load(str(path), force="mesh")
@@ -156,33 +179,39 @@ def _mass_properties(mesh, mass_kg: float) -> tuple[tuple, tuple]:
 
 def _site_owner(man: Manifest, point: np.ndarray) -> str:
     """The body holding a path point: the child of the last joint whose axis lies before it along the finger."""
-    owner = man.joints[0].parent
+    owner = _checked(man.joints[0].parent)
     for j in man.joints:
-        a, d = np.asarray(j.axis_point_mm), np.asarray(unit(j.axis_dir))
+        a, d = np.asarray(j.axis_point_mm), np.asarray(unit(_checked(j.axis_dir)))
         w = point - a
         w -= np.dot(w, d) * d
         if w[0] > 0:  # along the finger (+x, the frame of rjcad's fingers)
-            owner = j.child
+            owner = _checked(j.child)
     return owner
 
 
 def spec_from_manifest(
-    man: Manifest, meshes: dict, stem: str, source: str = "manifest", gravity=None, identified: dict | None = None
+    man: Manifest,
+    meshes: dict[str, trimesh.Trimesh],
+    stem: str,
+    source: str = "manifest",
+    gravity: tuple[float, float, float] | None = None,
+    identified: dict[str, Any] | None = None,
 ) -> FingerSpec:
     """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
     from rjcad.materials import MATERIALS
 
     check_manifest(man, source)
     dens = MATERIALS[man.material].density_g_cm3 if man.material in MATERIALS else None
+    man_bodies = _checked(man.bodies)
     bodies = []
-    for b in man.bodies:
+    for b in man_bodies:
         mesh = meshes[b.name]
         mass_g = b.mass_g if b.mass_g is not None else (abs(float(mesh.volume)) * dens / 1000.0 if dens else None)
         if mass_g is None or mass_g <= 0:
             raise ParameterError(f"{source}: bodies.{b.name}.mass_g", b.mass_g, "is required (or a known material)")
         com, inertia = _mass_properties(mesh, mass_g * 1e-3)
         bodies.append(BodySpec(b.name, mass_g * 1e-3, com, inertia, mesh_file=f"{stem}_{b.name}.stl"))
-    order = [b.name for b in man.bodies]
+    order = [b.name for b in man_bodies]
     bodies.sort(
         key=lambda b: ([j.child for j in man.joints].index(b.name) + 1) if b.name != man.joints[0].parent else 0
     )
@@ -195,14 +224,14 @@ def spec_from_manifest(
     params = joint_parameters(man, identified)
     joints = tuple(
         JointSpec(
-            j.parent,
-            j.child,
-            tuple(x * 1e-3 for x in j.axis_point_mm),
-            unit(j.axis_dir),
+            _checked(j.parent),
+            _checked(j.child),
+            _point_m(_checked(j.axis_point_mm)),
+            unit(_checked(j.axis_dir)),
             p["stiffness"] * 1e-3,
             p["preload"],
-            j.rotation_deg * DEG,
-            j.tendon_moment_arm_mm * 1e-3,
+            _checked(j.rotation_deg) * DEG,
+            _checked(j.tendon_moment_arm_mm) * 1e-3,
             p["stiffness"] * 1e-3 * DAMPING_S,
             p["friction"] * 1e-3,
             ARMATURE,
@@ -218,7 +247,7 @@ def spec_from_manifest(
     )
 
 
-def joint_parameters(man: Manifest, identified: dict | None) -> list[dict]:
+def joint_parameters(man: Manifest, identified: dict[str, Any] | None) -> list[dict[str, float]]:
     """Per joint: stiffness [N·mm/rad], preload [rad], pin friction [N·mm]: the manifest's, or identified."""
     out = []
     params = (identified or {}).get("params", {})
@@ -233,7 +262,9 @@ def joint_parameters(man: Manifest, identified: dict | None) -> list[dict]:
     return out
 
 
-def _notes(man: Manifest, source: str, identified: dict | None, grav) -> tuple[str, ...]:
+def _notes(
+    man: Manifest, source: str, identified: dict[str, Any] | None, grav: tuple[float, float, float]
+) -> tuple[str, ...]:
     fitted = sorted((identified or {}).get("params", {}))
     lost = [k for k in fitted if k.startswith(("gamma", "beta", "mu_alpha"))]
     return (
@@ -257,13 +288,13 @@ def _notes(man: Manifest, source: str, identified: dict | None, grav) -> tuple[s
     )
 
 
-def check_identified(data, man: Manifest, source: str) -> dict:
+def check_identified(data: Any, man: Manifest, source: str) -> dict[str, Any]:
     """An ``rjcad identify`` finger result for this design (same joints and stiffness within 2 %), else one error."""
     if not isinstance(data, dict) or data.get("kind") != "finger" or not isinstance(data.get("design"), dict):
         raise RjcadError(f"{source}: not an rjcad identify result of a finger (kind 'finger' with a design)")
     design = data["design"]
     ks = design.get("stiffness_nmm_per_rad")
-    mine = [j.joint_stiffness_nmm_per_rad for j in man.joints]
+    mine = [_checked(j.joint_stiffness_nmm_per_rad) for j in man.joints]
     if (
         design.get("joints") != len(man.joints)
         or not isinstance(ks, list)
@@ -287,11 +318,17 @@ def check_identified(data, man: Manifest, source: str) -> dict:
 
 
 def mjcf_files(
-    man: Manifest, meshes: dict, xml_name: str, source: str, gravity=None, identified: dict | None = None
+    man: Manifest,
+    meshes: dict[str, trimesh.Trimesh],
+    xml_name: str,
+    source: str,
+    gravity: tuple[float, float, float] | None = None,
+    identified: dict[str, Any] | None = None,
 ) -> dict[str, bytes | str]:
     """The MJCF ``xml_name`` and one binary STL per body beside it (``<stem>_<body>.stl``), in memory."""
     stem = Path(xml_name).stem
     spec = spec_from_manifest(man, meshes, stem, source, gravity, identified)
-    files: dict[str, bytes | str] = {f"{stem}_{b}.stl": meshes[b].export(file_type="stl") for b in meshes}
+    # trimesh's export is typed for every format (a dict for some); a binary STL is bytes
+    files: dict[str, bytes | str] = {f"{stem}_{b}.stl": cast(bytes, meshes[b].export(file_type="stl")) for b in meshes}
     files[xml_name] = to_xml(spec)
     return files

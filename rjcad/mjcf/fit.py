@@ -106,7 +106,7 @@ def compare(ref: Closure, mj: Closure, frictionloss) -> Comparison:
 
 def start_frictionloss(m: FingerModel, ref: Closure) -> np.ndarray:
     """A start for the fit: each joint's friction band averaged over the stroke [N·mm] (f0 + mean γ·(θ+θ0))."""
-    K, th0, *_ = m.arrays()
+    _K, th0, *_ = m.arrays()
     g = (np.asarray(m.gamma_pos) + np.asarray(m.gamma_neg)) / 2
     return np.asarray(m.friction) + g * np.mean(ref.theta + th0, axis=0)
 
@@ -138,7 +138,7 @@ def fit_frictionloss(
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
     if hi > lo:
         minimize_scalar(cost, bounds=(lo, hi), method="bounded", options={"xatol": 0.02, "maxiter": REFINE})
-    best = np.full(m.n, min(seen, key=seen.get))
+    best = np.full(m.n, min(seen, key=seen.__getitem__))
     return compare(ref, mujoco_stroke(m, best, stroke, steps), best)
 
 

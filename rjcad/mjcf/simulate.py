@@ -21,6 +21,8 @@ The file's joint ``frictionloss`` and ``stiffness``/``springref``/``range`` are 
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from rjcad.physics.finger import Closure
@@ -149,7 +151,7 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
         theta[k] = d.qpos[q]
         tension[k] = -float(d.actuator_force[a])
     if phase is None:
-        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
+        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in itertools.pairwise(td)]
     moved = np.diff(theta, axis=0, prepend=theta[:1])
     state = np.sign(np.where(np.abs(moved) > 1e-9, moved, 0.0))
     return Closure(td, list(phase), theta, tension, np.repeat(tension[:, None], len(q), axis=1), state, tension <= 1e-9)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -141,6 +142,7 @@ def _body_xml(parent: ET.Element, spec: FingerSpec, b: BodySpec, joint: JointSpe
     if b.mesh_file is not None:
         ET.SubElement(el, "geom", name=f"{b.name}_mesh", type="mesh", mesh=b.name, group="1")
     else:
+        assert b.capsule is not None, f"body {b.name}: neither a mesh nor a capsule"
         (p, q, rad) = b.capsule
         ET.SubElement(el, "geom", name=f"{b.name}_capsule", type="capsule", fromto=_f(*p, *q), size=_f(rad), group="1")
     for i, (owner, pos) in enumerate(spec.sites):
@@ -180,11 +182,11 @@ def to_xml(spec: FingerSpec) -> str:
         root.append(ET.Comment(f" {note} "))
     ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false")
     ET.SubElement(root, "option", gravity=_f(*spec.gravity), timestep="0.0005", integrator="implicitfast")
-    meshes = [b for b in spec.bodies if b.mesh_file is not None]
+    meshes = [(b.name, b.mesh_file) for b in spec.bodies if b.mesh_file is not None]
     if meshes:
         asset = ET.SubElement(root, "asset")
-        for b in meshes:
-            ET.SubElement(asset, "mesh", name=b.name, file=b.mesh_file, scale="0.001 0.001 0.001")
+        for name, mesh_file in meshes:
+            ET.SubElement(asset, "mesh", name=name, file=mesh_file, scale="0.001 0.001 0.001")
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", pos="0 0 1", dir="0 0 -1")
     parent = _body_xml(world, spec, spec.bodies[0], None, -1)
@@ -206,6 +208,7 @@ def rod_inertia(mass: float, a, b, radius: float) -> tuple[float, ...]:
     return (along, across, across, 0.0, 0.0, 0.0)
 
 
-def unit(v) -> tuple[float, float, float]:
+def unit(v: Sequence[float]) -> tuple[float, float, float]:
     n = math.sqrt(sum(x * x for x in v))
-    return tuple(float(x) / n for x in v)
+    x, y, z = v
+    return (float(x) / n, float(y) / n, float(z) / n)

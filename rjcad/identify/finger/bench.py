@@ -79,7 +79,7 @@ def _pulling(td: np.ndarray) -> np.ndarray:
 def typical(effects, design) -> dict[str, float]:
     """Every catalogue parameter: neutral, or for the chosen effects a realistic size (per joint: they differ)."""
     cat = {e.id: e for e in catalogue(design)}
-    vals = {}
+    vals: dict[str, float] = {}
     for e in cat.values():
         vals.update(e.neutral(None))
     for eid in effects:
@@ -158,7 +158,8 @@ def write_finger_campaign(
         values[k] = float(v)
     sig = dict(DEFAULT_NOISE, **(noise or {}))
     rng = np.random.default_rng(seed)
-    files = {finger_name: finger_bytes, "campaign.toml": f'finger = "{finger_name}"\n'}
+    campaign_toml = f'finger = "{finger_name}"\n'
+    files: dict[str, bytes | str] = {finger_name: finger_bytes, "campaign.toml": campaign_toml}
     exps = []
     for name, orient, segs in EXPERIMENTS:
         t, td = path(samples, stroke, segs)
@@ -174,8 +175,9 @@ def write_finger_campaign(
         header = ",".join(cols)
         body = "\n".join(",".join(f"{v:.6f}" for v in row) for row in zip(*cols.values()))
         files[f"{name}.csv"] = header + "\n" + body + "\n"
-        files["campaign.toml"] += f'\n[[experiment]]\nfile = "{name}.csv"\ndrive = "finger"\norientation = "{orient}"\n'
+        campaign_toml += f'\n[[experiment]]\nfile = "{name}.csv"\ndrive = "finger"\norientation = "{orient}"\n'
         exps.append({"file": f"{name}.csv", "orientation": orient})
+    files["campaign.toml"] = campaign_toml
     truth = {
         "synthetic": True,
         "generator": "rjcad bench --finger",

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -42,6 +43,14 @@ class FingerEffect(Effect):
             needs_text,
         )
         self.also = also  # further start points (overrides of the typical sizes): the fit has local minima
+
+    # The parameters are built for the finger (``catalogue``): their neutral and typical values need no design
+    # object, and the finger's callers pass None.
+    def neutral(self, design: dict[str, Any] | None) -> dict:
+        return {p.name: p.neutral for p in self.params}
+
+    def typical(self, design: dict[str, Any] | None) -> dict:
+        return {p.name: p.typical for p in self.params}
 
     def starts(self, design):
         t = self.typical(design)

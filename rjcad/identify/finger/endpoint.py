@@ -29,10 +29,10 @@ from scipy.optimize import least_squares
 from rjcad import DEG
 from rjcad.errors import RjcadError, quote
 from rjcad.identify.catalogue import Param
-from rjcad.identify.finger.catalogue import catalogue, model_of
+from rjcad.identify.finger.catalogue import FingerEffect, catalogue, model_of
 from rjcad.identify.finger.data import FingerDesign, finger_design
 from rjcad.identify.result import _r
-from rjcad.physics.finger import simulate_angles
+from rjcad.physics.finger import FingerModel, simulate_angles
 from rjcad.physics.uncertainty import parameter_std
 
 ENDPOINT_KEYS = ("tendon_mm", "theta_deg", "sigma_deg")
@@ -146,7 +146,7 @@ class EndpointProblem:
             pts = pts + list(np.linspace(pts[-1], s, STEPS + 1)[1:])
         self.path = np.asarray(pts)
         self.at = [int(np.argmin(np.abs(self.path - e.tendon))) for e in camp.endpoints]
-        self.base = {}
+        self.base: dict[str, float] = {}
         for e in catalogue(self.design):
             self.base.update(e.neutral(None))
 
@@ -169,12 +169,16 @@ class EndpointProblem:
 ARM_SCALE = Param("moment_arm_scale", "moment_arm_scale", 1.0, 0.3, 3.0, 1.15, 1.0)
 
 
-def groups(design) -> list[tuple]:
+#: an effect and the parameters of it an endpoint fits
+Group = tuple[FingerEffect, tuple[Param, ...]]
+
+
+def groups(design: FingerModel) -> list[Group]:
     """(effect, its parameters an endpoint can fit) for each catalogue effect an endpoint can carry (no tension,
     time or gravity). A spring calibration is two groups, stiffness or preload: joint 1's stiffness is the
     reference (no tension), and both together have more parameters than an endpoint has angles. The moment arms
     are two: per joint, or one common scale."""
-    out = []
+    out: list[Group] = []
     for e in catalogue(design):
         if e.needs != "any":
             continue
@@ -193,11 +197,11 @@ def groups(design) -> list[tuple]:
 EXTRA_PARAMS = 1
 
 
-def candidate_sets(design, n_data: int) -> list[tuple]:
+def candidate_sets(design: FingerModel, n_data: int) -> list[tuple[Group, ...]]:
     """Every group and pair of groups of different effects with at most ``n_data`` + EXTRA_PARAMS free parameters
     (the design model first)."""
     gs = groups(design)
-    sets = [()]
+    sets: list[tuple[Group, ...]] = [()]
     for k in (1, 2):
         for combo in itertools.combinations(gs, k):
             if len({g[0].id for g in combo}) == k and sum(len(g[1]) for g in combo) <= n_data + EXTRA_PARAMS:
@@ -210,7 +214,7 @@ def candidate_sets(design, n_data: int) -> list[tuple]:
 RANDOM_STARTS = 8
 
 
-def fit_set(prob: EndpointProblem, combo) -> SetFit:
+def fit_set(prob: EndpointProblem, combo: tuple[Group, ...]) -> SetFit:
     """Least squares of the set's free parameters from its neutral, typical and random start points (bounded)."""
     params = [p for _, ps in combo for p in ps]
     names = tuple(p.name for p in params)
@@ -238,6 +242,7 @@ def fit_set(prob: EndpointProblem, combo) -> SetFit:
             best = res
         if 2.0 * best.cost < 1e-6:
             break
+    assert best is not None  # two start points at least
     values = {**prob.base, **dict(zip(names, best.x))}
     return _setfit(prob, effects, names, values, best.fun, best, lb, ub)
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from rjcad.identify.campaign import load_campaign
 from rjcad.identify.finger.bench import _template_text, write_finger_campaign
+from rjcad.identify.finger.data import FingerCampaign
 from rjcad.identify.finger.problem import identify_finger
 from rjcad.identify.finger.result import to_json
 from rjcad.io.templates import PAPER_FINGER
@@ -63,7 +64,9 @@ def record_row(e: pf.Explanation, tmp: Path, seed: int = 11) -> dict:
     finger.write_text(_template_text(PAPER_FINGER))
     out = tmp / e.name.replace(" ", "_").replace("+", "and")
     truth = write_finger_campaign(out, effects, params, finger=finger, seed=seed, tension=False)
-    js = to_json(identify_finger(load_campaign(out / "campaign.toml")))
+    campaign = load_campaign(out / "campaign.toml")
+    assert isinstance(campaign, FingerCampaign)  # write_finger_campaign writes a record campaign
+    js = to_json(identify_finger(campaign))
     ratios = [r for x in js["experiments"] for r in x["final_over_noise"].values()]
     return {
         "family": e.name,

@@ -40,8 +40,8 @@ class Channel:
     span: float
     folds: np.ndarray
     outliers: np.ndarray
-    full_path: np.ndarray = None  # the whole record's path; with gravity the model runs on it (its lag is per step)
-    kept: np.ndarray = None  # indices of the fitted samples in the whole record
+    full_path: np.ndarray | None = None  # the whole record's path; with gravity the model runs on it (lag per step)
+    kept: np.ndarray | None = None  # indices of the fitted samples in the whole record
 
     @property
     def valid(self) -> np.ndarray:
@@ -129,6 +129,7 @@ class Simulator:
         if ch.exp_index not in cache.out:
             m = model_of(values, self.design, ch.exp.gravity)
             if m.gravity is not None or m.rate_dependent:  # on every sample (see FIT_SAMPLES)
+                assert ch.full_path is not None and ch.kept is not None  # prepare_finger sets both
                 theta, T = simulate_angles(m, ch.full_path, ch.exp.t if m.rate_dependent else None)
                 cache.out[ch.exp_index] = theta[ch.kept], T[ch.kept]
             else:
@@ -145,10 +146,11 @@ class FingerProblem(Problem):
     def __init__(self, campaign, prepared, fixed, sim: Simulator):
         super().__init__(campaign, prepared, fixed)
         self.sim = sim
+        self.channels: list[Channel] = prepared  # ``prepared``, typed: Problem names the joint's Prepared
 
     def residuals(self, values: dict[str, float], masks=None) -> list[np.ndarray]:
         out = []
-        for i, p in enumerate(self.prepared):
+        for i, p in enumerate(self.channels):
             mask = p.valid if masks is None else masks[i]
             out.append((p.y[mask] - self.sim.channel(values, p)[mask]) / p.sigma)
         return out
@@ -159,6 +161,8 @@ class FingerSelector(Selector):
 
     post_check_nfev = 20  # a finger's refit from the fitted point converges in a few steps; each costs ~15 ms
     workers = min(2, os.cpu_count() or 1)  # the compiled solver releases the GIL: candidates fit side by side
+    # Selector's annotations name the joint pipeline's Campaign; a finger selector's campaign is a finger's
+    campaign: FingerCampaign  # type: ignore[assignment]
 
     def __init__(self, campaign: FingerCampaign):
         self.catalogue = catalogue(campaign.design.model)
@@ -170,7 +174,7 @@ class FingerSelector(Selector):
                 "joint angles alone fix the springs' stiffness ratios, not their scale (a stiffer finger pulled "
                 "harder closes the same): joint 1's stiffness is the reference; a tension record would fix it"
             )
-        super().__init__(campaign)
+        super().__init__(campaign)  # type: ignore[arg-type]  # (see ``campaign`` above)
 
     def free_names(self, effects, frozen=None) -> tuple[str, ...]:
         return tuple(n for n in super().free_names(effects, frozen) if n not in self.reference)

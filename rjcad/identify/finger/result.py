@@ -4,6 +4,7 @@ experiments' figures per measured quantity (each joint's angle, the tension) and
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -11,10 +12,26 @@ from rjcad.identify.formatting import fmt
 from rjcad.identify.result import _r, selection_json
 from rjcad.identify.select import Identification
 
+if TYPE_CHECKING:
+    from rjcad.identify.finger.catalogue import FingerEffect
+    from rjcad.identify.finger.data import FingerCampaign
+    from rjcad.identify.finger.problem import Channel
+    from rjcad.physics.finger import FingerModel
 
-def _per_exp(ident: Identification, fits) -> list[dict]:
-    out = {}
-    for ch, rd, rf in zip(ident.prepared, *fits):
+
+# A finger identification is the joint pipeline's Identification, whose annotations name the joint's Campaign and
+# Prepared: its campaign is a FingerCampaign and its prepared series are Channels (FingerSelector).
+def _channels(ident: Identification) -> list[Channel]:
+    return cast("list[Channel]", ident.prepared)
+
+
+def _model(ident: Identification) -> FingerModel:
+    return cast("FingerCampaign", ident.campaign).design.model
+
+
+def _per_exp(ident: Identification, fits: tuple[list[float], list[float]]) -> list[dict[str, Any]]:
+    out: dict[int, dict[str, Any]] = {}
+    for ch, rd, rf in zip(_channels(ident), *fits):
         e = out.setdefault(
             ch.exp_index,
             {
@@ -39,14 +56,15 @@ def _per_exp(ident: Identification, fits) -> list[dict]:
     return [out[k] for k in sorted(out)]
 
 
-def _joints(ident: Identification) -> list[dict]:
+def _joints(ident: Identification) -> list[dict[str, Any]]:
     """Per joint: the design model's largest and RMS angle error, the final RMSE, and the effects acting on it."""
-    n = ident.campaign.design.model.n
+    n = _model(ident).n
     des, fin = ident.design_predictions, ident.final_predictions
     out = []
     for j in range(n):
-        chans = [(k, ch) for k, ch in enumerate(ident.prepared) if ch.index == j]
-        worst, where, sq, cnt, sqf = 0.0, None, 0.0, 0, 0.0
+        chans = [(k, ch) for k, ch in enumerate(_channels(ident)) if ch.index == j]
+        where: tuple[str, float] | None = None
+        worst, sq, cnt, sqf = 0.0, 0.0, 0, 0.0
         for k, ch in chans:
             err = (des[k] - ch.y)[ch.valid]
             if len(err):
@@ -56,7 +74,7 @@ def _joints(ident: Identification) -> list[dict]:
                 sq += float(np.sum(err**2))
                 sqf += float(np.sum((fin[k] - ch.y)[ch.valid] ** 2))
                 cnt += len(err)
-        moved = {}
+        moved: dict[str, tuple[float, float]] = {}
         for name in ident.final.names:
             if name.endswith(f"_j{j + 1}"):
                 moved[name] = (ident.design.values[name], ident.final.values[name])
@@ -73,7 +91,7 @@ def _joints(ident: Identification) -> list[dict]:
     return out
 
 
-def to_json(ident: Identification) -> dict:
+def to_json(ident: Identification) -> dict[str, Any]:
     """effects, params, not_identifiable, experiments (per quantity), gain, ambiguous, joints, steps, candidates."""
     fin, des = ident.final, ident.design
     params = {n: fin.values[n] for n in fin.names if n not in ident.not_identifiable}
@@ -93,13 +111,13 @@ def to_json(ident: Identification) -> dict:
     }
 
 
-def _catalogue(ident: Identification):
+def _catalogue(ident: Identification) -> tuple[FingerEffect, ...]:
     from rjcad.identify.finger.catalogue import catalogue
 
-    return catalogue(ident.campaign.design.model)
+    return catalogue(_model(ident))
 
 
-def joint_sentences(js: dict) -> list[str]:
+def joint_sentences(js: dict[str, Any]) -> list[str]:
     """Which joint the design model gets wrong, by how much, and what explains it (one line per joint)."""
     out = []
     for j in js["joints"]:
@@ -121,7 +139,7 @@ def joint_sentences(js: dict) -> list[str]:
     return out
 
 
-def render_markdown(js: dict) -> str:
+def render_markdown(js: dict[str, Any]) -> str:
     """report.md of a whole-finger identification."""
     cat = {c["effect"]: c for c in js["candidates"]}
     lines = [
@@ -182,7 +200,7 @@ def render_markdown(js: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_report(js: dict, out_dir) -> list[Path]:
+def write_report(js: dict[str, Any], out_dir: str | Path) -> list[Path]:
     from rjcad.io.outputs import write_set
 
     out = Path(out_dir)
