@@ -3,7 +3,8 @@ module in the same run when it is installed.
 
 Times the median of --repeats runs (after one untimed warm-up) of: `rjcad joint --out DIR` (every output;
 its CAD in a forked process, rjcad.cad.process), the same with RJCAD_CAD_PROCESS=0 (all in one process) and
-with RJCAD_QUICK_EXIT=0 (the interpreter's usual exit, not rjcad.cli.entry's os._exit), `rjcad finger --out DIR`, `rjcad spring --config templates/spring.toml` (the paper's joint, fully verified),
+with RJCAD_QUICK_EXIT=0 (the interpreter's usual exit, not rjcad.cli.entry's os._exit), `rjcad finger --out
+DIR`, `rjcad spring --config templates/spring.toml` (the paper's joint, fully verified),
 `rjcad check` on the default joint, `python -c "import rjcad.cli"`; and `openscad -o knuckle.stl
 benchmarks/knuckle.scad` (a two-body knuckle with two spiral springs of the default spring's size, tessellated
 as finely as rjcad's meshes) if `openscad` is on PATH, with the ratio openscad / rjcad joint, in wall time and
