@@ -17,10 +17,7 @@ inside the command functions, so each command imports only what it needs.
 
 from __future__ import annotations
 
-import atexit
-import contextlib
 import importlib
-import os
 import re
 import signal
 import sys
@@ -114,44 +111,11 @@ def main(argv: list[str] | None = None) -> None:
 PROGRAM = False
 
 
-#: Set to 0 to leave the ``rjcad`` program through the interpreter's usual exit (``entry``).
-QUICK_EXIT = "RJCAD_QUICK_EXIT"
-
-
 def entry() -> None:
-    """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()``, then leave without tearing
-    the interpreter down. Freeing CadQuery's, VTK's and SciPy's modules one by one takes about 0.5 s after a
-    build (measured: ``import cadquery`` then a normal exit 2.6 s, with ``os._exit`` 2.05 s), for nothing: every
-    output is written (and renamed into place) before a command returns. Threads are joined, the ``atexit``
-    handlers run (``weakref.finalize`` clean-ups among them) and stdout and stderr are flushed before
-    ``os._exit``. An uncaught exception (a bug) still leaves the usual way, with its traceback.
-    ``RJCAD_QUICK_EXIT=0``: the interpreter's usual exit."""
+    """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()`` with ``PROGRAM`` set."""
     global PROGRAM
     PROGRAM = True
-    if os.environ.get(QUICK_EXIT, "1") == "0":
-        main()
-        return
-    code: str | int | None
-    try:
-        main()
-        code = 0
-    except SystemExit as e:
-        code = e.code
-    if code is not None and not isinstance(code, int):  # sys.exit("text"): printed, status 1, as Python does
-        print(code, file=sys.stderr)
-        code = 1
-    _leave(code or 0)
-
-
-def _leave(code: int) -> None:
-    """End the process with ``code`` as the interpreter's exit would, without its teardown: join the threads
-    that are not daemons, run the ``atexit`` handlers (in that order, as ``Py_FinalizeEx``), flush stdio."""
-    getattr(threading, "_shutdown", lambda: None)()
-    getattr(atexit, "_run_exitfuncs", lambda: None)()
-    for stream in (sys.stdout, sys.stderr):
-        with contextlib.suppress(OSError, ValueError):  # a closed pipe or stream: nothing more can be said
-            stream.flush()
-    os._exit(code)
+    main()
 
 
 def _run(args: list[str], debug: bool) -> None:
