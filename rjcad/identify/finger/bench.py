@@ -107,6 +107,21 @@ def _template_text(d: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _check_options(out: Path, samples, noise, stroke) -> None:
+    """Refuse a bad sample count, noise column or level, stroke, or an output path that is a file."""
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 100 <= samples <= 200_000:
+        raise ParameterError("samples", samples, "must be an integer in [100, 200000]")
+    for k, v in (noise or {}).items():
+        if k not in DEFAULT_NOISE:
+            raise ParameterError("noise", k, f"unknown column; known: {', '.join(DEFAULT_NOISE)}")
+        if not (isinstance(v, (int, float)) and 0 <= v < 1e3):
+            raise ParameterError(f"noise {k}", v, "must be a number in [0, 1000)")
+    if not 0 < stroke <= 1000:
+        raise ParameterError("stroke", stroke, "must be in (0, 1000] mm")
+    if out.exists() and not out.is_dir():
+        raise RjcadError(f"{out}: exists and is not a directory")
+
+
 def write_finger_campaign(
     out_dir,
     effects=(),
@@ -124,17 +139,7 @@ def write_finger_campaign(
     ``finger``: a finger manifest (.json) or template (.toml); None: the default finger (templates/finger.toml).
     """
     out = Path(out_dir)
-    if isinstance(samples, bool) or not isinstance(samples, int) or not 100 <= samples <= 200_000:
-        raise ParameterError("samples", samples, "must be an integer in [100, 200000]")
-    for k, v in (noise or {}).items():
-        if k not in DEFAULT_NOISE:
-            raise ParameterError("noise", k, f"unknown column; known: {', '.join(DEFAULT_NOISE)}")
-        if not (isinstance(v, (int, float)) and 0 <= v < 1e3):
-            raise ParameterError(f"noise {k}", v, "must be a number in [0, 1000)")
-    if not 0 < stroke <= 1000:
-        raise ParameterError("stroke", stroke, "must be in (0, 1000] mm")
-    if out.exists() and not out.is_dir():
-        raise RjcadError(f"{out}: exists and is not a directory")
+    _check_options(out, samples, noise, stroke)
     if finger is None:
         from rjcad.io.templates import DEFAULT_FINGER
         from rjcad.physics.finger import model_from_template
@@ -193,7 +198,14 @@ def write_finger_campaign(
         "experiments": exps,
     }
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"
-    files["README.md"] = (
+    files["README.md"] = _readme(effects, sig, seed, samples, stroke)
+    write_set(out, files)
+    return truth
+
+
+def _readme(effects, sig, seed, samples, stroke) -> str:
+    """The campaign's README.md: SYNTHETIC, what made it, its effects and noise, the experiments."""
+    return (
         "# SYNTHETIC whole-finger campaign\n\nSimulated by `rjcad bench --finger` from rjcad's finger "
         "model, not measured. Effects in the truth: "
         + (", ".join(f"`{e}`" for e in effects) or "none (the design model)")
@@ -201,5 +213,3 @@ def write_finger_campaign(
         "\n\nExperiments: A two full pulls (palm up; the second 2.7× faster), B a pull that turns back at 40 % and closes "
         "again (palm down), C pulls with holds at full and half stroke (tip down).\n"
     )
-    write_set(out, files)
-    return truth

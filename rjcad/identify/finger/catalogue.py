@@ -63,6 +63,11 @@ def _p(name, lo, hi, typical, neutral) -> Param:
 
 def catalogue(design: FingerModel) -> tuple[FingerEffect, ...]:
     """The finger catalogue for this design (ids pinned by issue #18)."""
+    return _per_joint(design) + _along_finger(range(1, design.n + 1))
+
+
+def _per_joint(design: FingerModel) -> tuple[FingerEffect, ...]:
+    """The effects sized by the design's joints: spring calibration, pin friction, capstan, moment arms."""
     n = design.n
     js = range(1, n + 1)
     K = design.stiffness
@@ -122,6 +127,12 @@ def catalogue(design: FingerModel) -> tuple[FingerEffect, ...]:
                 for j in js
             ),
         ),
+    )
+
+
+def _along_finger(js: range) -> tuple[FingerEffect, ...]:
+    """The effects of the tendon along the finger, the links' weight, damping and the polymer (joints ``js``)."""
+    return (
         FingerEffect(
             "capstan_along_finger",
             "capstan along the finger",
