@@ -36,12 +36,11 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 import trimesh
-from _timing import emit, median_of, median_time, parse_args, target
+from _timing import emit, median_of, median_time, parse_args, target, timed_runs
 
 from rjcad import check as chk
 from rjcad.cad.build import build_finger_model, write_finger, write_joint
@@ -52,9 +51,8 @@ from rjcad.materials import get_printer
 
 def _finger_check(cmd: list[str]) -> tuple[float, dict]:
     """Wall seconds and JSON report of one `rjcad check` in its own process."""
-    t0 = time.perf_counter()
-    out = subprocess.run(cmd, capture_output=True, text=True).stdout
-    return time.perf_counter() - t0, json.loads(out)
+    ((seconds, out),) = timed_runs(lambda: subprocess.run(cmd, capture_output=True, text=True).stdout, 1, warmup=0)
+    return seconds, json.loads(out)
 
 
 def finger_vs_slicer(quick: bool, repeats: int) -> dict:
@@ -72,7 +70,7 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
     )
     if quick or not shutil.which("prusa-slicer"):
         return dict.fromkeys(keys)
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
 
     template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
     rows = []
@@ -84,9 +82,9 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
         cmd = [sys.executable, "-m", "rjcad", "check", mesh, "--manifest", str(Path(d, "finger.json")), "--json"]
         for _ in range(max(repeats, 1)):
             chk.GCODE_CACHE.clear()
-            t0 = time.perf_counter()
-            gcode, error, _ = chk.start_slicer(bodies, names, prn, "prusa").wait()
-            alone = time.perf_counter() - t0
+            ((alone, (gcode, error, _)),) = timed_runs(
+                lambda: chk.start_slicer(bodies, names, prn, "prusa").wait(), 1, warmup=0
+            )
             assert gcode is not None, error
             whole, rep = _finger_check(cmd + ["--slicer", "prusa"])
             plain, _ = _finger_check(cmd)
@@ -108,7 +106,7 @@ def finger_vs_slicer(quick: bool, repeats: int) -> dict:
 
 def print_checks(quick: bool, repeats: int) -> dict:
     """The overhang and slicer checks on the default finger (templates/finger.toml; --quick: a one-joint finger)."""
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
 
     template = Path(__file__).resolve().parents[1] / "templates" / "finger.toml"
     fp = (

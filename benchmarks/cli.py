@@ -94,11 +94,12 @@ def in_process_build_stl_step(repeats: int) -> float:
     """Median seconds of the default joint's build + STL + STEP in this process (a fresh JointParams each run)."""
     from rjcad.cad import build as jb
     from rjcad.cad import export as ex
+    from rjcad.cad import mesh_export as mx
     from rjcad.design.params import JointParams
 
     def once(p):
         b = jb.build(p)
-        ex.stl_bytes(list(b.meshes.values()))
+        mx.stl_bytes(list(b.meshes.values()))
         ex.step_bytes({"ground": b.solids.ground, "moving": b.solids.moving}, "joint")
 
     return median_time(once, repeats, warmup=1 if repeats > 1 else 0, setup=JointParams)[0]

@@ -13,7 +13,8 @@ import argparse
 from _timing import emit, median_time, parse_args, target
 
 from rjcad.cad.build import build_finger_model
-from rjcad.cad.finger import FingerParams, build_finger
+from rjcad.cad.finger import build_finger
+from rjcad.design.finger_params import FingerParams
 
 
 def template(n: int) -> dict:

@@ -40,7 +40,7 @@ def joint_build(p):
 
 def joint_files(p) -> Path:
     """A directory holding the joint of ``p`` as ``joint.stl`` and ``joint.json``, written on the first call only."""
-    from rjcad.cad.export import stl_bytes
+    from rjcad.cad.mesh_export import stl_bytes
 
     key = repr(p)
     if key not in _FILES:

@@ -10,6 +10,7 @@ import pytest
 import trimesh
 
 from rjcad.cad import export as ex
+from rjcad.cad import mesh_export as mx
 
 
 def cylinder(r=2.0, h=10.0):
@@ -22,7 +23,7 @@ def test_triangulate_gives_cadquerys_tessellation_exactly():
     block = cq.Solid.makeBox(10, 8, 6).cut(cylinder(2.0, 6.0).translate(cq.Vector(5, 4, 0)))
     block = block.moved(cq.Location(cq.Vector(1, 2, 3), cq.Vector(0, 0, 1), 30))
     v, f = ex.triangulate(block)
-    verts, tris = block.tessellate(ex.MESH_TOLERANCE, ex.MESH_ANGULAR_TOLERANCE)
+    verts, tris = block.tessellate(mx.MESH_TOLERANCE, mx.MESH_ANGULAR_TOLERANCE)
     assert np.array_equal(v, np.array([p.toTuple() for p in verts], dtype=float))
     assert np.array_equal(f, np.asarray(tris, dtype=np.int64))
     assert any(face.wrapped.Orientation().name == "TopAbs_REVERSED" for face in block.Faces())
@@ -36,7 +37,7 @@ def test_to_mesh_is_watertight_and_within_the_chord_tolerance():
     side = (mesh.vertices[:, 2] > 1e-6) & (mesh.vertices[:, 2] < 10 - 1e-6)
     assert np.allclose(rho[side], r, atol=1e-9)  # vertices on the surface
     # chords sag inwards by at most the tolerances: r·(1 − cos(δ/2)) with δ the angular step
-    sag = min(ex.MESH_TOLERANCE, r * (1 - math.cos(ex.MESH_ANGULAR_TOLERANCE / 2)))
+    sag = min(mx.MESH_TOLERANCE, r * (1 - math.cos(mx.MESH_ANGULAR_TOLERANCE / 2)))
     faces_mid = mesh.triangles_center
     mid_rho = np.hypot(faces_mid[:, 0], faces_mid[:, 1])
     on_side = (faces_mid[:, 2] > 1e-6) & (faces_mid[:, 2] < 10 - 1e-6)
@@ -74,11 +75,11 @@ def test_stl_and_3mf_read_back_with_their_bodies(tmp_path):
     a = trimesh.creation.box(extents=(1, 2, 3))
     b = trimesh.creation.box(extents=(1, 1, 1))
     b.apply_translation((5, 0, 0))
-    stl = trimesh.load(io.BytesIO(ex.stl_bytes([a, b])), file_type="stl")
+    stl = trimesh.load(io.BytesIO(mx.stl_bytes([a, b])), file_type="stl")
     assert len(stl.split(only_watertight=False)) == 2 and stl.volume == pytest.approx(6 + 1)
     # the 3MF is one object whose named parts are the bodies (see tests/test_check_print.py)
     path = tmp_path / "pair.3mf"
-    path.write_bytes(ex.threemf_bytes({"ground": a, "moving": b}))
+    path.write_bytes(mx.threemf_bytes({"ground": a, "moving": b}))
     bodies, names = load_bodies(path)
     assert names == ["ground", "moving"]
     assert bodies[0].volume == pytest.approx(6) and bodies[1].volume == pytest.approx(1)
@@ -95,7 +96,7 @@ def test_step_names_its_solids(tmp_path):
 
 
 def test_write_outputs_writes_every_file_and_no_temporaries(tmp_path):
-    paths = ex.write_outputs(tmp_path / "out", {"a.json": "{}\n", "b.stl": b"\0" * 84})
+    paths = mx.write_outputs(tmp_path / "out", {"a.json": "{}\n", "b.stl": b"\0" * 84})
     assert [p.name for p in paths] == ["a.json", "b.stl"]
     assert (tmp_path / "out" / "a.json").read_text() == "{}\n"
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["a.json", "b.stl"]

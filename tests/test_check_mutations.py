@@ -14,7 +14,7 @@ import pytest
 import trimesh
 from mesh_tools import box, cyl, difference, union
 
-from rjcad.cad import export as ex
+from rjcad.cad import mesh_export as mx
 from rjcad.check import run_checks
 
 SEG = 192
@@ -179,9 +179,9 @@ def sound():
 def write(tmp_path, bodies, fmt):
     path = tmp_path / f"part.{fmt}"
     if fmt == "stl":
-        path.write_bytes(ex.stl_bytes(list(bodies.values())))
+        path.write_bytes(mx.stl_bytes(list(bodies.values())))
     else:
-        path.write_bytes(ex.threemf_bytes(bodies, "part"))
+        path.write_bytes(mx.threemf_bytes(bodies, "part"))
     return path
 
 

@@ -14,7 +14,7 @@ import pytest
 import trimesh
 from mesh_tools import box, difference, union
 
-from rjcad.cad import export as ex
+from rjcad.cad import mesh_export as mx
 from rjcad.check import run_checks
 from rjcad.check.load import PARTS_CONFIG, load_bodies
 from rjcad.check.overhang import MAX_BRIDGE_MM, check_overhang
@@ -253,7 +253,7 @@ def test_stacked_joint_fails_overhang_and_slicer_at_the_top_spring():
 
 def test_3mf_is_one_object_with_named_parts_and_reads_back(tmp_path):
     parts = printable_pair()
-    data = ex.threemf_bytes(parts, name="pair")
+    data = mx.threemf_bytes(parts, name="pair")
     with zipfile.ZipFile(io.BytesIO(data)) as z:
         model = z.read("3D/3dmodel.model").decode()
         config = z.read(PARTS_CONFIG).decode()
@@ -297,7 +297,7 @@ def _prusa_info(path) -> str:
 def test_prusaslicer_loads_the_3mf_as_one_object_with_its_parts_in_place(tmp_path):
     parts = printable_pair()
     path = tmp_path / "pair.3mf"
-    path.write_bytes(ex.threemf_bytes(parts, name="pair"))
+    path.write_bytes(mx.threemf_bytes(parts, name="pair"))
     info = _prusa_info(path)
     assert info.count("[pair.3mf]") == 1 and "number_of_parts =  2" in info
     lo = np.min([m.bounds[0] for m in parts.values()], axis=0)

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
-from rjcad.cad.finger import DEFAULT_FINGER, PAPER_FINGER, FingerParams
 from rjcad.cad.joint import LEAD_IN
 from rjcad.cli import main
 from rjcad.design.finger_lengths import shortest_lengths
+from rjcad.design.finger_params import DEFAULT_FINGER, PAPER_FINGER, FingerParams
 from rjcad.view import THREE_FILE
 
 DEG = math.pi / 180
@@ -203,7 +203,7 @@ def test_seven_joints_rejected(tmp_path, capsys):
 
 def test_per_joint_overrides_and_one_joint_finger(tmp_path):
     from rjcad.cad.build import build_finger_model
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
 
     fp = FingerParams.from_dict(
         {

@@ -20,9 +20,9 @@ from hypothesis import HealthCheck, Phase, example, given, reject, settings
 from hypothesis import strategies as st
 
 from rjcad.cad.build import build_finger_model
-from rjcad.cad.export import stl_bytes
-from rjcad.cad.finger import FingerParams
+from rjcad.cad.mesh_export import stl_bytes
 from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
+from rjcad.design.finger_params import FingerParams
 from rjcad.design.params import LAYOUTS, RANGES
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.materials import MATERIALS, PRINTERS

@@ -293,6 +293,7 @@ def test_parallel_meshing_gives_the_one_thread_meshes_of_the_built_bodies():
     from OCP.BRepTools import BRepTools
 
     from rjcad.cad import export as ex
+    from rjcad.cad import mesh_export as mx
     from rjcad.cad.joint import build_joint
     from rjcad.design.params import JointParams
 
@@ -300,8 +301,8 @@ def test_parallel_meshing_gives_the_one_thread_meshes_of_the_built_bodies():
     for body in (solids.ground, solids.moving):
         v, f = ex.triangulate(body)
         BRepTools.Clean_s(body.wrapped)  # drop the triangulation, so CadQuery meshes again, in one thread
-        assert not BRepTools.Triangulation_s(body.wrapped, ex.MESH_TOLERANCE)
-        verts, tris = body.tessellate(ex.MESH_TOLERANCE, ex.MESH_ANGULAR_TOLERANCE)
+        assert not BRepTools.Triangulation_s(body.wrapped, mx.MESH_TOLERANCE)
+        verts, tris = body.tessellate(mx.MESH_TOLERANCE, mx.MESH_ANGULAR_TOLERANCE)
         assert len(f) > 1000
         assert np.array_equal(v, np.array([p.toTuple() for p in verts], dtype=float))
         assert np.array_equal(f, np.asarray(tris, dtype=np.int64))

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from wound_tools import wound_strip_clearance
 
 from rjcad.cad.build import build
-from rjcad.cad.export import stl_bytes
+from rjcad.cad.mesh_export import stl_bytes
 from rjcad.design.params import LAYOUTS, RANGES, JointParams
 from rjcad.errors import ParameterError, RjcadError
 from rjcad.materials import MATERIALS, PRINTERS

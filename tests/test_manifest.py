@@ -153,7 +153,7 @@ def test_keys_unknown_to_the_schema_round_trip():
 @pytest.mark.slow
 def test_the_builders_write_version_1_and_it_round_trips():
     from rjcad.cad.build import build, build_finger_model, render_files
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
     from rjcad.design.params import JointParams
 
     b = build(JointParams(end="pinned", layout="stacked"))  # the end version 0's default joint had

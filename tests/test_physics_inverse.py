@@ -102,7 +102,7 @@ def test_arm_limits_come_from_the_builder():
 
 
 def test_the_written_template_is_accepted_by_the_finger_builder(tmp_path):
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
 
     d = design_finger([90, 20, 20], 12, "proximal-first")
     p = tmp_path / "f.toml"
@@ -117,7 +117,7 @@ def test_the_written_template_is_accepted_by_the_finger_builder(tmp_path):
 
 @pytest.mark.parametrize("sequence", ["simultaneous", "proximal-first"])
 def test_inverse_design_reaches_the_target(sequence, tmp_path):
-    from rjcad.cad.finger import FingerParams
+    from rjcad.design.finger_params import FingerParams
     from rjcad.physics.inverse import design_finger
 
     d = design_finger([65, 50, 50], 25, sequence)

@@ -9,7 +9,7 @@ import pytest
 import trimesh
 from PIL import Image
 
-from rjcad.cad import export as ex
+from rjcad.cad import mesh_export as mx
 from rjcad.cad.render import PANEL, TENDON, TITLE_PX, preview_png, rgb
 
 COLOURS = {"near": "#3b82c4", "far": "#e0a33a"}
@@ -85,7 +85,7 @@ def test_depth_correct_whatever_the_drawing_order(images):
 
 def test_glb_holds_the_named_bodies_in_their_colours():
     near, far, _ = scene()
-    glb = ex.glb_bytes({"near": near, "far": far}, COLOURS)
+    glb = mx.glb_bytes({"near": near, "far": far}, COLOURS)
     back = trimesh.load(io.BytesIO(glb), file_type="glb", process=False)
     assert sorted(back.geometry) == ["far", "near"]
     for name, m in (("near", near), ("far", far)):
@@ -97,4 +97,4 @@ def test_glb_holds_the_named_bodies_in_their_colours():
         linear = linear / 255 if linear.max() > 1 else linear
         srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
         assert np.allclose(srgb, rgb(COLOURS[name]), atol=2 / 255), name  # glTF's colour factors are linear
-    assert ex.glb_bytes({"near": near, "far": far}, COLOURS) == glb  # reruns give the same bytes
+    assert mx.glb_bytes({"near": near, "far": far}, COLOURS) == glb  # reruns give the same bytes

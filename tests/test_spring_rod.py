@@ -128,7 +128,7 @@ def test_linearised_about_the_arbor_reproduces_the_linear_fe(end, linear_fe):
     eps = -1e-5  # tightening: the arbor turns clockwise relative to the outer end
     x0, y0 = X[0]
     arbor = lambda lam: (
-        x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),  # noqa: E731
+        x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),
         x0 * math.sin(lam * eps) + y0 * (math.cos(lam * eps) - 1),
         lam * eps,
     )

@@ -360,20 +360,21 @@ def build_finger_model(fp) -> FingerBuild:
 def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gravity=None) -> dict[str, bytes | str]:
     """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
     from rjcad.cad import export as ex
+    from rjcad.cad import mesh_export as mx
 
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
-        "finger.stl": ex.stl_bytes(list(b.meshes.values())),
-        "finger.3mf": ex.threemf_bytes(b.meshes, "finger"),
+        "finger.stl": mx.stl_bytes(list(b.meshes.values())),
+        "finger.3mf": mx.threemf_bytes(b.meshes, "finger"),
         "finger.step": ex.step_bytes(b.solids, "finger"),
-        "finger.glb": ex.glb_bytes(b.meshes),
+        "finger.glb": mx.glb_bytes(b.meshes),
     }
     t1 = time.perf_counter()
     if png:
         fp = b.params
         ks = ", ".join(f"{j.joint_stiffness_nmm_per_rad:.2f}" for j in b.manifest.joints)
         p0 = fp.joints[0]
-        files["finger.png"] = ex.preview_png(
+        files["finger.png"] = mx.preview_png(
             b.meshes,
             f"rjcad finger: {fp.n} joints, K = [{ks}] N·mm/rad, {p0.material}; tendon in red",
             lines=[np.array(b.manifest.extra["tendon_path_mm"])],

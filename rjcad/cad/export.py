@@ -1,5 +1,5 @@
 """The B-rep side of the exports: tessellation, measurements on the built geometry, STEP; the mesh side (STL,
-3MF, GLB, PNG, the atomic write) is ``rjcad.cad.mesh_export``, re-exported here."""
+3MF, GLB, PNG, the atomic write) is ``rjcad.cad.mesh_export``."""
 
 from __future__ import annotations
 
@@ -19,17 +19,7 @@ from OCP.BRepTools import BRepTools
 from OCP.TopAbs import TopAbs_Orientation
 from OCP.TopLoc import TopLoc_Location
 
-from rjcad.cad.mesh_export import (  # noqa: F401 (re-exported: the mesh side of the exports)
-    MESH_ANGULAR_TOLERANCE,
-    MESH_TOLERANCE,
-    THREEMF_PARTS_CONFIG,
-    glb_bytes,
-    mesh_of,
-    preview_png,
-    stl_bytes,
-    threemf_bytes,
-    write_outputs,
-)
+from rjcad.cad.mesh_export import MESH_ANGULAR_TOLERANCE, MESH_TOLERANCE, mesh_of
 
 if TYPE_CHECKING:
     import trimesh

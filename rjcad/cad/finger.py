@@ -27,11 +27,10 @@ from rjcad.cad.joint import (
     moving_side,
     moving_side_cuts,
     support_pin,
-    tube_path,
 )
-from rjcad.cad.parts import CHANNEL_ROOF
+from rjcad.cad.parts import CHANNEL_ROOF, tube_path
 from rjcad.design.finger_lengths import CHANNEL_RUNS, channel_shift
-from rjcad.design.finger_params import DEFAULT_FINGER, GLOBAL_KEYS, JOINT_KEYS, MAX_JOINTS, PAPER_FINGER, FingerParams  # noqa: F401 (re-exported: the design, validated without CadQuery)
+from rjcad.design.finger_params import FingerParams
 from rjcad.design.params import JointParams
 
 M3_CLEARANCE_DIAMETER = 3.4

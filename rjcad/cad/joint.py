@@ -28,8 +28,8 @@ import cadquery as cq
 from OCP.BRepCheck import BRepCheck_Analyzer
 
 from rjcad.cad import desktop
-from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path  # also re-exported
-from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, strip_solid  # noqa: F401 (re-exported)
+from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path
+from rjcad.cad.spiral import CLOCKWISE, radial_box, strip_solid
 from rjcad.design.params import JointParams
 
 Z = cq.Vector(0, 0, 1)
