@@ -1,6 +1,5 @@
 """The mesh side of the exports (no CadQuery): meshes from triangle arrays, STL, 3MF, GLB, the preview PNG
-and the atomic write of a set. ``rjcad.cad.export`` re-exports it beside the B-rep side (tessellation,
-measurements, STEP); a process that has only the arrays (``rjcad.cad.process``) writes with this alone.
+and the atomic write of a set; the B-rep side (tessellation, measurements, STEP) is ``rjcad.cad.export``. A process that has only the arrays (``rjcad.cad.process``) writes with this alone.
 trimesh is imported where it is used, so that the B-rep side (and a process that only builds) does not load
 it (0.6 s with SciPy's spatial package)."""
 
