@@ -133,13 +133,14 @@ def _serve(conn, parent_end) -> None:
     parent_end.close()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent answers it
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    failure: BaseException | None = None
     try:
         from rjcad.cad.measure import LocalJoint  # CadQuery: the reason for this process
     except BaseException as e:
-        LocalJoint, failure = None, e
+        failure = e
     try:
         p = conn.recv()
-        if LocalJoint is None:
+        if failure is not None:
             raise failure
         source = LocalJoint(p)
         conn.send(("ok", source.shape()))

@@ -97,7 +97,9 @@ def run_checks(
     if clearance is None:
         clearance = float(man.clearance_mm) if man is not None and man.clearance_mm is not None else 0.25
     prn = get_printer(printer or (man.printer if man is not None else None) or "generic-0.4")
-    expected = bodies if bodies is not None else (len(man.bodies) if listed else None)
+    expected = (
+        bodies if bodies is not None else (len(man.bodies) if man is not None and man.bodies is not None else None)
+    )
     started = start_slicer(meshes, names, prn, slicer)  # PrusaSlicer slices in the background meanwhile
     try:
         rep = _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance)

@@ -88,7 +88,7 @@ def _wide(mesh: trimesh.Trimesh, pts: np.ndarray, n: np.ndarray, wall: np.ndarra
     mid = pts - n * (wall / 2)[:, None]
     u, v = _frame(n)
     probes = np.concatenate([mid + s * reach * w for w in (u, v) for s in (1.0, -1.0)])
-    return mesh.contains(probes).reshape(4, len(pts)).all(axis=0)
+    return np.asarray(mesh.contains(probes).reshape(4, len(pts)).all(axis=0))
 
 
 def check_min_feature(bodies, names, printer: Printer, allowance: float) -> CheckResult:
@@ -97,7 +97,12 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
     A sample thinner than the minimum counts only where the wall is thin over more than a nozzle's footprint: it
     goes on a nozzle's diameter on every side (``_wide``); samples at a tip that narrows to a point are excused."""
     worst_wall = (math.inf, None, None)
-    worst_gap = (math.inf, None, None, None)  # (ratio-to-limit margin, value, where, name/limit)
+    worst_gap: tuple[float, float | None, np.ndarray | None, tuple[str, float, bool] | None] = (
+        math.inf,
+        None,
+        None,
+        None,
+    )  # (ratio-to-limit margin, value, where, name/limit)
     tips = 0
     for b, name in zip(bodies, names):
         pts, n, wall, gap = feature_sizes(b)
@@ -120,12 +125,13 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
                 worst_gap = (float(margin[k]), float(gap[k]), pts[k], (name, float(lim[k]), bool(vertical[k])))
     wall_ok = worst_wall[0] >= printer.min_wall_mm - allowance
     gap_ok = worst_gap[0] >= -allowance
+    _, gap_mm, gap_at, gap_of = worst_gap  # all None or all set: no finite gap, gap_ok
     detail = f"thinnest wall {worst_wall[0]:.3f} mm in {worst_wall[2]} (min wall {printer.min_wall_mm} mm); "
-    if worst_gap[1] is not None:
-        name, lim, vert = worst_gap[3]
+    if gap_mm is not None and gap_of is not None:
+        name, gap_lim, vert = gap_of
         detail += (
-            f"narrowest gap inside a body {worst_gap[1]:.3f} mm in {name} "
-            f"({'vertical' if vert else 'horizontal'}, min {lim} mm); "
+            f"narrowest gap inside a body {gap_mm:.3f} mm in {name} "
+            f"({'vertical' if vert else 'horizontal'}, min {gap_lim} mm); "
         )
     detail += f"{FEATURE_SAMPLES} ray-cone samples per body, allowance {allowance} mm"
     if tips:
@@ -143,13 +149,9 @@ def check_min_feature(bodies, names, printer: Printer, allowance: float) -> Chec
             "wall too thin: " + detail,
         )
     if not gap_ok:
+        assert gap_mm is not None and gap_of is not None  # a gap below its limit is finite, so was recorded
         return CheckResult(
-            "min_feature",
-            False,
-            round(worst_gap[1], 4),
-            worst_gap[3][1],
-            point(worst_gap[2]),
-            "gap inside a body too narrow: " + detail,
+            "min_feature", False, round(gap_mm, 4), gap_of[1], point(gap_at), "gap inside a body too narrow: " + detail
         )
     return CheckResult("min_feature", True, round(worst_wall[0], 4), printer.min_wall_mm, None, detail)
 

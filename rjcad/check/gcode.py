@@ -23,6 +23,7 @@ import contextlib
 import itertools
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -250,7 +251,7 @@ def _float(text: str) -> float:
         return math.nan
 
 
-def _fill(events: list[tuple[int, float]], n: int, initial: float) -> np.ndarray:
+def _fill(events: Sequence[tuple[int, float]], n: int, initial: float) -> np.ndarray:
     """Per line, the value of the last event at or before it (``initial`` before the first)."""
     if not events:
         return np.full(n, initial, dtype=float)
@@ -346,14 +347,13 @@ def parse_gcode(text: str) -> Toolpaths:
 
 def _split_arcs(cols: dict, rows: np.ndarray, ev: _Events, rel_xyz: np.ndarray) -> dict:
     """Each arc's row replaced by its chords (ARC_CHORD_MM), the filament shared by their lengths."""
-    pieces = []
+    pieces: list[list[tuple[float, float]] | None] = []
     for k, line in enumerate(rows.tolist()):
         if line not in ev.arcs:
             pieces.append(None)
             continue
         start = (float(cols["x0"][k]), float(cols["y0"][k]))
-        pts = [start] + _arc(*start, bool(rel_xyz[line]), ev.words[line], ev.arcs[line])
-        pieces.append(pts)
+        pieces.append([start] + _arc(*start, bool(rel_xyz[line]), ev.words[line], ev.arcs[line]))
     count = np.array([1 if p is None else len(p) - 1 for p in pieces])
     out = {key: np.repeat(v, count) for key, v in cols.items()}
     at = np.cumsum(count) - count

@@ -32,8 +32,10 @@ def _parts_config(path: Path) -> dict[str, list[tuple[str, int, int]]]:
         for k, vol in enumerate(obj.findall("volume"), 1):
             vmeta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
             if vmeta.get("volume_type", "ModelPart") == "ModelPart":
-                vols.append((vmeta.get("name") or f"part{k}", int(vol.get("firstid")), int(vol.get("lastid"))))
-        out[meta.get("name", obj.get("id"))] = vols
+                vols.append((vmeta.get("name") or f"part{k}", int(vol.attrib["firstid"]), int(vol.attrib["lastid"])))
+        key = meta.get("name", obj.get("id"))
+        if key is not None:  # an object with neither a name nor an id: no scene geometry is named None
+            out[key] = vols
     return out
 
 

@@ -194,15 +194,16 @@ def check_clearance(
         return CheckResult(
             "clearance", False, 0.0, limit, point(where), f"{names[i]} and {names[j]} overlap by {vol:.3f} mm³"
         )
-    tight = (math.inf, None)
+    tight: tuple[float, tuple[int, int] | None] = (math.inf, None)
     for k in candidates(coarse) if coarse else []:
         i, j = pairs[k]
         gap = refined(coarse[k], copies.fine[i], copies.fine[j], search, copies.same((i, j)))
         if gap < tight[0]:
             tight = (gap, (i, j))
-    if tight[1] is None:
+    gap, pair = tight
+    if pair is None:
         return CheckResult("clearance", True, search, limit, None, f"no two bodies within {search:.2f} mm")
-    gap, (i, j) = tight
+    i, j = pair
     where = _closest_points(bodies[i], bodies[j], gap)
     return CheckResult(
         "clearance",

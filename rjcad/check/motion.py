@@ -29,9 +29,9 @@ def motion_joints(manifest: Manifest) -> list[JointEntry]:
     return joints
 
 
-def subtree(joints: list[JointEntry], k: int) -> set[str]:
+def subtree(joints: list[JointEntry], k: int) -> set[str | None]:
     """Bodies that move with joint k: its child and everything hanging from it."""
-    moving = {joints[k].child}
+    moving: set[str | None] = {joints[k].child}
     changed = True
     while changed:
         changed = False
@@ -57,6 +57,7 @@ def _poses(j: JointEntry, moving_vertices: np.ndarray, clearance: float, printer
     d = d / np.linalg.norm(d)
     rel = moving_vertices - pt
     lever = float(np.max(np.linalg.norm(rel - np.outer(rel @ d, d), axis=1)))
+    assert j.rotation_deg is not None  # motion_joints requires it
     rot = math.radians(float(j.rotation_deg))
     step = 0.5 * min(clearance, printer.min_wall_mm) / lever
     return pt, d, lever, step, np.linspace(0.0, rot, max(1, math.ceil(rot / step)) + 1)
@@ -87,7 +88,9 @@ def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: 
     pt, d, lever, step, angles = _poses(joints[k], np.vstack([bodies[i].vertices for i in mi]), clearance, printer)
     every = max(1, len(angles) // 24)
     exact = copies.exact(mi + si)  # nothing simplified: every pose is intersected on the bodies
-    worst, first, sampled = (0.0, None, None), None, []
+    worst: tuple[float, float | None, m3.Manifold | None] = (0.0, None, None)  # (overlap volume, angle, posed)
+    first: float | None = None
+    sampled: list[tuple[float, float]] = []
     for a_i, a in enumerate(angles):
         transform = _rot(pt, d, float(a))
         posed_c = mov_c.transform(transform)
@@ -114,10 +117,10 @@ def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: 
     return worst, first, gap, detail
 
 
-def _smallest_gap(sampled, mov_f, sta_f, pt, d, search: float, same: bool) -> tuple[float, float]:
+def _smallest_gap(sampled, mov_f, sta_f, pt, d, search: float, same: bool) -> tuple[float, float | None]:
     """(gap, angle) of the smallest sampled gap on the fine copies, from the coarse copies' (gap, angle) samples."""
     mov_u, sta_u = _union(mov_f), _union(sta_f)
-    best = (math.inf, None)
+    best: tuple[float, float | None] = (math.inf, None)
     for k in candidates([g for g, _ in sampled]):
         g_c, a = sampled[k]
         g = refined(g_c, sta_u, mov_u.transform(_rot(pt, d, a)), search, same)
@@ -146,9 +149,10 @@ def check_motion(
     joints = motion_joints(Manifest.coerce(manifest))
     if not joints:
         return skipped("motion", "skipped: the manifest has no joints")
-    worst = (0.0, None, None, None)  # (overlap volume, joint, angle, posed subtree)
-    smallest = (math.inf, None, None)  # (gap, joint, angle)
-    first = None  # (joint, angle) of the first pose that intersects
+    worst: tuple[float, int | None, float | None, m3.Manifold | None] = (0.0, None, None, None)
+    # (overlap volume, joint, angle, posed subtree)
+    smallest: tuple[float, int | None, float | None] = (math.inf, None, None)  # (gap, joint, angle)
+    first: tuple[int, float] | None = None  # (joint, angle) of the first pose that intersects
     details = []
     copies = simplified(mans) if copies is None else copies
     for k in range(len(joints)):
@@ -162,8 +166,12 @@ def check_motion(
         if g < smallest[0]:
             smallest = (g, k, g_a)
         details.append(detail)
-    if worst[1] is not None:
-        vol, k, a, posed = worst
+    vol, worst_k, worst_a, posed = worst
+    if worst_k is not None:
+        # a collision: the worst pose's angle and subtree were set with its joint, and its joint's sweep met the
+        # first contact
+        assert worst_a is not None and posed is not None and first is not None
+        k, a = worst_k, worst_a
         inter = _union([mans[i] for i, nm in enumerate(names) if nm not in subtree(joints, k)]) ^ posed
         where = np.asarray(inter.to_mesh().vert_properties)[:, :3].mean(axis=0)
         return CheckResult(
@@ -175,7 +183,9 @@ def check_motion(
             f"joint {k + 1} collides, worst at {math.degrees(a):.1f}° ({vol:.3f} mm³ overlap), "
             f"first contact at joint {first[0] + 1}, {math.degrees(first[1]):.1f}°; " + "; ".join(details),
         )
-    g, k, a = smallest
+    g, smallest_k, smallest_a = smallest
+    assert smallest_k is not None and smallest_a is not None  # every sweep samples a finite gap (≤ the search length)
+    k, a = smallest_k, smallest_a
     return CheckResult(
         "motion",
         True,

@@ -169,15 +169,15 @@ def _regions(grid: _Grid, cell: float):
 def _anchors(mesh: trimesh.Trimesh, grid: _Grid, region: np.ndarray, cell: float, depth: float):
     """Which samples touch an anchor (their body's material ``depth`` below a neighbouring cell outside
     the region), which lie on their region's border, and each region's anchor cells."""
-    pts, owner, cells = [], [], []
+    pts_of, owner_of, cells_of = [], [], []  # per step of the 8: the samples, their owners, their cells
     for di, dj in _STEPS8:
         nb = grid.neighbour(di, dj, cell * math.sqrt(2) + 1e-3)
         border = np.nonzero((nb < 0) | (region[np.maximum(nb, 0)] != region))[0]
         ci, cj = grid.gi[border] + di, grid.gj[border] + dj
-        pts.append(np.stack([(ci + 0.5) * cell, (cj + 0.5) * cell, grid.z[border] - depth], axis=1))
-        owner.append(border)
-        cells.append(np.stack([ci, cj], axis=1))
-    pts, owner, cells = np.concatenate(pts), np.concatenate(owner), np.concatenate(cells)
+        pts_of.append(np.stack([(ci + 0.5) * cell, (cj + 0.5) * cell, grid.z[border] - depth], axis=1))
+        owner_of.append(border)
+        cells_of.append(np.stack([ci, cj], axis=1))
+    pts, owner, cells = np.concatenate(pts_of), np.concatenate(owner_of), np.concatenate(cells_of)
     inside = _inside(mesh, pts)
     anchored = np.zeros(len(grid.z), dtype=bool)
     anchored[owner[inside]] = True
