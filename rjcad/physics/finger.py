@@ -130,8 +130,10 @@ def _run(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None,
     t = path_times(m, td, t_s)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness  # the tendon's compliance [mm/N]
     c_pull, c_release = capstan_factors(m)
+    w = weight_of(m)  # passed as a plain tuple: its type is found faster at each call
     return closure_path(td, np.zeros(0) if t is None else np.ascontiguousarray(t), (K, k3, c, km, tr),
-                        (th0, thmax, r, f0, gp, gn), c_pull, c_release, comp, tuple(weight_of(m)), coupled)
+                        (th0, thmax, r, f0, gp, gn), c_pull, c_release, comp,
+                        (w.length, w.com, w.weight, w.gx, w.gy, w.on), coupled)
 
 
 def path_times(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None) -> np.ndarray | None:
