@@ -11,7 +11,7 @@ import pytest
 from rjcad.paper import FINGER
 from rjcad.physics import coupled as cp
 from rjcad.physics import finger as fm
-from rjcad.physics.finger_path import Springs, spring_terms
+from rjcad.physics.finger_path import spring_terms
 from rjcad.physics.tendon_step import Joints
 
 DEG = math.pi / 180
@@ -238,10 +238,10 @@ def test_a_joint_the_tendon_holds_where_it_was_does_not_flip_between_sliding_and
         m = random_heavy_finger(rng)
         rng.uniform()
     K, th0, thmax, r, _, f0, (gp, gn) = m.arrays()
-    k3, c, km, tr = m.rate_arrays()
+    k3, c, km, _ = m.rate_arrays()
     z = np.zeros(m.n)
     E0, B, th = np.zeros(m.n), np.zeros(m.n), np.zeros(m.n)
-    spring_terms(z, z, 0.0, 0.0, 0.0, Springs(K, k3, c, km, tr), Joints(th0, thmax, r, f0, gp, gn), E0, B)
+    spring_terms(z, z, 0.0, 0.0, 0.0, K, k3, c, km, th0, E0, B)
     c_pull, _ = fm.capstan_factors(m)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
     ok, T, slack = cp.coupled_step(

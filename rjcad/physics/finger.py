@@ -160,6 +160,7 @@ def _run(
     t = path_times(m, td, t_s)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness  # the tendon's compliance [mm/N]
     c_pull, c_release = capstan_factors(m)
+    w = weight_of(m)  # passed as a plain tuple: its type is found faster at each call
     return closure_path(
         td,
         np.zeros(0) if t is None else np.ascontiguousarray(t),
@@ -168,7 +169,7 @@ def _run(
         c_pull,
         c_release,
         comp,
-        tuple(weight_of(m)),
+        (w.length, w.com, w.weight, w.gx, w.gy, w.on),
         coupled,
     )
 

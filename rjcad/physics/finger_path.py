@@ -48,15 +48,17 @@ def spring_terms(
     a: float,
     b: float,
     inv_dt: float,
-    sp: Springs,
-    jt: Joints,
+    K: np.ndarray,
+    k3: np.ndarray,
+    c: np.ndarray,
+    km: np.ndarray,
+    th0: np.ndarray,
     E: np.ndarray,
     B: np.ndarray,
 ) -> None:
     """The spring's part of the step: E = K·s + k3·s³ + a·τ_M [N·mm] and B = K + 3·k3·s² + c/Δt + K_M·b
     [N·mm/rad] with s = prev + θ0 (spring and preload, stiffening, damping, the Maxwell arm's exact update for a
     constant rate over the step: a = exp(−Δt/T_r), b = T_r(1 − a)/Δt; all rate terms 0 without times)."""
-    K, k3, c, km, th0 = sp.K, sp.k3, sp.c, sp.km, jt.th0
     for i in range(len(prev)):
         s = prev[i] + th0[i]
         E[i] = K[i] * s + k3[i] * s**3 + a * tau_m[i]
@@ -109,6 +111,41 @@ def own_slope_step(
     return T, slack
 
 
+@njit(cache=True)
+def weighted_step(
+    t_d: float,
+    prev: np.ndarray,
+    prev_T: float,
+    at: np.ndarray,
+    Es: np.ndarray,
+    Bs: np.ndarray,
+    jt: Joints,
+    rc: np.ndarray,
+    comp: float,
+    wt: Weight,
+    th: np.ndarray,
+    coupled: bool,
+    E: np.ndarray,
+    B: np.ndarray,
+    tg: np.ndarray,
+    slope: np.ndarray,
+    bps: np.ndarray,
+) -> tuple[float, bool]:
+    """A step with the links' weight: (T, slack), angles in ``th``. The joints coupled through the weight
+    (``coupled_step``, Newton from ``at``) first; where that finds no equilibrium, each joint's own slope
+    (``own_slope_step``), then Newton once more from its answer. ``coupled`` False: the own slope only."""
+    if coupled:
+        done, T, slack = coupled_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th)
+        if done:
+            return T, slack
+    T, slack = own_slope_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, E, B, tg, slope, bps)
+    if coupled:  # near an equilibrium now: Newton from there again
+        ok, T2, slack2 = coupled_step(t_d, prev, prev_T, th.copy(), Es, Bs, jt, rc, comp, wt, th)
+        if ok:
+            return T2, slack2
+    return T, slack
+
+
 @njit(cache=True, inline="always")
 def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float]:
     """(a, b, 1/Δt) of step k (``spring_terms``), zeros without times or at the first step."""
@@ -152,21 +189,13 @@ def closure_path(
             rc[i] = r[i] * (c_pull[i] if pulling else c_release[i])
         prev_T = tension[k - 1] if k > 0 else 0.0
         a, b, inv_dt = _rate_factors(t, k, sp.tr)
-        for i in range(n):  # Newton's first guess: the last two readings' extrapolation
-            at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if gravity and k >= 2 else prev[i]
-        spring_terms(prev, tau_m, a, b, inv_dt, sp, jt, Es, Bs)
+        spring_terms(prev, tau_m, a, b, inv_dt, sp.K, sp.k3, sp.c, km, jt.th0, Es, Bs)
         if not gravity:  # without weight: one exact tendon solve
             T, sl = solve_tendon(td[k], prev, prev_T, Es, Bs, jt, rc, comp, th, bps)
         else:  # the weight: the joints coupled through it (Newton) first, each joint's own slope as the fallback
-            done, T, sl = False, 0.0, False
-            if coupled:
-                done, T, sl = coupled_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th)
-            if not done:
-                T, sl = own_slope_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, E, B, tg, slope, bps)
-                if coupled:  # near an equilibrium now: Newton from there again
-                    ok, T2, sl2 = coupled_step(td[k], prev, prev_T, th.copy(), Es, Bs, jt, rc, comp, wt, th)
-                    if ok:
-                        T, sl = T2, sl2
+            for i in range(n):  # Newton's first guess: the last two readings' extrapolation
+                at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if k >= 2 else prev[i]
+            T, sl = weighted_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, coupled, E, B, tg, slope, bps)
         for i in range(n):  # the Maxwell arm after the step, exact for a constant rate
             tau_m[i] = a * tau_m[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]
