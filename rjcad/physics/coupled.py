@@ -263,9 +263,8 @@ def first_violation(
         elif state[i] == HIGH:
             if rho < jt.f0[i] + jt.gp[i] * (jt.thmax[i] + jt.th0[i]) - TORQUE_TOL:
                 return i, UP
-        elif state[i] == LOW:
-            if rho > -jt.f0[i] - jt.gn[i] * jt.th0[i] + TORQUE_TOL:
-                return i, DOWN
+        elif state[i] == LOW and rho > -jt.f0[i] - jt.gn[i] * jt.th0[i] + TORQUE_TOL:
+            return i, DOWN
     if not slack and T < 0:  # the tendon cannot push: slack
         return n, 1
     if slack:

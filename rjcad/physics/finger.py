@@ -21,6 +21,7 @@ tests/test_physics_finger.py and tests/test_finger_closed_forms.py check it agai
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -112,7 +113,7 @@ def simulate_path(
     td = np.ascontiguousarray(tendon_mm, dtype=float)
     theta, tension, slack = _run(m, td, t_s, coupled)
     if phase is None:
-        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in zip(td[:-1], td[1:])]
+        phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in itertools.pairwise(td)]
     c_pull, c_release = capstan_factors(m)
     joint_tension = tension[:, None] * np.where(pulling_steps(td)[:, None], c_pull, c_release)
     return Closure(td, list(phase), theta, tension, joint_tension, joint_states(theta, m.arrays()[2]), slack)
@@ -189,7 +190,7 @@ def path_times(m: FingerModel, td: np.ndarray, t_s: ArrayLike | None) -> np.ndar
 def unbalanced_readings(m: FingerModel, c: Closure, tol: float = 1e-6) -> int:
     """Check value: how many readings have a joint between its stops outside its friction band, the weight taken at
     the reading's own angles: r·T_i − K(θ + θ0) − τ_g(θ) ∉ [−f0 − γ⁻(θ + θ0), f0 + γ⁺(θ + θ0)] ± tol [N·mm]."""
-    K, th0, thmax, r, wrap, f0, (gp, gn) = m.arrays()
+    K, th0, thmax, r, _wrap, f0, (gp, gn) = m.arrays()
     bad = 0
     for th, ti in zip(c.theta, c.joint_tension):
         net = r * ti - K * (th + th0) - gravity_torques(m, th)

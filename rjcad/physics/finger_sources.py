@@ -81,20 +81,11 @@ def model_from_template(data: dict[str, Any], default_arm: float = 6.0) -> Finge
         if not isinstance(j, dict):
             raise ParameterError(f"joint[{i}]", j, "must be a table")
         merged = {**defaults, **j}
-
-        def num(key: str, default: float | None = None) -> float:
-            v = merged.get(key, default)
-            if v is None:
-                raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
-            return float(v)
-
-        ks.append(num("stiffness_nmm_per_rad"))
-        pre.append(num("preload_deg", 90) * DEG)
-        rot.append(num("rotation_deg", 90) * DEG)
-        arm.append(num("tendon_moment_arm_mm", default_arm))
-        lengths.append(num("link_length_mm", 40))
+        ks.append(_number(merged, i, "stiffness_nmm_per_rad"))
+        pre.append(_number(merged, i, "preload_deg", 90) * DEG)
+        rot.append(_number(merged, i, "rotation_deg", 90) * DEG)
+        arm.append(_number(merged, i, "tendon_moment_arm_mm", default_arm))
+        lengths.append(_number(merged, i, "link_length_mm", 40))
     return FingerModel(tuple(ks), tuple(pre), tuple(rot), tuple(arm), link_length=tuple(lengths))
 
 
@@ -129,3 +120,13 @@ def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:
     check_template_keys(data, Path(source).name)
     m = model_from_template(data)
     return m if mu_t == 0 else replace(m, mu_t=mu_t)
+
+
+def _number(table: dict[str, Any], i: int, key: str, default: float | None = None) -> float:
+    """``table[key]`` (joint ``i``'s, or the defaults') as a float; one error line if missing or not a number."""
+    v = table.get(key, default)
+    if v is None:
+        raise ParameterError(f"joint[{i}].{key}", None, "is required (here or in [defaults])")
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
+    return float(v)

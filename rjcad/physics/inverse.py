@@ -273,7 +273,7 @@ def _printable_scale(
     for ks, ok in grids:
         spans.append((float(ks[ok].min()), float(ks[ok].max())) if ok.any() else (math.nan, math.nan))
     where = lambda i: f"{math.degrees(th0[i]):.0f}° preload, {math.degrees(rot[i]):.0f}° rotation"  # noqa: E731
-    for i, (lo, hi) in enumerate(spans):
+    for i, (lo, _hi) in enumerate(spans):
         if math.isnan(lo):
             raise InfeasibleDesign(
                 "spring",
