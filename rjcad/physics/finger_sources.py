@@ -35,16 +35,23 @@ def model_from_manifest(
         out = []
         for i, j in enumerate(joints):
             v = getattr(j, key)
-            if v is None and default is None:
-                raise ParameterError(man.key_path(i, key), None, "is required in a finger manifest")
-            out.append(float(default if v is None else v))
+            if v is None:
+                if default is None:
+                    raise ParameterError(man.key_path(i, key), None, "is required in a finger manifest")
+                v = default
+            out.append(float(v))
         return tuple(out)
 
     masses = {b.name: b.mass_g for b in man.bodies or [] if b.mass_g is not None}
     coms = {b.name: b.com_mm for b in man.bodies or [] if b.com_mm is not None}
     link_com: tuple[tuple[float, float], ...] = ()
-    if all(j.child in coms and j.axis_point_mm is not None for j in joints):  # measured: relative to the axis
-        link_com = tuple((coms[j.child][0] - j.axis_point_mm[0], coms[j.child][1] - j.axis_point_mm[1]) for j in joints)
+    measured = [
+        (coms[j.child], j.axis_point_mm)
+        for j in joints
+        if j.child is not None and j.child in coms and j.axis_point_mm is not None
+    ]
+    if len(measured) == len(joints):  # measured: relative to the axis
+        link_com = tuple((c[0] - a[0], c[1] - a[1]) for c, a in measured)
     return FingerModel(
         stiffness=num("joint_stiffness_nmm_per_rad"),
         preload=tuple(x * DEG for x in num("preload_deg")),
@@ -57,7 +64,7 @@ def model_from_manifest(
         gamma_pos=tuple(gamma_pos) if gamma_pos is not None else (),
         gamma_neg=tuple(gamma_neg) if gamma_neg is not None else (),
         link_length=num("link_length_mm", 40.0),
-        link_mass=tuple(float(masses.get(j.child, 0.0)) for j in joints),
+        link_mass=tuple(float(masses.get(j.child, 0.0)) if j.child is not None else 0.0 for j in joints),
         gravity=gravity,
         link_com=link_com,
     )

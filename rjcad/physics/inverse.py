@@ -34,9 +34,17 @@ from rjcad.paper import FINGER
 from rjcad.physics.finger import Closure, FingerModel, onset_tendon, simulate_stroke
 from rjcad.validate import in_range
 
-PRELOAD_RANGE = RANGES["preload"][:2]  # the joint builder's limits [rad]
+
+def _limits(name: str) -> tuple[float, float]:
+    """The joint builder's (lower, upper) limits of a parameter whose lower limit is a fixed number."""
+    lo, hi, _unit = RANGES[name]
+    assert lo is not None, name
+    return (lo, hi)
+
+
+PRELOAD_RANGE = _limits("preload")  # the joint builder's limits [rad]
 ROTATION_MAX = RANGES["rotation"][1]  # [rad]
-STIFFNESS_RANGE = RANGES["stiffness"][:2]  # [N·mm/rad]
+STIFFNESS_RANGE = _limits("stiffness")  # [N·mm/rad]
 LEAD = 0.6  # proximal-first: x_1 = LEAD·x_2 when the preload limits allow it
 DEFAULT_BASE_STIFFNESS = FINGER.designed_stiffness[0]  # the paper's proximal joint [N·mm/rad]
 END_TOLERANCE_DEG = 1.0
@@ -144,7 +152,10 @@ def _preload_ratios(th: np.ndarray, sequence: str) -> np.ndarray:
     """x_i = θ0_i/θ*_i inside the preload limits, equal (simultaneous) or with the proximal joint lower."""
     lo, hi = PRELOAD_RANGE
     n = len(th)
-    d = lambda v: f"{math.degrees(v):.0f}°"  # noqa: E731
+
+    def d(v: float) -> str:
+        return f"{math.degrees(v):.0f}°"
+
     if sequence == "simultaneous" or n == 1:
         a, b = float(np.max(lo / th)), float(np.min(hi / th))
         if a > b:
@@ -272,7 +283,10 @@ def _printable_scale(
     spans = []
     for ks, ok in grids:
         spans.append((float(ks[ok].min()), float(ks[ok].max())) if ok.any() else (math.nan, math.nan))
-    where = lambda i: f"{math.degrees(th0[i]):.0f}° preload, {math.degrees(rot[i]):.0f}° rotation"  # noqa: E731
+
+    def where(i: int) -> str:
+        return f"{math.degrees(th0[i]):.0f}° preload, {math.degrees(rot[i]):.0f}° rotation"
+
     for i, (lo, _hi) in enumerate(spans):
         if math.isnan(lo):
             raise InfeasibleDesign(

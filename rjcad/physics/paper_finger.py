@@ -36,6 +36,10 @@ from rjcad.plotting import png_bytes, pyplot
 MEASURED_DEG = np.array(FINGER.measured_end_deg)
 STROKE = FINGER.stroke
 K_DESIGN = FINGER.designed_stiffness
+#: A candidate's parameter vector: the solver's array, or a list of fitted values.
+Params = Sequence[float] | np.ndarray
+#: A candidate family's model builder from its parameter vector.
+Builder = Callable[[Params], FingerModel]
 ANGLE_SIGMA_DEG = 2.0  # assumed 1-σ error of the vision-tracked end angles
 PAPER_MU_FN = JOINT.mu_j * JOINT.normal_load  # N·mm: the paper's joint, μ_j under F_n (for scale only)
 
@@ -77,7 +81,7 @@ def _fit(
     starts: Sequence[Sequence[float]],
     lb: Sequence[float],
     ub: Sequence[float],
-    build: Callable[[Sequence[float]], FingerModel],
+    build: Builder,
 ) -> Explanation:
     """Bounded least squares from several starts (the stops make the problem non-smooth). The residuals take the
     end angles of a 120-step pull (``simulate_angles``); what is reported is the closure's on 200 steps."""
@@ -85,13 +89,15 @@ def _fit(
 
     def resid(x: np.ndarray) -> np.ndarray:
         theta, _ = simulate_angles(build(x), path)
-        return (np.degrees(theta[-1]) - MEASURED_DEG) / ANGLE_SIGMA_DEG
+        r: np.ndarray = (np.degrees(theta[-1]) - MEASURED_DEG) / ANGLE_SIGMA_DEG
+        return r
 
     best = None
     for x0 in starts:
         res = least_squares(resid, x0, bounds=(lb, ub), diff_step=1e-3, max_nfev=300)
         if best is None or res.cost < best.cost:
             best = res
+    assert best is not None, "no starts"
     end, onset, _ = end_and_onset(build(best.x))
     std, why = parameter_std(best.jac, best.x, np.asarray(lb, float), np.asarray(ub, float), names)
     dof = len(MEASURED_DEG) - int(np.isfinite(std).sum())
@@ -115,18 +121,46 @@ def _k(scale2: float, scale3: float) -> tuple[float, float, float]:
     return (K_DESIGN[0], K_DESIGN[1] * scale2, K_DESIGN[2] * scale3)
 
 
+def _arm_common(x: Params) -> FingerModel:
+    return design_model(float(x[0]))
+
+
+def _arm_friction(x: Params) -> FingerModel:
+    return design_model(float(x[0]), friction=tuple(map(float, x[1:])))
+
+
+def _arm_capstan_base(x: Params) -> FingerModel:
+    return design_model(float(x[0]), wrap=(float(x[1]), 0.0, 0.0), mu_t=1.0)
+
+
+def _arm_capstan_along(x: Params) -> FingerModel:
+    return design_model(float(x[0]), wrap=(0.0, float(x[1]), float(x[1])), mu_t=1.0)
+
+
+def _arms_per_joint(x: Params) -> FingerModel:
+    return design_model(list(x))
+
+
+def _arm_springs_softer(x: Params) -> FingerModel:
+    return FingerModel(_k(float(x[1]), float(x[2])), (90 * DEG,) * 3, (90 * DEG,) * 3, (float(x[0]),) * 3)
+
+
+def _arm_preloads_lower(x: Params) -> FingerModel:
+    return FingerModel(K_DESIGN, (90 * DEG, float(x[1]) * DEG, float(x[2]) * DEG), (90 * DEG,) * 3, (float(x[0]),) * 3)
+
+
 FRICTION = "moment arm + pin friction at every joint"
 CAPSTAN_BASE = "moment arm + capstan in the base"
 CAPSTAN_ALONG = "moment arm + capstan along the finger"
 #: name → (cause, parameter names, starts, lower, upper, model builder)
-FAMILIES = {
+FAMILIES: dict[str, tuple[str, list[str], list[list[float]], list[float], list[float], Builder]] = {
     "moment arm (common)": (
         "the tendon runs farther from the axes than designed",
         ["r_mm"],
         [[7.0], [9.0], [12.0]],
         [3.0],
         [15.0],
-        lambda x: design_model(float(x[0])),
+        _arm_common,
     ),
     FRICTION: (
         "a longer arm and Coulomb friction bands in the pins",
@@ -134,7 +168,7 @@ FAMILIES = {
         [[9.0, 10.0, 2.0, 2.0], [8.7, 5.0, 0.5, 0.5]],
         [3.0, 0.0, 0.0, 0.0],
         [15.0, 40.0, 40.0, 40.0],
-        lambda x: design_model(float(x[0]), friction=tuple(map(float, x[1:]))),
+        _arm_friction,
     ),
     CAPSTAN_BASE: (
         "a longer arm and tendon friction in the base channel (the tension reaching every joint drops alike)",
@@ -142,7 +176,7 @@ FAMILIES = {
         [[8.0, 0.2], [10.0, 0.5]],
         [3.0, 0.0],
         [15.0, 2.0],
-        lambda x: design_model(float(x[0]), wrap=(float(x[1]), 0.0, 0.0), mu_t=1.0),
+        _arm_capstan_base,
     ),
     CAPSTAN_ALONG: (
         "a longer arm and tendon friction in the channels of joints 2 and 3 (μ_t·α each)",
@@ -150,7 +184,7 @@ FAMILIES = {
         [[8.0, 0.2], [10.0, 0.5]],
         [3.0, 0.0],
         [15.0, 2.0],
-        lambda x: design_model(float(x[0]), wrap=(0.0, float(x[1]), float(x[1])), mu_t=1.0),
+        _arm_capstan_along,
     ),
     "moment arms per joint": (
         "each joint's tendon path sits at its own distance from the axis (distal arms longer)",
@@ -158,7 +192,7 @@ FAMILIES = {
         [[6.0, 9.0, 12.0], [8.0, 8.0, 8.0], [10.0, 10.0, 10.0]],
         [3.0] * 3,
         [15.0] * 3,
-        lambda x: design_model(list(x)),
+        _arms_per_joint,
     ),
     "moment arm + distal springs softer": (
         "the printed springs of joints 2 and 3 are softer than designed (K scale factors)",
@@ -166,7 +200,7 @@ FAMILIES = {
         [[8.7, 0.8, 0.6], [10.0, 1.0, 1.0]],
         [3.0, 0.2, 0.2],
         [15.0, 2.0, 2.0],
-        lambda x: FingerModel(_k(float(x[1]), float(x[2])), (90 * DEG,) * 3, (90 * DEG,) * 3, (float(x[0]),) * 3),
+        _arm_springs_softer,
     ),
     "moment arm + distal preloads lower": (
         "the springs of joints 2 and 3 hold less preload than 90° (hooking, relaxation)",
@@ -174,9 +208,7 @@ FAMILIES = {
         [[8.7, 60.0, 30.0], [10.0, 80.0, 80.0]],
         [3.0, 0.0, 0.0],
         [15.0, 120.0, 120.0],
-        lambda x: FingerModel(
-            K_DESIGN, (90 * DEG, float(x[1]) * DEG, float(x[2]) * DEG), (90 * DEG,) * 3, (float(x[0]),) * 3
-        ),
+        _arm_preloads_lower,
     ),
 }
 
