@@ -195,7 +195,6 @@ MEASURED_SLOW = {
     "tests/test_identify_report.py::test_not_identifiable_section": 7,
     "tests/test_identify_report.py::test_rerun_is_byte_identical_and_bad_out_dir": 12,
     "tests/test_life.py::test_life_constraint_property": 28,
-    "tests/test_finger_fast.py::test_same_as_reference[asymmetric]": 26,
     "tests/test_physics_coupled.py::test_random_heavy_fingers_balance_at_every_reading": 21,
     "tests/test_physics_coupled.py::test_joints_sliding_against_their_weight_settle": 8,
     "tests/test_identify_finger.py::test_cli_bench_and_identify_finger": 10,  # in-process (was 3 processes)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 import io
+import itertools
 import tokenize
 from pathlib import Path
 
@@ -183,7 +184,7 @@ def test_walker_sees_relative_nested_and_dotted_imports(tmp_path):
     assert g["pkg.sub.deep"] == {"pkg.c"}  # its own package pkg.sub is an ancestor: not an edge
     cycle = find_cycle(g)  # a → sub.deep (through sub) → c → a
     assert cycle[0] == cycle[-1] and set(cycle) == {"pkg.a", "pkg.sub", "pkg.sub.deep", "pkg.c"}
-    assert all(b in g[a] for a, b in zip(cycle, cycle[1:]))
+    assert all(b in g[a] for a, b in itertools.pairwise(cycle))
 
 
 def test_a_re_exporting_init_is_not_a_cycle_but_importing_from_it_is(tmp_path):

@@ -17,7 +17,7 @@ from rjcad.cad.spiral import line_box
 from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 
 Z = cq.Vector(0, 0, 1)
-O = cq.Vector(0, 0, 0)
+ORIGIN = cq.Vector(0, 0, 0)
 
 
 @pytest.fixture(scope="module", params=["clamped", "pinned"])
@@ -90,7 +90,7 @@ def key_and_socket(p, j, top=False):
 
 
 def seated(shape, p):
-    return shape.rotate(O, Z, math.degrees(p.preload))
+    return shape.rotate(ORIGIN, Z, math.degrees(p.preload))
 
 
 def about(shape, centre, angle_deg):
@@ -164,10 +164,11 @@ def test_seating_motion_is_free(joint):
         push = (p.seat_height + p.clearance) * (1 if top else -1)
         lifted = key.translate(cq.Vector(0, 0, push))
         for a in np.linspace(0.0, math.degrees(p.preload), 13):
-            assert lifted.rotate(O, Z, a).distance(socket) > 0.01, (top, a)
+            assert lifted.rotate(ORIGIN, Z, a).distance(socket) > 0.01, (top, a)
         # without the push, the socket (or post) blocks the way
         blocked = [
-            key.rotate(O, Z, a).intersect(socket).Volume() > 1e-3 for a in np.linspace(0.0, math.degrees(p.preload), 13)
+            key.rotate(ORIGIN, Z, a).intersect(socket).Volume() > 1e-3
+            for a in np.linspace(0.0, math.degrees(p.preload), 13)
         ]
         assert any(blocked)
         zs = socket.BoundingBox()

@@ -2,6 +2,7 @@
 is b·t·L, and the boxes and rings it is assembled from have the sizes asked for. Small solids only (no joint
 build)."""
 
+import itertools
 import math
 
 import cadquery as cq
@@ -33,7 +34,7 @@ def test_arcs_follow_the_spiral_from_start_to_end():
         phi = (math.atan2(m.y, m.x) - phi0) % (2 * math.pi)
         on_spiral = [r_in + 0.4 + pitch * (phi + 2 * math.pi * k) / (2 * math.pi) for k in range(4)]
         assert min(abs(radius(m) - r) for r in on_spiral) < 0.01
-    for e1, e2 in zip(edges, edges[1:]):
+    for e1, e2 in itertools.pairwise(edges):
         assert (e1.endPoint() - e2.startPoint()).Length < 1e-9
     back = spiral_side(r_in, pitch, turns, phi0, offset=0.4, backwards=True, hand=COUNTER_CLOCKWISE)
     assert (back[0].startPoint() - b).Length < 1e-9 and (back[-1].endPoint() - a).Length < 1e-9
@@ -69,7 +70,7 @@ def test_the_default_hand_is_clockwise_outwards():
             a = prev + (a - prev + math.pi) % (2 * math.pi) - math.pi
         unwrapped.append(a)
         prev = a
-    assert all(b < a for a, b in zip(unwrapped, unwrapped[1:]))  # clockwise all the way
+    assert all(b < a for a, b in itertools.pairwise(unwrapped))  # clockwise all the way
     assert unwrapped[-1] == pytest.approx(phi0 - 2 * math.pi * turns, abs=1e-9)
     for v, a in zip(pts, unwrapped):  # and r = r_in + p·(φ0 − φ)/2π
         assert radius(v) == pytest.approx(r_in + pitch * (phi0 - a) / (2 * math.pi), abs=0.01)

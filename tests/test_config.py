@@ -73,7 +73,7 @@ def test_write_atomic_failure_keeps_the_old_file_and_leaves_no_temporary(tmp_pat
         raise OSError("disk on fire")
 
     monkeypatch.setattr(os, "replace", broken_replace)
-    with pytest.raises(RjcadError, match="a.json: cannot write: disk on fire"):  # one error line, no traceback
+    with pytest.raises(RjcadError, match=r"a\.json: cannot write: disk on fire"):  # one error line, no traceback
         write_atomic(p, "new\n")
     assert p.read_text() == "old\n"
     assert [q.name for q in tmp_path.iterdir()] == ["a.json"]

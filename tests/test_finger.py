@@ -153,7 +153,7 @@ def test_all_joints_closing_together(default_finger):
 
 
 def test_step_reimports_as_named_valid_solids(default_finger):
-    out, m, bodies, order, _, _ = default_finger
+    out, m, _bodies, order, _, _ = default_finger
     res = reimport_step(out / "finger.step", order)
     assert sorted(res) == sorted(order)
     for name, entry in zip(order, m["bodies"]):

@@ -48,7 +48,7 @@ def test_one_joint_with_stiffening_and_a_stretchy_tendon():
         return (K * s + k3 * s**3) / R
 
     for k, t_d in enumerate(td):
-        th = brentq(lambda x: R * x + tension(x) / kt - t_d, 0.0, 90 * DEG)
+        th = brentq(lambda x, t_d=t_d: R * x + tension(x) / kt - t_d, 0.0, 90 * DEG)
         # the step linearises the cubic about the previous angle: exact to the square of the step's move
         assert c.theta[k, 0] == pytest.approx(th, abs=2e-4)
         assert c.tension[k] == pytest.approx(kt * (t_d - R * c.theta[k, 0]), rel=1e-9)
@@ -111,7 +111,7 @@ def test_two_joints_frictionless_by_a_root_finder():
         return np.clip(arms * c_pull * T / Ks - th0, 0.0, 90 * DEG)
 
     for k in range(1, len(td)):
-        T = brentq(lambda x: arms @ angles(x) - td[k], 0.0, 100.0, xtol=1e-14)
+        T = brentq(lambda x, k=k: arms @ angles(x) - td[k], 0.0, 100.0, xtol=1e-14)
         assert c.tension[k] == pytest.approx(T, rel=1e-10)
         assert c.theta[k] == pytest.approx(angles(T), abs=1e-10)
     assert 0 < fm.onset_tendon(c, 1e-9)[0] < fm.onset_tendon(c, 1e-9)[1]
@@ -160,7 +160,7 @@ def test_two_links_under_their_weight_by_scipy_root():
         c1, c12 = math.cos(th[0]), math.cos(th[0] + th[1])
         return np.array([w[0] * L[0] / 2 * c1 + w[1] * (L[0] * c1 + L[1] / 2 * c12), w[1] * L[1] / 2 * c12])
 
-    def residual(x):
+    def residual(x, t_d):
         th, T = x[:2], x[2]
         return np.r_[arms * T - Ks * (th + th0) - weight(th), arms @ th - t_d]
 
@@ -169,7 +169,7 @@ def test_two_links_under_their_weight_by_scipy_root():
         th = c.theta[k]
         if np.any(th < 1e-6) or np.any(th > 90 * DEG - 1e-6):
             continue  # a joint on a stop: not this system
-        sol = root(residual, np.r_[th + 0.05, c.tension[k] * 1.1], tol=1e-13)
+        sol = root(residual, np.r_[th + 0.05, c.tension[k] * 1.1], args=(t_d,), tol=1e-13)
         assert sol.success
         assert th == pytest.approx(sol.x[:2], abs=1e-7) and c.tension[k] == pytest.approx(sol.x[2], rel=1e-7)
         checked += 1

@@ -56,7 +56,7 @@ def _assert_found(truth, js, effects, rel=0.05):
 
 @pytest.mark.parametrize("effect", [e.id for e in CATALOGUE])
 def test_hidden_effect_is_found_named_and_measured(tmp_path, effect):
-    truth, ident, js = _run(tmp_path, [effect])
+    truth, _ident, js = _run(tmp_path, [effect])
     _assert_found(truth, js, [effect])
     # named with its physical cause, and its step improved the held-out error
     step = js["steps"][0]
@@ -77,12 +77,12 @@ def test_hidden_effect_is_found_named_and_measured(tmp_path, effect):
     ],
 )
 def test_hidden_combinations(tmp_path, effects):
-    truth, ident, js = _run(tmp_path, effects, seed=11)
+    truth, _ident, js = _run(tmp_path, effects, seed=11)
     _assert_found(truth, js, effects)
 
 
 def test_null_case_reports_nothing(tmp_path):
-    truth, ident, js = _run(tmp_path, [], seed=5)
+    truth, _ident, js = _run(tmp_path, [], seed=5)
     assert js["effects"] == [] and js["steps"] == []
     assert js["gain"] == pytest.approx(1.0)
     for ex in js["experiments"]:
@@ -116,7 +116,7 @@ def test_paper_campaign_recovers_the_papers_values(paper):
 
 def test_single_routed_tendon_experiment_cannot_separate_beta_and_gamma(tmp_path):
     exps = [{"name": "E", "drive": "tendon", "normal_load": 0.0, "routed": True}]
-    truth, ident, js = _run(tmp_path, ["tendon_pin_friction", "capstan_path"], experiments=exps)
+    truth, _ident, js = _run(tmp_path, ["tendon_pin_friction", "capstan_path"], experiments=exps)
     assert js["not_identifiable"], js
     assert set(js["not_identifiable"]) & {"beta_pos", "beta_neg", "gamma_pos_nmm_per_rad", "gamma_neg_nmm_per_rad"}
     # what cannot be identified is not reported as fitted
@@ -130,7 +130,7 @@ def test_single_routed_tendon_experiment_cannot_separate_beta_and_gamma(tmp_path
 
 def test_bar_only_campaign_reports_tendon_parameters_not_identifiable(tmp_path):
     exps = [{"name": "A", "drive": "bar", "normal_load": 1.5}, {"name": "A2", "drive": "bar", "normal_load": 0.5}]
-    truth, ident, js = _run(tmp_path, ["coulomb_pin"], experiments=exps)
+    _truth, _ident, js = _run(tmp_path, ["coulomb_pin"], experiments=exps)
     assert js["effects"] == ["coulomb_pin"]
     assert {"beta_pos", "beta_neg", "gamma_pos_nmm_per_rad", "gamma_neg_nmm_per_rad"} <= set(js["not_identifiable"])
     assert "tendon_pin_friction" not in js["effects"] and "capstan_path" not in js["effects"]
@@ -152,7 +152,7 @@ def test_backward_pass_drops_a_recalibration_that_was_stiffening(tmp_path):
 
 def test_effect_below_relevance_is_not_reported(tmp_path):
     """A 0.2% stiffness change (the paper's 5.19 vs 5.2) is statistically visible but practically irrelevant."""
-    truth, ident, js = _run(
+    _truth, _ident, js = _run(
         tmp_path, ["spring_calibration"], params={"stiffness_nmm_per_rad": 5.19, "preload_deg": 70.0}
     )
     assert js["effects"] == []
@@ -182,7 +182,7 @@ def test_diagnostics_point_to_the_cause(tmp_path):
 
 
 def test_masking_at_reversals_is_small_and_reported(tmp_path):
-    _, ident, js = _run(tmp_path, ["coulomb_pin"])
+    _, _ident, js = _run(tmp_path, ["coulomb_pin"])
     for ex in js["experiments"]:
         assert 0 < ex["samples_masked_at_reversals"] < 0.12 * ex["samples"]
         assert ex["reversals"] == 7 and ex["cycles"] >= 3  # 3 cycles, one with a partial return
@@ -232,7 +232,7 @@ def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
 
 def test_a_parameter_the_data_only_bound_is_not_reported_as_fitted(tmp_path):
     """γ⁻ > K: the tendon is slack in every release, so the data say only γ⁻ ≳ K."""
-    truth, ident, js = _run(
+    truth, _ident, js = _run(
         tmp_path, ["tendon_pin_friction"], params={"gamma_pos_nmm_per_rad": 2.0, "gamma_neg_nmm_per_rad": 7.0}
     )
     assert js["effects"] == ["tendon_pin_friction"]

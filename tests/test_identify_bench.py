@@ -251,7 +251,7 @@ def test_cli_null_case(tmp_path, cli):
     ],
 )
 def test_cli_bad_input_is_one_line_exit_2(tmp_path, cli, argv):
-    code, out, err = cli(["bench", "--out", str(tmp_path / "c")] + argv)
+    code, _out, err = cli(["bench", "--out", str(tmp_path / "c")] + argv)
     assert code == 2
     assert err.startswith("rjcad: error:") and err.count("\n") == 1, err
     assert not (tmp_path / "c").exists()

@@ -113,7 +113,7 @@ def test_hidden_pairs(tmp_path, pair):
 def test_per_joint_verdict_names_the_joint(tmp_path):
     """Moment arms 1.1, 1.3 and 1.5× the built ones: the design model closes joint 2 the most too far, and the
     report says which joint, by how much and which of its parameters explains it."""
-    truth, js = _identify(tmp_path, ["moment_arm"])
+    _truth, js = _identify(tmp_path, ["moment_arm"])
     worst = max(js["joints"], key=lambda j: abs(j["design_worst_error_deg"]))
     assert worst["design_worst_error_deg"] > 10
     for j in js["joints"]:
@@ -137,7 +137,7 @@ def test_without_tension_joint_one_is_the_reference(tmp_path):
 def test_degenerate_pair_is_reported_not_fitted(tmp_path):
     """Softer springs and a capstan to the actuator: the actuator's tension is β·T, and T scales with the springs,
     so one direction (all K × s, β ÷ s) leaves every record unchanged. The result must say so, not pick a value."""
-    truth, js = _identify(tmp_path, ["spring_calibration", "capstan_path"])
+    _truth, js = _identify(tmp_path, ["spring_calibration", "capstan_path"])
     assert set(js["effects"]) == {"spring_calibration", "capstan_path"}
     assert {"beta_pos", "beta_neg"} <= set(js["not_identifiable"]) or "stiffness_nmm_per_rad_j1" in js[
         "not_identifiable"
@@ -147,7 +147,7 @@ def test_degenerate_pair_is_reported_not_fitted(tmp_path):
 
 
 def test_bad_finger_campaigns(tmp_path):
-    truth = write_finger_campaign(tmp_path / "ok", [], samples=200)
+    write_finger_campaign(tmp_path / "ok", [], samples=200)
     base = (tmp_path / "ok" / "campaign.toml").read_text()
     csv = (tmp_path / "ok" / "A_pulls.csv").read_text()
     cases = {

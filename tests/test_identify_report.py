@@ -100,7 +100,7 @@ def test_experiment_table_params_and_noise_floor(paper):
 
 
 def test_not_identifiable_section(routed_only):
-    ident, js, paths, md = routed_only
+    ident, js, _paths, md = routed_only
     assert ident.not_identifiable, "identify did not flag β/γ as confounded on a single routed tendon experiment"
     assert "## Not identifiable from this campaign" in md
     assert "were **not fitted**" in md

@@ -51,7 +51,7 @@ def test_preview_shows_both_bodies_and_the_tendon_and_the_glb_holds_the_stl_mesh
     from rjcad.cad.build import JOINT_COLOURS
     from rjcad.cad.render import PANEL, TENDON, TITLE_PX, rgb
 
-    out, manifest, bodies = default_joint
+    out, _manifest, bodies = default_joint
     img = np.asarray(Image.open(out / "joint.png").convert("RGB")).astype(int)
     assert img.std() > 10
     view = img[TITLE_PX : TITLE_PX + PANEL[1], : PANEL[0]]

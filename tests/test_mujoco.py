@@ -328,7 +328,7 @@ def test_an_identify_result_sets_friction_and_stiffness(built, tmp_path, cli):
             }
         )
     )
-    code, out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "x.xml", "--identified", ident)
+    code, _out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "x.xml", "--identified", ident)
     assert code == 0, err
     m, _ = _data(tmp_path / "x.xml")
     np.testing.assert_allclose(m.dof_frictionloss, [0.0, 1.5e-3, 0.0])

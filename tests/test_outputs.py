@@ -126,7 +126,7 @@ def test_a_file_in_the_way_is_named(tmp_path):
 def test_a_directory_in_the_way_of_a_member_changes_nothing(earlier):
     (earlier / "joint.3mf").mkdir()
     before = snapshot(earlier)
-    with pytest.raises(OutputError, match="joint.3mf: cannot write: Is a directory"):
+    with pytest.raises(OutputError, match=r"joint\.3mf: cannot write: Is a directory"):
         write_set(earlier, NEW)
     assert snapshot(earlier) == before
 
@@ -234,7 +234,7 @@ WRITERS = {
 def test_every_writer_refuses_a_place_under_a_file_in_one_line(command, cli, tmp_path, campaign, root):
     (tmp_path / "f").write_text("x")
     args = [a.format(o=tmp_path / "f" / "out", campaign=campaign, root=root) for a in WRITERS[command]]
-    code, out, err = cli(args)
+    code, _out, err = cli(args)
     assert code == 2, err
     assert err.count("\n") == 1 and err.startswith("rjcad: error: ") and "Traceback" not in err
     assert f"cannot write: {tmp_path / 'f'} is not a directory" in err

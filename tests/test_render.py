@@ -70,7 +70,7 @@ def test_each_body_in_its_colour_and_the_tendon_drawn(images):
     for name, colour in COLOURS.items():
         assert hue_share(panel, colour) > 0.002, name
     section = images[0][TITLE_PX:, PANEL[0] :]
-    exact = {tuple(int(round(255 * v)) for v in rgb(c)) for c in (*COLOURS.values(), TENDON)}
+    exact = {tuple(round(255 * v) for v in rgb(c)) for c in (*COLOURS.values(), TENDON)}
     present = {tuple(p) for p in section.reshape(-1, 3)}
     assert exact <= present  # the section's outlines are drawn unlit, in the bodies' exact colours
 

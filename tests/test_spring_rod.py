@@ -127,11 +127,14 @@ def test_linearised_about_the_arbor_reproduces_the_linear_fe(end, linear_fe):
     X, tang, a = rod.spiral_nodes(SPRING["r_in"], SPRING["pitch"], SPRING["turns"], -math.pi / 2)
     eps = -1e-5  # tightening: the arbor turns clockwise relative to the outer end
     x0, y0 = X[0]
-    arbor = lambda lam: (
-        x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),
-        x0 * math.sin(lam * eps) + y0 * (math.cos(lam * eps) - 1),
-        lam * eps,
-    )
+
+    def arbor(lam):
+        return (
+            x0 * (math.cos(lam * eps) - 1) - y0 * math.sin(lam * eps),
+            x0 * math.sin(lam * eps) + y0 * (math.cos(lam * eps) - 1),
+            lam * eps,
+        )
+
     outer = (0.0, 0.0, 0.0) if end == "clamped" else (0.0, 0.0, None)
     E, b, t = SPRING["E"], SPRING["b"], SPRING["t"]
     sol = rod.solve_rod(X, {0: arbor, -1: outer}, EI=E * b * t**3 / 12, EA=E * b * t, steps=1, tangents=tang)

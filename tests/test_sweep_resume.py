@@ -136,7 +136,7 @@ def test_resume_on_a_damaged_results_csv_keeps_every_intact_row_once(first, tmp_
 
 
 def test_resume_drops_nothing_from_a_whole_file(first, tmp_path, monkeypatch):
-    spec, rows, good = first
+    spec, _rows, good = first
     res, computed = resume(spec, tmp_path, monkeypatch)
     assert computed == [] and res.notes == ["resume: 24 earlier rows kept"]
     assert (tmp_path / "results.csv").read_bytes() == good
@@ -157,7 +157,7 @@ def test_resume_refuses_a_file_that_is_not_a_results_csv_in_one_line(first, tmp_
     f = tmp_path / "s.toml"
     f.write_text("[params.stiffness_nmm_per_rad]\nvalues = [4.0, 5.2]\n")
     before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
-    code, out, err = cli("sweep", f, "--out", tmp_path, "--resume")
+    code, _out, err = cli("sweep", f, "--out", tmp_path, "--resume")
     assert code == 2 and err.count("\n") == 1 and err.startswith("rjcad: error: ") and word in err
     assert "results.csv" in err and "without --resume" in err
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
@@ -182,7 +182,7 @@ def test_the_build_log_is_read_line_by_line(tmp_path):
 
 
 def test_an_interrupted_sweep_leaves_the_earlier_results_as_they_were(first, tmp_path, monkeypatch):
-    spec, _, good = first
+    spec, _, _good = first
     before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in tmp_path.iterdir()}
 
     def interrupted(points):

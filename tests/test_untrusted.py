@@ -119,7 +119,7 @@ def test_confined_keeps_files_in_the_folder(tmp_path):
     folder = tmp_path / "c"
     assert untrusted.confined(folder, "data/a.csv", "c.toml") == folder / "data" / "a.csv"
     for name in ("../secret.csv", str(tmp_path / "secret.csv"), "link.csv", "data/../../secret.csv"):
-        with pytest.raises(RjcadError, match="is outside .* \\(or pass --allow-outside\\)"):
+        with pytest.raises(RjcadError, match=r"is outside .* \(or pass --allow-outside\)"):
             untrusted.confined(folder, name, "c.toml")
         assert untrusted.confined(folder, name, "c.toml", allow_outside=True) == folder / name
 
@@ -357,7 +357,7 @@ def test_stray_warnings_are_shown_with_debug_only(cli, monkeypatch):
     import rjcad.cli.spring as spring_cli
 
     def noisy(req):
-        warnings.warn("something numpy says", RuntimeWarning)
+        warnings.warn("something numpy says", RuntimeWarning, stacklevel=2)
         raise RjcadError("no spring")
 
     monkeypatch.setattr(spring_cli, "design_spring", noisy)

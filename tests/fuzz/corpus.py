@@ -378,7 +378,7 @@ def toml_cases(sh: Shared) -> list[Case]:
                 Case(
                     "toml-identify-directory",
                     list(user.argv),
-                    setup=lambda d: (d / fname).mkdir(parents=True),
+                    setup=lambda d, fname=fname: (d / fname).mkdir(parents=True),
                     mention=("campaign.toml",),
                 )
             )
@@ -509,7 +509,7 @@ def output_cases(sh: Shared) -> list[Case]:
         heavy = name in ("joint", "joint-nopng", "finger")
         big = "error" if heavy else "either"  # small outputs may fit in what is left
 
-        def mk(place, o, setup, expect="error", **kw):
+        def mk(place, o, setup, expect="error", name=name, argv=argv, heavy=heavy, **kw):
             cases.append(
                 Case(
                     f"out-{name}-{place}",

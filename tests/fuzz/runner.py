@@ -13,6 +13,7 @@ The result per case: ``code`` (exit status; -N killed by signal N; null on timeo
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import resource
@@ -79,10 +80,8 @@ def _preload() -> None:
         "matplotlib.pyplot",
         "scipy.optimize",
     ):
-        try:
+        with contextlib.suppress(Exception):  # a missing optional module is the command's business, not the runner's
             __import__(name)
-        except Exception:  # a missing optional module is the command's business, not the runner's
-            pass
     try:  # the preview's VTK modules (imports only: an OpenGL context is made in each child, after the fork)
         from rjcad.cad.render import _vtk
 
@@ -122,10 +121,8 @@ def _child(case: dict) -> None:
         code = 1
     finally:
         for stream in (sys.stdout, sys.stderr):
-            try:
+            with contextlib.suppress(Exception):
                 stream.flush()
-            except Exception:
-                pass
         os._exit(code)
 
 
