@@ -35,12 +35,18 @@ BENCHMARKS = {
             "big_check_s",
             "big_check_cpu_s",
             "big_check_peak_rss_gb",
+            "finger_check_slicer_s",
+            "finger_prusaslicer_alone_s",
+            "finger_check_no_slicer_s",
+            "finger_check_over_slicer",
         },
         {
             "watertight_manifold_tri_per_s",
             "joint_motion_sweep_s",
             "finger_overhang_s",
             "finger_slicer_s",
+            "finger_check_over_slicer",
+            "finger_check_no_slicer_s",
             "big_check_s",
             "big_check_peak_rss_gb",
         },
@@ -61,7 +67,7 @@ BENCHMARKS = {
             "ratio_openscad_over_in_process_build_stl_step",
             "repeats",
         },
-        {"ratio_openscad_over_rjcad_joint", "spring_s", "in_process_build_stl_step_s"},
+        {"ratio_openscad_over_rjcad_joint", "saved_by_cad_process_s", "spring_s", "in_process_build_stl_step_s"},
     ),
     "finger": (
         {
