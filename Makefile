@@ -58,7 +58,7 @@ test-fast: $(VENV)/.installed
 # takes tests queued on the other, so that no long test waits behind short ones (tests/conftest.py deals the
 # longest out first).
 pytest:
-	$(PY) -m pytest -n $(JOBS) --dist worksteal $(PYTEST_ARGS) || \
+	$(PY) -m pytest -n $(JOBS) --dist worksteal --durations=10 $(PYTEST_ARGS) || \
 	  { rc=$$?; [ $$rc -eq 5 ] && echo "pytest collected no tests" || exit $$rc; }
 
 bench: $(VENV)/.installed
