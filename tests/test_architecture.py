@@ -229,3 +229,22 @@ def test_no_module_over_500_lines(rjcad_dir):
 def test_no_function_over_80_lines(rjcad_dir):
     long = [f for p in sorted(rjcad_dir.rglob("*.py")) for f in long_functions(p, str(p.relative_to(rjcad_dir.parent)))]
     assert not long, long
+
+
+def test_no_hand_made_modules_private_extensions_or_collector_tricks(rjcad_dir):
+    """Issue #33: nothing in rjcad puts a module into ``sys.modules`` by hand, loads a package's private
+    extension by path, or pauses and freezes the garbage collector around imports."""
+    found = []
+    for p in sorted(rjcad_dir.rglob("*.py")):
+        for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.Assign, ast.AugAssign)):
+                targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+                if any(isinstance(t, ast.Subscript) and ast.unparse(t.value) == "sys.modules" for t in targets):
+                    found.append(f"{p.name}:{node.lineno} assigns into sys.modules")
+            if isinstance(node, ast.Call) and ast.unparse(node.func) in ("gc.freeze", "gc.disable"):
+                found.append(f"{p.name}:{node.lineno} calls {ast.unparse(node.func)}")
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and "_flapack" in node.value:
+                found.append(f"{p.name}:{node.lineno} names _flapack")
+            if isinstance(node, ast.Attribute) and node.attr == "ExtensionFileLoader":
+                found.append(f"{p.name}:{node.lineno} loads an extension by path")
+    assert not found, found
