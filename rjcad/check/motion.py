@@ -8,13 +8,16 @@ import manifold3d as m3
 import numpy as np
 import trimesh
 
-from rjcad.check.copies import Copies, candidates, min_gap, near, refined, simplified
+from rjcad.check.copies import APART_MM, DEV_MM, Copies, candidates, min_gap, near, refined, simplified
 from rjcad.check.report import BadInput, CheckResult, point, skipped
+from rjcad.check.shells import Shell, facing, shells
 from rjcad.io.manifest import JointEntry, Manifest, ManifestError
 from rjcad.materials import Printer
 
 #: What the motion check reads of each joint.
 MOTION_KEYS = ("parent", "child", "axis_point_mm", "axis_dir", "rotation_deg")
+#: Farthest a pose proves the next ones free [rad]: the shells' gaps are searched to lever × this.
+MAX_REACH_RAD = 0.03
 
 
 def motion_joints(manifest: Manifest) -> list[JointEntry]:
@@ -73,11 +76,28 @@ def _groups(k: int, joints, names) -> tuple[list[int], list[int]]:
     return mi, si
 
 
+def _screen(shl: list[Shell], free_until: list[float], a: float, transform: np.ndarray) -> bool:
+    """Measure at angle ``a`` [rad] each shell whose proven span has ended: shell k, g apart, stays farther than
+    APART_MM until a + (g − APART_MM)/lever (``free_until[k]``; searched to MAX_REACH_RAD). True when one is
+    within APART_MM: that pose is measured whole, and the shell again at the next pose."""
+    near_now = False
+    for k, s in enumerate(shl):
+        if a < free_until[k]:
+            continue
+        lever = s.lever + DEV_MM  # the body's points lie within DEV_MM of their copy's
+        g = s.still.min_gap(s.turning.transform(transform), lever * MAX_REACH_RAD + APART_MM)
+        near_now |= g <= APART_MM
+        free_until[k] = a + max(g - APART_MM, 0.0) / lever
+    return near_now
+
+
 def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: Printer, copies: Copies | None = None):
     """Sweep joint k over 0..rotation.
 
-    Each pose is screened on the coarse copies (``rjcad.check.copies``): copies apart prove the bodies apart
-    (overlap 0); near ones are intersected on the bodies. Gaps are sampled on the coarse copies and the smallest
+    The poses are screened on the coarse copies (``rjcad.check.copies``) by coaxial shells
+    (``rjcad.check.shells``): a shell g apart cannot come near before it turns by g over its lever, so the poses
+    before every shell's span ends are proven free (overlap 0) and skipped; at the others, near copies are
+    intersected on the bodies, as are all poses when nothing was simplified. Gaps are sampled on the coarse copies and the smallest
     measured again on the fine copies (within 2·FINE_TOL_MM of the bodies'). Returns (worst: (overlap volume,
     angle, posed subtree), first contact angle or None, smallest sampled gap: (gap, angle), detail).
     """
@@ -86,24 +106,38 @@ def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: 
     mov, sta = _union([mans[i] for i in mi]), _union([mans[i] for i in si])
     mov_c, sta_c = _union([copies.coarse[i] for i in mi]), _union([copies.coarse[i] for i in si])
     pt, d, lever, step, angles = _poses(joints[k], np.vstack([bodies[i].vertices for i in mi]), clearance, printer)
-    every = max(1, len(angles) // 24)
-    exact = copies.exact(mi + si)  # nothing simplified: every pose is intersected on the bodies
+    shl = shells(mov_c, sta_c, pt, d, APART_MM, MAX_REACH_RAD)
+    exact = copies.exact(mi + si)  # nothing simplified: every pose not proven free is intersected on the bodies
     worst: tuple[float, float | None, m3.Manifold | None] = (0.0, None, None)  # (overlap volume, angle, posed)
     first: float | None = None
-    sampled: list[tuple[float, float]] = []
-    for a_i, a in enumerate(angles):
-        transform = _rot(pt, d, float(a))
-        posed_c = mov_c.transform(transform)
-        vol = 0.0
-        if exact or near(sta_c, posed_c):
+    overlaps: dict[int, float] = {}  # pose index → overlap volume, where measured
+    free_until = [0.0] * len(shl)
+    i = 0
+    while i < len(angles):
+        a = float(angles[i])
+        transform = _rot(pt, d, a)
+        if _screen(shl, free_until, a, transform) and (exact or near(sta_c, mov_c.transform(transform))):
             posed = mov.transform(transform)
-            vol = (sta ^ posed).volume()
+            overlaps[i] = vol = (sta ^ posed).volume()
             if vol > worst[0]:
-                worst = (vol, float(a), posed)
-        if vol > 0 and first is None:
-            first = float(a)
-        if a_i % every == 0 or a_i == len(angles) - 1:
-            sampled.append((0.0 if vol > 0 else min_gap(sta_c, posed_c, clearance + 1.0), float(a)))
+                worst = (vol, a, posed)
+            if vol > 0 and first is None:
+                first = a
+        i += 1
+        while i < len(angles) and angles[i] < min(free_until, default=math.inf):
+            i += 1
+    every = max(1, len(angles) // 24)
+    mov_s, sta_s = facing(mov_c, sta_c, pt, d, clearance + 1.0)  # what the gaps' search can reach
+    sampled = [
+        (
+            0.0
+            if overlaps.get(i, 0.0) > 0
+            else min_gap(sta_s, mov_s.transform(_rot(pt, d, float(a))), clearance + 1.0),
+            float(a),
+        )
+        for i, a in enumerate(angles)
+        if i % every == 0 or i == len(angles) - 1
+    ]
     gap = _smallest_gap(
         sampled,
         [copies.fine[i] for i in mi],
