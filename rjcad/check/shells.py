@@ -19,8 +19,8 @@ import numpy as np
 CORE_MM, SHELL_RATIO = 2.0, 1.6
 #: Cell of the (r, z) shadows [mm].
 CELL_MM = 0.05
-#: A triangle is split until its (r, z) box is this thin in r or in z [mm] (at most SPLITS times).
-THIN_MM, SPLITS = 2 * CELL_MM, 6
+#: A slanted triangle is halved, at most SPLITS times, while its (r, z) box is wider than WIDE_MM both ways [mm].
+SPLITS, WIDE_MM = 8, 0.2
 #: Overlap of neighbouring shells [mm]: more than half the CELL_MM a cut's polygon may lie inside its circle, so
 #: that no sliver of the group falls between two cuts.
 OVERLAP_MM = CELL_MM
@@ -78,31 +78,37 @@ def _triangles(m: m3.Manifold) -> np.ndarray:
     return np.asarray(mesh.vert_properties)[:, :3][np.asarray(mesh.tri_verts)]
 
 
-def rz_boxes(m: m3.Manifold) -> np.ndarray:
+def rz_boxes(m: m3.Manifold, r_max: float = math.inf) -> np.ndarray:
     """(r, z) boxes that hold the surface's image. A triangle whose image is thin but whose box is not (a slanted
-    face: a cone's, a chamfer's) is split at its edges' midpoints while that shrinks its boxes' area by a quarter
-    (at most SPLITS times); a face whose image fills its box (a wall along the axis) is kept whole."""
+    face: a cone's, a chamfer's; its box over WIDE_MM both ways, its corners' images spanning under a quarter of
+    it) is halved across its longest edge, up to SPLITS times; a face whose image fills its box (a wall along the
+    axis) is kept whole. Only triangles that come within ``r_max`` [mm] of the axis."""
     tri = _triangles(m)
-    boxes = _boxes(tri)
-    done = []
+    tri = tri[_boxes(tri)[:, 0] <= r_max]
+    done = [np.zeros((0, 4))]
     for _ in range(SPLITS):
+        boxes = _boxes(tri)
+        r, z = np.hypot(tri[:, :, 0], tri[:, :, 1]), tri[:, :, 2]
+        image = 0.5 * np.abs((r[:, 1] - r[:, 0]) * (z[:, 2] - z[:, 0]) - (r[:, 2] - r[:, 0]) * (z[:, 1] - z[:, 0]))
         area = (boxes[:, 1] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 2])
-        wide = area > 4 * CELL_MM**2
-        a, b, c = (tri[wide, i] for i in range(3))
-        ab, bc, ca = (a + b) / 2, (b + c) / 2, (c + a) / 2
-        parts = np.stack([np.stack(t, axis=1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
-        part_boxes = _boxes(parts.reshape(-1, 3, 3)).reshape(4, -1, 4)
-        part_area = ((part_boxes[..., 1] - part_boxes[..., 0]) * (part_boxes[..., 3] - part_boxes[..., 2])).sum(axis=0)
-        split = np.zeros(len(tri), bool)
-        split[wide] = part_area < 0.75 * area[wide]
-        done.append(boxes[~split])
-        if not split.any():
+        wide = np.minimum(boxes[:, 1] - boxes[:, 0], boxes[:, 3] - boxes[:, 2]) > WIDE_MM
+        thin = wide & (image < 0.25 * area)
+        done.append(boxes[~thin])
+        if not thin.any():
             break
-        tri = parts[:, split[wide]].reshape(-1, 3, 3)
-        boxes = part_boxes[:, split[wide]].reshape(-1, 4)
+        tri = _halved(tri[thin])
     else:
-        done.append(boxes)
+        done.append(_boxes(tri))
     return np.concatenate(done)
+
+
+def _halved(tri: np.ndarray) -> np.ndarray:
+    """Each triangle cut in two from the midpoint of its longest edge to the opposite corner."""
+    edge = np.linalg.norm(tri - np.roll(tri, -1, axis=1), axis=2)  # edge k: corner k to corner k+1
+    k = np.argmax(edge, axis=1)
+    a, b, c = (tri[np.arange(len(tri)), (k + i) % 3] for i in range(3))
+    mid = (a + b) / 2
+    return np.concatenate([np.stack([a, mid, c], axis=1), np.stack([mid, b, c], axis=1)])
 
 
 def shadow(boxes: np.ndarray, margin: float) -> m3.CrossSection:
@@ -150,8 +156,11 @@ def shells(turning: m3.Manifold, still: m3.Manifold, point, direction, margin: f
     the still group, and the rest of the still group farther than margin + lever·reach from the shell."""
     to_axis = axis_frame(point, direction)
     local, fixed = turning.transform(to_axis), still.transform(to_axis)
-    near_still = shadow(rz_boxes(fixed), margin)
     r_max = float(np.hypot(*np.asarray(local.to_mesh64().vert_properties)[:, :2].T).max())
+    still_boxes = rz_boxes(fixed, r_max + margin)
+    if not len(still_boxes):  # the still group lies beyond the turning group's reach
+        return []
+    near_still = shadow(still_boxes, margin)
     radii = [CORE_MM]
     while radii[-1] < r_max:
         radii.append(radii[-1] * SHELL_RATIO)
@@ -162,7 +171,7 @@ def shells(turning: m3.Manifold, still: m3.Manifold, point, direction, margin: f
         part = m3.Manifold() if band.is_empty() else local ^ _solid(band)
         if part.is_empty():
             continue
-        boxes = rz_boxes(part)
+        boxes = _boxes(_triangles(part))  # its lever and extent: the corners' radii and heights
         lever = float(boxes[:, 1].max())
         near = fixed ^ _tube(boxes, margin + lever * reach)
         if not near.is_empty():
