@@ -97,9 +97,10 @@ def sweep_joint(k: int, joints, bodies, names, mans, clearance: float, printer: 
     The poses are screened on the coarse copies (``rjcad.check.copies``) by coaxial shells
     (``rjcad.check.shells``): a shell g apart cannot come near before it turns by g over its lever, so the poses
     before every shell's span ends are proven free (overlap 0) and skipped; at the others, near copies are
-    intersected on the bodies, as are all poses when nothing was simplified. Gaps are sampled on the coarse copies and the smallest
-    measured again on the fine copies (within 2·FINE_TOL_MM of the bodies'). Returns (worst: (overlap volume,
-    angle, posed subtree), first contact angle or None, smallest sampled gap: (gap, angle), detail).
+    intersected on the bodies, as are the poses not proven free when nothing was simplified. Gaps are sampled
+    on the coarse copies and the smallest measured again on the fine copies (within 2·FINE_TOL_MM of the bodies').
+    Returns (worst: (overlap volume, angle, posed subtree), first contact angle or None, smallest sampled gap:
+    (gap, angle), detail).
     """
     mi, si = _groups(k, joints, names)
     copies = simplified(mans) if copies is None else copies

@@ -152,8 +152,8 @@ def _solid(region: m3.CrossSection) -> m3.Manifold:
 def shells(turning: m3.Manifold, still: m3.Manifold, point, direction, margin: float, reach: float) -> list[Shell]:
     """The turning group's points whose (r, z) lies within ``margin`` [mm] of the still group's, cut into coaxial
     shells (outer radii CORE_MM·SHELL_RATIO^k); each with the still group's points within margin + lever·``reach``
-    [rad] of its (r, z) box (the box of its triangles' boxes). Whatever the angle, the rest of the turning group stays farther than ``margin`` from
-    the still group, and the rest of the still group farther than margin + lever·reach from the shell."""
+    [rad] of its (r, z) extent. Whatever the angle, the rest of the turning group stays farther than ``margin``
+    from the still group, and the rest of the still group farther than margin + lever·reach from the shell."""
     to_axis = axis_frame(point, direction)
     local, fixed = turning.transform(to_axis), still.transform(to_axis)
     r_max = float(np.hypot(*np.asarray(local.to_mesh64().vert_properties)[:, :2].T).max())
