@@ -25,7 +25,7 @@ def body_entries(solids: dict, density_g_cm3: float) -> list[BodyEntry]:
     entries = []
     for n, s in solids.items():
         props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(s.wrapped, props)
+        BRepGProp.VolumeProperties_s(s, props)
         c = props.CentreOfMass()
         v = float(props.Mass())
         entries.append(BodyEntry(n, v, v * density_g_cm3 / 1000.0, [float(c.X()), float(c.Y()), float(c.Z())]))
