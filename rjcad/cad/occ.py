@@ -1,10 +1,12 @@
-"""The few OpenCASCADE operations rjcad's solids are made of, called through OCP (OpenCASCADE's Python binding).
+"""The few OpenCASCADE operations rjcad's solids are made of, through OCP (OpenCASCADE's Python binding): boxes,
+cylinders, balls, prisms and revolutions of plane faces, booleans, rigid moves, and what is read back from a shape
+(its solids, faces and edges, volume, centres, bounding box, inside test, distance).
 
 Shapes are OCP's ``TopoDS_Shape``; points and vectors are ``Vec`` or (x, y, z) tuples, in mm; angles are in degrees
 where a name says ``deg``. Each function is one OpenCASCADE call or a short fixed sequence of them, always with the
-same options, so that a design gives the same solids, meshes and files from run to run: booleans run on all cores
-with no fuzzy value, prisms, revolutions and moves copy their geometry, a planar face is made from a fixed wire and
-its orientation fixed, ``clean`` merges faces and edges that lie on one surface or curve.
+same options: booleans run on all cores without a fuzzy value; prisms, revolutions and moves copy the geometry; a
+plane face is made from its wire once ShapeFix has checked it, and its orientation fixed; ``clean`` merges faces and
+edges that lie on one surface or curve.
 """
 
 from __future__ import annotations
