@@ -5,7 +5,7 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     ?= $(VENV)/bin/python
 PYTEST_ARGS ?=
-# test processes (pytest-xdist): one per core, at most 4 (each imports CadQuery; the CAD tests are CPU-bound)
+# test processes (pytest-xdist): one per core, at most 4 (each imports OCP; the CAD tests are CPU-bound)
 JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 
 .PHONY: demo test test-fast pytest lint bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor

@@ -45,7 +45,7 @@ def main() -> None:
             "params": {"stiffness_nmm_per_rad": {"range": [3, 8]}, "rotation_deg": {"range": [70, 100]}},
         }
     )
-    # warm-up: start the fork server (it imports CadQuery once, ~2 s) so that both timings are warm (--quick:
+    # warm-up: start the fork server (it imports rjcad's build modules once) so that both timings are warm (--quick:
     # a smoke run, the one-worker run starts it)
     if not args.quick:
         with tempfile.TemporaryDirectory() as d:
@@ -72,8 +72,8 @@ def main() -> None:
         "build_wall_s_1_worker": walls[1],
         "build_wall_s_2_workers": walls[2],
         "parallel_efficiency_2_workers": walls[1] / (2 * walls[2]),
-        "note": "N worker processes forked from a server that imported CadQuery once in a warm-up run "
-        "(about 2 s, excluded from both timings); designs are built and checked in the workers",
+        "note": "N worker processes forked from a server that imported rjcad's build modules once in a warm-up run "
+        "(about 1 s, excluded from both timings); designs are built and checked in the workers",
     }
     out["targets"] = {
         "analytic_designs_per_s": target(out["analytic_designs_per_s"], at_least=1e4),

@@ -2,7 +2,7 @@
 `slow` auto-mark, and the "designs built" section at the end of the run.
 
 Slow tests are found, not listed: at collection every test's code is read (with the helpers and fixtures it
-reaches in tests/), and a test is marked `slow` when it builds a joint or a finger in CadQuery, runs a
+reaches in tests/), and a test is marked `slow` when it builds a joint or a finger (OpenCASCADE), runs a
 subprocess, starts a process pool or a Dask cluster, or looks for PrusaSlicer. CPU-heavy tests that no rule
 finds (property runs of many examples, statistical fits, whole identify reports) are listed, by measurement,
 in MEASURED_SLOW. `pytest -m 'not slow'` (`make test-fast`) then runs the rest, plus the tests marked
@@ -172,7 +172,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
 
 # ---------------------------------------------------------------- the slow auto-mark
 
-#: Functions that build a whole joint or finger in CadQuery (by the name they are called with).
+#: Functions that build a whole joint or finger's solids (by the name they are called with).
 CAD_BUILDERS = {"build", "build_joint", "build_finger", "build_finger_model", "write_joint", "write_finger"}
 #: CLI commands that build CAD when their input is valid.
 CAD_COMMANDS = {"joint", "finger"}

@@ -93,21 +93,50 @@ def worst_overlap(bodies, pairs):
     return worst
 
 
+def read_step(path) -> dict:
+    """The named parts of a STEP file's assembly, {name: shape}, in the file's order (OpenCASCADE's reader)."""
+    from OCP.IFSelect import IFSelect_ReturnStatus
+    from OCP.STEPCAFControl import STEPCAFControl_Reader
+    from OCP.TCollection import TCollection_ExtendedString
+    from OCP.TDataStd import TDataStd_Name
+    from OCP.TDF import TDF_LabelSequence
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.XCAFApp import XCAFApp_Application
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool, XCAFDoc_ShapeTool
+
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    XCAFApp_Application.GetApplication_s().InitDocument(doc)
+    reader = STEPCAFControl_Reader()
+    reader.SetNameMode(True)
+    assert reader.ReadFile(str(path)) == IFSelect_ReturnStatus.IFSelect_RetDone
+    assert reader.Transfer(doc)
+    assemblies = TDF_LabelSequence()
+    XCAFDoc_DocumentTool.ShapeTool_s(doc.Main()).GetFreeShapes(assemblies)
+    named = {}
+    for i in range(1, assemblies.Length() + 1):
+        parts = TDF_LabelSequence()
+        XCAFDoc_ShapeTool.GetComponents_s(assemblies.Value(i), parts)
+        for j in range(1, parts.Length() + 1):
+            name = TDataStd_Name()
+            assert parts.Value(j).FindAttribute(TDataStd_Name.GetID_s(), name)
+            named[name.Get().ToExtString()] = XCAFDoc_ShapeTool.GetShape_s(parts.Value(j))
+    return named
+
+
 def reimport_step(path, names) -> dict:
     """Re-import a STEP file in a fresh process: {name: [solid count, valid, volume]} for the named solids."""
     import json
     import subprocess
     import sys
+    from pathlib import Path
 
     code = f"""
-import json, cadquery as cq
-a = cq.Assembly.importStep({str(path)!r})
-res = {{}}
-for name, obj in a.traverse():
-    if obj.obj is not None and name in {list(names)!r}:
-        shape = obj.obj if isinstance(obj.obj, cq.Shape) else obj.obj.val()
-        res[name] = [len(shape.Solids()), shape.isValid(), shape.Volume()]
-print(json.dumps(res))
+import json, sys
+sys.path.insert(0, {str(Path(__file__).parent)!r})
+from mesh_tools import read_step
+from rjcad.cad import occ
+res = {{n: [len(occ.solids(s)), occ.is_valid(s), occ.volume(s)] for n, s in read_step({str(path)!r}).items()}}
+print(json.dumps({{n: v for n, v in res.items() if n in {list(names)!r}}}))
 """
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr

@@ -5,19 +5,17 @@ independent rod-model run, never meets the other parts over the joint's range.""
 
 import math
 
-import cadquery as cq
 import numpy as np
 import pytest
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from shared_builds import joint_build
 from wound_tools import wind, wound_strip_clearance
 
+from rjcad.cad import occ
 from rjcad.cad.joint import build_joint
+from rjcad.cad.occ import Vec, Z
 from rjcad.cad.spiral import line_box
 from rjcad.design.params import KEY_ENGAGEMENT, JointParams
-
-Z = cq.Vector(0, 0, 1)
-ORIGIN = cq.Vector(0, 0, 0)
 
 
 @pytest.fixture(scope="module", params=["clamped", "pinned"])
@@ -34,7 +32,11 @@ def clamped():
 
 
 def polar(r, phi, z):
-    return cq.Vector(r * math.cos(phi), r * math.sin(phi), z)
+    return (r * math.cos(phi), r * math.sin(phi), z)
+
+
+def inside(shape, point) -> bool:
+    return occ.is_inside(shape, point)
 
 
 # --------------------------------------------------------------------------- the hand
@@ -49,9 +51,9 @@ def test_printed_spiral_winds_clockwise_outwards(joint):
     r_end, k = d.centreline_outer_radius, d.pitch / (2 * math.pi)
     a = np.linspace(0.3, 2 * math.pi * (d.turns - 1), 60)
     for z in (d.width / 2, p.z_spring2[0] + d.width / 2):
-        assert all(j.ground.isInside(polar(r_end - k * x, -p.preload + x, z)) for x in a)
-        assert not any(j.ground.isInside(polar(r_end - k * x - d.pitch / 2, -p.preload + x, z)) for x in a)
-        ccw = [j.ground.isInside(polar(r_end - k * x, -p.preload - x, z)) for x in a]
+        assert all(inside(j.ground, polar(r_end - k * x, -p.preload + x, z)) for x in a)
+        assert not any(inside(j.ground, polar(r_end - k * x - d.pitch / 2, -p.preload + x, z)) for x in a)
+        ccw = [inside(j.ground, polar(r_end - k * x, -p.preload - x, z)) for x in a]
         assert not all(ccw)
 
 
@@ -65,10 +67,10 @@ def test_free_strip_has_the_design_length(clamped):
         inside_strip = phi + inward * 0.1 / r  # towards the free strip
         beyond = phi - inward * 0.1 / r  # into the fitting
         rr = r - inward * k * 0.1 / r
-        assert j.ground.isInside(polar(rr, inside_strip, z))
-        assert not j.ground.isInside(polar(rr + t / 2 + 0.05, inside_strip, z))
-        assert not j.ground.isInside(polar(rr - t / 2 - 0.05, inside_strip, z))
-        assert j.ground.isInside(polar(r + 0.2 * t, beyond, z))
+        assert inside(j.ground, polar(rr, inside_strip, z))
+        assert not inside(j.ground, polar(rr + t / 2 + 0.05, inside_strip, z))
+        assert not inside(j.ground, polar(rr - t / 2 - 0.05, inside_strip, z))
+        assert inside(j.ground, polar(r + 0.2 * t, beyond, z))
 
 
 # --------------------------------------------------------------------------- the fittings
@@ -84,17 +86,22 @@ def key_and_socket(p, j, top=False):
     d = p.spring
     z0, z1 = (p.z_spring2[0], p.height) if top else (0.0, d.width)
     r0, q = d.outer_radius + 0.05, max(map(abs, p.socket_span)) + 1.0
-    key = j.ground.intersect(region(-p.preload, r0, p.hook_outer_radius + 1.0, -q, q, z0, z1))
-    socket = j.moving.intersect(region(0.0, r0, p.block_start - 0.01, -q, q, z0, z1))
+    key = occ.common(j.ground, region(-p.preload, r0, p.hook_outer_radius + 1.0, -q, q, z0, z1))
+    socket = occ.common(j.moving, region(0.0, r0, p.block_start - 0.01, -q, q, z0, z1))
     return key, socket
 
 
 def seated(shape, p):
-    return shape.rotate(ORIGIN, Z, math.degrees(p.preload))
+    return occ.rotated(shape, math.degrees(p.preload))
 
 
 def about(shape, centre, angle_deg):
-    return shape.rotate(centre, centre + Z, angle_deg)
+    return occ.rotated(shape, angle_deg, centre, Z)
+
+
+def overlap(a, b) -> float:
+    """The volume a and b share [mm³]."""
+    return occ.volume(occ.common(a, b))
 
 
 @pytest.mark.parametrize("top", [False, True])
@@ -105,26 +112,27 @@ def test_clamped_key_bears_in_its_socket_at_the_modelled_pose(clamped, top):
     counter-clockwise it has the play α ≈ 2c/ℓ; printed, it is far from the socket."""
     p, j = clamped
     key, socket = key_and_socket(p, j, top)
-    assert key.Volume() > 0.5 * KEY_ENGAGEMENT * p.key_width * p.spring.width
-    assert key.distance(socket) >= p.clearance  # in print: apart, with the clearance kept
+    assert occ.volume(key) > 0.5 * KEY_ENGAGEMENT * p.key_width * p.spring.width
+    assert occ.distance(key, socket) >= p.clearance  # in print: apart, with the clearance kept
     k = seated(key, p)
-    bb, sb = k.BoundingBox(), socket.BoundingBox()
-    assert bb.xmax == pytest.approx(p.key_tip_radius, abs=1e-6)  # the tip on the base's face
-    assert (bb.ymin, bb.ymax) == pytest.approx((-p.key_width, 0.0), abs=1e-6)  # clockwise of the end's ray
-    assert sb.ymin < bb.ymin and bb.ymax < sb.ymax and sb.xmin < bb.xmax < sb.xmax
-    assert k.intersect(socket).Volume() < 1e-6 and k.distance(socket) < 1e-6  # touching, not overlapping
-    centre = cq.Vector(p.key_tip_radius - KEY_ENGAGEMENT / 2, -p.key_width / 2, 0)
+    _, ky0, _, kx1, ky1, _ = occ.bounding_box(k)
+    sx0, sy0, _, sx1, sy1, _ = occ.bounding_box(socket)
+    assert kx1 == pytest.approx(p.key_tip_radius, abs=1e-6)  # the tip on the base's face
+    assert (ky0, ky1) == pytest.approx((-p.key_width, 0.0), abs=1e-6)  # clockwise of the end's ray
+    assert sy0 < ky0 and ky1 < sy1 and sx0 < kx1 < sx1
+    assert overlap(k, socket) < 1e-6 and occ.distance(k, socket) < 1e-6  # touching, not overlapping
+    centre = Vec(p.key_tip_radius - KEY_ENGAGEMENT / 2, -p.key_width / 2, 0.0)
     a = math.degrees(p.socket_tilt)
     assert a == pytest.approx(math.degrees(2 * p.clearance / KEY_ENGAGEMENT), rel=0.15)
-    assert about(k, centre, -1.0).intersect(socket).Volume() > 1e-3  # held against the load
+    assert overlap(about(k, centre, -1.0), socket) > 1e-3  # held against the load
     # the play is the other way (off the base by 0.2 mm, so that the tip's corner can turn): up to 2α
-    inward = cq.Vector(-0.2, 0, 0)
-    free, c2 = k.translate(inward), centre + inward
-    assert free.intersect(socket).Volume() < 1e-6
-    assert about(free, c2, 0.9 * a).intersect(socket).Volume() < 1e-6
-    assert about(free, c2, 2.0 * a + 1.0).intersect(socket).Volume() > 1e-3
-    out = k.translate(cq.Vector(0.05, 0, 0))  # the end's outward force: borne by the base
-    assert out.intersect(socket).Volume() > 1e-4
+    inward = Vec(-0.2, 0.0, 0.0)
+    free, c2 = occ.translated(k, inward), centre + inward
+    assert overlap(free, socket) < 1e-6
+    assert overlap(about(free, c2, 0.9 * a), socket) < 1e-6
+    assert overlap(about(free, c2, 2.0 * a + 1.0), socket) > 1e-3
+    out = occ.translated(k, (0.05, 0.0, 0.0))  # the end's outward force: borne by the base
+    assert overlap(out, socket) > 1e-4
 
 
 def test_pinned_ring_is_centred_on_its_post():
@@ -134,9 +142,9 @@ def test_pinned_ring_is_centred_on_its_post():
 
     def cylinders(shape, radius):
         out = []
-        for f in shape.Faces():
-            if f.geomType() == "CYLINDER":
-                c = BRepAdaptor_Surface(f.wrapped).Cylinder()
+        for f in occ.faces(shape):
+            if occ.is_cylinder(f):
+                c = BRepAdaptor_Surface(f).Cylinder()
                 if abs(c.Radius() - radius) < 1e-6:
                     loc = c.Location()
                     out.append((loc.X(), loc.Y()))
@@ -151,8 +159,8 @@ def test_pinned_ring_is_centred_on_its_post():
         assert min(math.hypot(xs - px, ys - py) for px, py in posts) < 1e-6
     assert (p.post_ring_radius, 0.0) == pytest.approx(posts[0], abs=1e-6)
     key, post = key_and_socket(p, j)
-    assert key.distance(post) >= p.clearance
-    assert seated(key, p).distance(post) == pytest.approx(p.clearance, abs=1e-6)  # all round the post
+    assert occ.distance(key, post) >= p.clearance
+    assert occ.distance(seated(key, p), post) == pytest.approx(p.clearance, abs=1e-6)  # all round the post
 
 
 def test_seating_motion_is_free(joint):
@@ -162,20 +170,17 @@ def test_seating_motion_is_free(joint):
     for top in (False, True):
         key, socket = key_and_socket(p, j, top)
         push = (p.seat_height + p.clearance) * (1 if top else -1)
-        lifted = key.translate(cq.Vector(0, 0, push))
+        lifted = occ.translated(key, (0.0, 0.0, push))
         for a in np.linspace(0.0, math.degrees(p.preload), 13):
-            assert lifted.rotate(ORIGIN, Z, a).distance(socket) > 0.01, (top, a)
+            assert occ.distance(occ.rotated(lifted, a), socket) > 0.01, (top, a)
         # without the push, the socket (or post) blocks the way
-        blocked = [
-            key.rotate(ORIGIN, Z, a).intersect(socket).Volume() > 1e-3
-            for a in np.linspace(0.0, math.degrees(p.preload), 13)
-        ]
+        blocked = [overlap(occ.rotated(key, a), socket) > 1e-3 for a in np.linspace(0.0, math.degrees(p.preload), 13)]
         assert any(blocked)
-        zs = socket.BoundingBox()
+        _, _, zmin, _, _, zmax = occ.bounding_box(socket)
         if top:
-            assert zs.zmax == pytest.approx(p.z_spring2[0] + p.seat_height, abs=1e-6)
+            assert zmax == pytest.approx(p.z_spring2[0] + p.seat_height, abs=1e-6)
         else:
-            assert zs.zmin == pytest.approx(p.spring.width - p.seat_height, abs=1e-6)
+            assert zmin == pytest.approx(p.spring.width - p.seat_height, abs=1e-6)
 
 
 # --------------------------------------------------------------------------- the wound strip (rod model)
@@ -237,4 +242,4 @@ def test_preload_below_the_sockets_reach_is_refused():
     p = accepted(hi)
     assert 0 <= p.preload - p.min_preload < 1.0 * deg
     key, socket = key_and_socket(p, build_joint(p))
-    assert p.clearance <= key.distance(socket) < p.clearance + 0.3
+    assert p.clearance <= occ.distance(key, socket) < p.clearance + 0.3

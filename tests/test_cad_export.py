@@ -4,29 +4,39 @@ channels, STL/3MF/STEP bytes that read back, and atomic writes. No joint build."
 import io
 import math
 
-import cadquery as cq
 import numpy as np
 import pytest
 import trimesh
 
 from rjcad.cad import export as ex
 from rjcad.cad import mesh_export as mx
+from rjcad.cad import occ
 
 
 def cylinder(r=2.0, h=10.0):
-    return cq.Solid.makeCylinder(r, h, cq.Vector(0, 0, 0), cq.Vector(0, 0, 1))
+    return occ.cylinder(r, h)
 
 
-def test_triangulate_gives_cadquerys_tessellation_exactly():
-    """The direct read of the triangulation equals CadQuery's Shape.tessellate: same nodes, order and winding
-    (a cut solid has reversed faces, whose triangles are flipped), on a solid moved by a location."""
-    block = cq.Solid.makeBox(10, 8, 6).cut(cylinder(2.0, 6.0).translate(cq.Vector(5, 4, 0)))
-    block = block.moved(cq.Location(cq.Vector(1, 2, 3), cq.Vector(0, 0, 1), 30))
+def test_triangulate_winds_every_face_outwards_and_follows_a_location():
+    """A cut block (its bore's faces reversed: their triangles are flipped) meshes into a closed mesh wound
+    outwards, of the block's volume; the same block placed by a location (shared geometry) gives the same
+    triangles, its nodes moved by the location."""
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+
+    block = occ.cut(occ.box(10, 8, 6), occ.translated(cylinder(2.0, 6.0), (5, 4, 0)))
+    assert any(face.Orientation().name == "TopAbs_REVERSED" for face in occ.faces(block))
     v, f = ex.triangulate(block)
-    verts, tris = block.tessellate(mx.MESH_TOLERANCE, mx.MESH_ANGULAR_TOLERANCE)
-    assert np.array_equal(v, np.array([p.toTuple() for p in verts], dtype=float))
-    assert np.array_equal(f, np.asarray(tris, dtype=np.int64))
-    assert any(face.wrapped.Orientation().name == "TopAbs_REVERSED" for face in block.Faces())
+    mesh = mx.mesh_of(v, f)
+    assert mesh.is_watertight and mesh.is_winding_consistent
+    assert mesh.volume == pytest.approx(occ.volume(block), rel=1e-3)  # positive: wound outwards
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), math.radians(30))
+    t.SetTranslationPart(gp_Vec(1, 2, 3))
+    v2, f2 = ex.triangulate(block.Moved(TopLoc_Location(t)))
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    moved = v @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]) + (1, 2, 3)
+    assert np.array_equal(f2, f) and np.allclose(v2, moved, atol=1e-12)
 
 
 def test_to_mesh_is_watertight_and_within_the_chord_tolerance():
@@ -48,7 +58,7 @@ def test_to_mesh_is_watertight_and_within_the_chord_tolerance():
 
 
 def test_segment_inside_and_moment_arm_along_a_ray():
-    ring = cylinder(5.0, 4.0).cut(cylinder(3.0, 4.0))  # an eye: material from r = 3 to 5
+    ring = occ.cut(cylinder(5.0, 4.0), cylinder(3.0, 4.0))  # an eye: material from r = 3 to 5
     spans = ex.segment_inside(ring, (0, 0, 2), (20, 0, 2))
     assert spans == [pytest.approx((3.0, 5.0))]
     # the arm: where the ray from the axis first leaves the material, plus half the line
@@ -59,10 +69,10 @@ def test_segment_inside_and_moment_arm_along_a_ray():
 
 def test_wrap_angle_sums_the_turns_of_a_channel():
     """A bent channel of radius 1: a run along x, then one climbing at 30°."""
-    run1 = cq.Solid.makeCylinder(1.0, 10.0, cq.Vector(0, 0, 0), cq.Vector(1, 0, 0))
+    run1 = occ.cylinder(1.0, 10.0, (0, 0, 0), (1, 0, 0))
     d = (math.cos(math.radians(30)), math.sin(math.radians(30)), 0.0)
-    run2 = cq.Solid.makeCylinder(1.0, 10.0, cq.Vector(10, 0, 0), cq.Vector(*d))
-    channel = run1.fuse(run2)
+    run2 = occ.cylinder(1.0, 10.0, (10, 0, 0), d)
+    channel = occ.fuse(run1, run2)
     assert len(ex.channel_axes(channel, 1.0)) == 2
     assert ex.measure_wrap_angle(channel, 1.0) == pytest.approx(math.radians(30), abs=1e-6)
     with pytest.raises(RuntimeError, match="no channel"):
@@ -86,13 +96,16 @@ def test_stl_and_3mf_read_back_with_their_bodies(tmp_path):
 
 
 def test_step_names_its_solids(tmp_path):
-    data = ex.step_bytes({"pin": cylinder(1.0, 5.0), "cube": cq.Solid.makeBox(2, 2, 2)}, "pair")
+    from mesh_tools import read_step
+
+    data = ex.step_bytes({"pin": cylinder(1.0, 5.0), "cube": occ.box(2, 2, 2)}, "pair")
     assert data.startswith(b"ISO-10303-21")
-    assert b"pin" in data and b"cube" in data
     (tmp_path / "pair.step").write_bytes(data)
-    shape = cq.importers.importStep(str(tmp_path / "pair.step")).val()
-    assert len(shape.Solids()) == 2
-    assert shape.Volume() == pytest.approx(math.pi * 5 + 8, rel=1e-6)
+    named = read_step(tmp_path / "pair.step")
+    assert list(named) == ["pin", "cube"]
+    assert [len(occ.solids(s)) for s in named.values()] == [1, 1]
+    assert occ.volume(named["pin"]) == pytest.approx(math.pi * 5, rel=1e-6)
+    assert occ.volume(named["cube"]) == pytest.approx(8, rel=1e-6)
 
 
 def test_write_outputs_writes_every_file_and_no_temporaries(tmp_path):

@@ -16,12 +16,12 @@ import pytest
 from conftest import ROOT
 
 #: ``rjcad ARGS`` through the program's entry; at exit (entry runs the atexit handlers) it records whether
-#: CadQuery was imported in this process, into the file named by the first argument.
+#: OpenCASCADE (OCP) was imported in this process, into the file named by the first argument.
 PROGRAM = """
 import atexit, json, sys
 from pathlib import Path
 record = Path(sys.argv[1])
-atexit.register(lambda: record.write_text(json.dumps({"cadquery_here": "cadquery" in sys.modules})))
+atexit.register(lambda: record.write_text(json.dumps({"occ_here": "OCP" in sys.modules})))
 sys.argv = ["rjcad", *sys.argv[2:]]
 from rjcad.cli import entry
 entry()
@@ -52,12 +52,12 @@ def test_the_cad_process_writes_the_files_of_a_build_in_one_process(tmp_path, la
     byte the one-process build's (STEP but for its time stamp)."""
     forked = _program(tmp_path, "--debug", "joint", "--layout", layout, "--out", str(tmp_path / "forked"))
     assert forked.returncode == 0, forked.stderr
-    assert json.loads((tmp_path / "record.json").read_text()) == {"cadquery_here": False}  # built in the child
+    assert json.loads((tmp_path / "record.json").read_text()) == {"occ_here": False}  # built in the child
     alone = _program(
         tmp_path, "joint", "--layout", layout, "--out", str(tmp_path / "alone"), env={"RJCAD_CAD_PROCESS": "0"}
     )
     assert alone.returncode == 0, alone.stderr
-    assert json.loads((tmp_path / "record.json").read_text()) == {"cadquery_here": True}
+    assert json.loads((tmp_path / "record.json").read_text()) == {"occ_here": True}
     assert forked.stdout.replace("forked", "alone") == alone.stdout
     names = sorted(p.name for p in (tmp_path / "alone").iterdir())
     assert (
@@ -144,7 +144,7 @@ def _session_processes(sid: int) -> list[int]:
 @pytest.mark.parametrize("sig, code, group", [(signal.SIGINT, 130, True), (signal.SIGTERM, 143, False)])
 def test_an_interrupted_joint_leaves_no_files_and_no_process(tmp_path, sig, code, group):
     """Ctrl-C (SIGINT to the whole group, as a terminal sends it) or SIGTERM to the program alone, while the CAD
-    process imports CadQuery: the program exits with its code, writes nothing, and ends its child."""
+    process imports OpenCASCADE: the program exits with its code, writes nothing, and ends its child."""
     out = tmp_path / "j"
     p = subprocess.Popen(
         [sys.executable, "-m", "rjcad", "joint", "--out", str(out)],

@@ -11,7 +11,7 @@ import trimesh
 
 @pytest.mark.fast_lane
 def test_one_real_joint_builds(tmp_path):
-    """Fast lane on purpose: the one CadQuery build left in `-m 'not slow'` (about 4 s), so that the quick run
+    """Fast lane on purpose: the one CAD build left in `-m 'not slow'` (about 4 s), so that the quick run
     still catches a broken CAD kernel, builder or exporter. The default joint, read back from its STL and its
     manifest: two watertight bodies of the manifest's volumes."""
     from rjcad.cad.build import write_joint

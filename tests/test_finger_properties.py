@@ -19,6 +19,7 @@ from body_checks import check_gaps, named_bodies, overlap_free_sweep, solid
 from hypothesis import HealthCheck, Phase, example, given, reject, settings
 from hypothesis import strategies as st
 
+from rjcad.cad import occ
 from rjcad.cad.build import build_finger_model
 from rjcad.cad.mesh_export import stl_bytes
 from rjcad.design.finger_lengths import DEFAULT_BASE_LENGTH, base_length_min, link_length_min, whole_mm
@@ -105,7 +106,7 @@ def check_finger(fp: FingerParams) -> int:
     """Build ``fp`` and check it (independent of rjcad.check); returns the poses swept."""
     b = build_finger_model(fp)
     for s in b.solids.values():
-        assert s.isValid() and len(s.Solids()) == 1
+        assert occ.is_valid(s) and len(occ.solids(s)) == 1
     m = b.manifest.to_json()
     names = [e["name"] for e in m["bodies"]]
     assert len(names) == fp.n + 1 == len(m["joints"]) + 1

@@ -18,6 +18,7 @@ from hypothesis import HealthCheck, Phase, example, given, reject, settings
 from hypothesis import strategies as st
 from wound_tools import wound_strip_clearance
 
+from rjcad.cad import occ
 from rjcad.cad.build import build
 from rjcad.cad.mesh_export import stl_bytes
 from rjcad.design.params import LAYOUTS, RANGES, JointParams
@@ -67,7 +68,7 @@ def check_joint(p: JointParams) -> dict:
     """Build ``p`` and check it (independent of rjcad.check); returns the exact gap and the poses swept."""
     b = build(p)
     for solid_ in (b.solids.ground, b.solids.moving):
-        assert solid_.isValid() and len(solid_.Solids()) == 1
+        assert occ.is_valid(solid_) and len(occ.solids(solid_)) == 1
     m = b.manifest.to_json()
     bodies = named_bodies(
         stl_bytes(list(b.meshes.values())), b.meshes, {e["name"]: e["volume_mm3"] for e in m["bodies"]}

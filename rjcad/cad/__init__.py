@@ -1,1 +1,2 @@
-"""CadQuery builders: spiral springs, the joint module, the finger, and exports."""
+"""The solids (made with OpenCASCADE through OCP, ``occ``): spiral springs, the joint module, the finger; their
+meshes and files."""

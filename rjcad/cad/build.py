@@ -3,7 +3,7 @@ for the finger.
 
 The joint's solids come from a source with three stages of plain numbers (``rjcad.cad.measure.LocalJoint``,
 in this process, or ``rjcad.cad.process.CadProcess``'s, in a forked one): this module itself imports neither
-CadQuery nor, until it meshes, trimesh."""
+OpenCASCADE (OCP) nor, until it meshes, trimesh."""
 
 from __future__ import annotations
 
@@ -178,7 +178,7 @@ def build(p: JointParams, cad=None) -> JointBuild:
     """Build, tessellate and measure the joint; nothing is written. ``cad``: a ``rjcad.cad.process.CadProcess``
     to build the solids in (default: this process)."""
     if cad is None:
-        from rjcad.cad.measure import LocalJoint  # CadQuery
+        from rjcad.cad.measure import LocalJoint  # OCP
 
         source = LocalJoint(p)
     else:
@@ -282,7 +282,7 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
     ``cad``: a ``rjcad.cad.process.CadProcess`` to build the solids in (default: this process)."""
     check_writable(out_dir)
     if cad is not None:
-        mx.prepare(png)  # while the CAD process imports CadQuery and builds
+        mx.prepare(png)  # while the CAD process imports OCP and builds
     b = build(p, cad)
     files = render_files(b, "joint", png=png)
     mx.write_outputs(out_dir, files, remove=("joint.png",))
@@ -308,7 +308,7 @@ class FingerBuild:
 def build_finger_model(fp) -> FingerBuild:
     """Build, tessellate and measure the finger; nothing is written."""
     from rjcad.cad import export as ex
-    from rjcad.cad.finger import build_finger, tendon_path  # CadQuery
+    from rjcad.cad.finger import build_finger, tendon_path  # OCP
     from rjcad.cad.measure import body_entries
 
     t0 = time.perf_counter()

@@ -12,35 +12,32 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import cadquery as cq
-
+from rjcad.cad import occ
+from rjcad.cad.occ import Shape
 from rjcad.cad.parts import socket_solids, spring_solids, tube_path
 from rjcad.design.layout_desktop import LUG_WIDTH, ROOF_LAND, SOCKET_RAY, T
 from rjcad.design.params import JointParams
 
-Z = cq.Vector(0, 0, 1)
-ORIGIN = cq.Vector(0, 0, 0)
 
-
-def revolved(points: list[tuple[float, float]], angle: float = 360.0, start: float = 0.0) -> cq.Solid:
+def revolved(points: list[tuple[float, float]], angle: float = 360.0, start: float = 0.0) -> Shape:
     """Solid of revolution about +Z of the closed (r, z) polygon ``points``, over ``angle`` degrees from ``start``."""
-    wire = cq.Wire.makePolygon([cq.Vector(r, 0.0, z) for r, z in points], close=True)
-    solid = cq.Solid.revolve(wire, [], angle, ORIGIN, Z)
-    return solid.rotate(ORIGIN, Z, start) if start else solid
+    face = occ.planar_face(occ.polygon([(r, 0.0, z) for r, z in points]))
+    solid = occ.revolution(face, angle)
+    return occ.rotated(solid, start) if start else solid
 
 
-def _turned(shapes: Sequence[cq.Shape]) -> list[cq.Shape]:
+def _turned(shapes: Sequence[Shape]) -> list[Shape]:
     """Mirror across XZ and turn to the socket's ray."""
-    return [s.mirror("XZ").rotate(ORIGIN, Z, math.degrees(SOCKET_RAY)) for s in shapes]
+    return [occ.rotated(occ.mirrored(s, (0.0, 1.0, 0.0)), math.degrees(SOCKET_RAY)) for s in shapes]
 
 
-def spring_parts(p: JointParams) -> list[cq.Shape]:
+def spring_parts(p: JointParams) -> list[Shape]:
     """The spring on the bed: strip, inner tab (into the hub) and key, counter-clockwise outwards."""
     strip, extras = spring_solids(p, 0.0)
     return _turned([strip, *extras])
 
 
-def socket_parts(p: JointParams) -> list[cq.Shape]:
+def socket_parts(p: JointParams) -> list[Shape]:
     """The key's socket on the cup's inside: the stacked layout's tines and base, from the bed to the seat height,
     the base ending in the cup's wall; mirrored and turned like the spring."""
     L = p.desktop
@@ -77,7 +74,7 @@ def hub_profile(p: JointParams) -> list[tuple[float, float]]:
     ]
 
 
-def lug_parts(p: JointParams) -> list[cq.Shape]:
+def lug_parts(p: JointParams) -> list[Shape]:
     """Extension and flexion stop lugs on the roof, beside the arm's faces at the clearance, below the tendon."""
     L = p.desktop
     # plane ends (L.lug_span: the far corner inside the cup's outer radius): no knife edge where a curved end
@@ -88,14 +85,12 @@ def lug_parts(p: JointParams) -> list[cq.Shape]:
     zone = revolved(
         [(x0 - 0.3, L.roof_top(x0) - 0.5), (r1, L.roof_top(r1) - 0.5), (r1, L.lug_top), (x0 - 0.3, L.lug_top)]
     )
-    ext = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, -y1, -1.0))
-    flex = cq.Solid.makeBox(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, cq.Vector(x0, y0, -1.0)).rotate(
-        ORIGIN, Z, math.degrees(p.rotation)
-    )
-    return [zone.intersect(ext), zone.intersect(flex)]
+    ext = occ.box(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, (x0, -y1, -1.0))
+    flex = occ.rotated(occ.box(x1 - x0, LUG_WIDTH, L.lug_top + 1.0, (x0, y0, -1.0)), math.degrees(p.rotation))
+    return [occ.common(zone, ext), occ.common(zone, flex)]
 
 
-def web_part(p: JointParams) -> cq.Shape:
+def web_part(p: JointParams) -> Shape:
     """Full-height web from the cup's wall to the ground link's block, |y| ≤ w_web. Its end starts in the wall
     (x = −(R_ci + 0.3) at the bed) and leans back at the cone angle above the wall's top, so that it meets
     the roof's top at an open angle (180° − 2 × the cone angle's complement), not a slot."""
@@ -108,27 +103,27 @@ def web_part(p: JointParams) -> cq.Shape:
     return _xz_prism(pts, -L.w_web, L.w_web)
 
 
-def ground_parts(p: JointParams) -> list[cq.Shape]:
+def ground_parts(p: JointParams) -> list[Shape]:
     """Ground-side parts around the axis: cup and roof, socket, lugs, web."""
     return [revolved(cup_profile(p)), *socket_parts(p), *lug_parts(p), web_part(p)]
 
 
-def ground_cuts(p: JointParams) -> list[cq.Shape]:
+def ground_cuts(p: JointParams) -> list[Shape]:
     """The tendon's way from the ground block's face to the band, through the web and a lug."""
     r, z = p.moment_arm, p.z_mid
     return tube_path([(-p.ground_block_start + 1.0, r, z), (-0.2, r, z)], p.tendon_diameter / 2)
 
 
-def _xz_prism(points: list[tuple[float, float]], y0: float, y1: float) -> cq.Solid:
+def _xz_prism(points: list[tuple[float, float]], y0: float, y1: float) -> Shape:
     """Prism of the closed (x, z) polygon ``points`` from y0 to y1."""
     area = sum(x0 * z1 - x1 * z0 for (x0, z0), (x1, z1) in zip(points, points[1:] + points[:1]))
     if area > 0:  # counter-clockwise in (x, z): its face's normal is −Y; the extrusion wants +Y
         points = points[::-1]
-    wire = cq.Wire.makePolygon([cq.Vector(x, y0, z) for x, z in points], close=True)
-    return cq.Solid.extrudeLinear(cq.Face.makeFromWires(wire), cq.Vector(0, y1 - y0, 0))
+    face = occ.planar_face(occ.polygon([(x, y0, z) for x, z in points]))
+    return occ.prism(face, (0.0, y1 - y0, 0.0))
 
 
-def arm_part(p: JointParams) -> cq.Shape:
+def arm_part(p: JointParams) -> Shape:
     """The arm from the hub to the moving block, |y| ≤ w_a. Its underside is a plane descending along +X at the
     cone angle, through the roof's top cone + clearance at the band (r ≥ x there, so it stays at least the
     clearance above the roof everywhere); it meets the arm's sides at right angles (no knife edge)."""
@@ -142,12 +137,12 @@ def arm_part(p: JointParams) -> cq.Shape:
     return _xz_prism(pts, -L.w_arm, L.w_arm)
 
 
-def moving_parts(p: JointParams) -> list[cq.Shape]:
+def moving_parts(p: JointParams) -> list[Shape]:
     """Moving-side parts around the axis: hub, arm, spring."""
     return [revolved(hub_profile(p)), arm_part(p), *spring_parts(p)]
 
 
-def groove_cut(p: JointParams) -> cq.Shape:
+def groove_cut(p: JointParams) -> Shape:
     """The tendon's V-groove in the band, over the angles the tendon wraps (clear of the arm)."""
     L = p.desktop
     R_e, gh, zt = p.eye_radius, L.groove_half, L.z_t
@@ -162,10 +157,10 @@ def groove_cut(p: JointParams) -> cq.Shape:
     )
 
 
-def moving_cuts(p: JointParams) -> list[cq.Shape]:
+def moving_cuts(p: JointParams) -> list[Shape]:
     """The groove and the tendon slot in the moving block, open at the top (its roof would be a cantilever:
     the slot is open towards the joint and at the side); the support pin stands in it as a post."""
     z0 = p.z_eye[0]
     W, R_e, xm = p.link_width, p.eye_radius, p.block_start
-    slot = cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, p.height + 1.0 - z0, cq.Vector(xm, R_e, z0))
+    slot = occ.box(p.slot_length, W / 2 - R_e + 1.0, p.height + 1.0 - z0, (xm, R_e, z0))
     return [groove_cut(p), slot]

@@ -10,94 +10,109 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import cadquery as cq
 import numpy as np
+from OCP.BinXCAFDrivers import BinXCAFDrivers
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.BRepTools import BRepTools
+from OCP.IFSelect import IFSelect_ReturnStatus
+from OCP.Interface import Interface_Static
+from OCP.STEPCAFControl import STEPCAFControl_Writer
+from OCP.STEPControl import STEPControl_StepModelType
+from OCP.TCollection import TCollection_ExtendedString
+from OCP.TDataStd import TDataStd_Name
+from OCP.TDF import TDF_Label
+from OCP.TDocStd import TDocStd_Document
 from OCP.TopAbs import TopAbs_Orientation
 from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS_Builder, TopoDS_Compound
+from OCP.XCAFApp import XCAFApp_Application
+from OCP.XCAFDoc import XCAFDoc_DocumentTool
+from OCP.XSControl import XSControl_WorkSession
 
+from rjcad.cad import occ
 from rjcad.cad.mesh_export import MESH_ANGULAR_TOLERANCE, MESH_TOLERANCE, mesh_of
+from rjcad.cad.occ import Shape, Vec
 
 if TYPE_CHECKING:
     import trimesh
 
 
 def triangulate(
-    shape: cq.Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
+    shape: Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) [mm] and triangles (F, 3) of a shape's faces, unmerged: the arrays CadQuery's
-    ``Shape.tessellate`` gives (same meshing, face order and winding). The faces are meshed in parallel
-    (OCCT meshes each face on its own once the edges are shared: the same triangles as one thread) and each
-    node is read as one coordinate tuple (a third of the time of a Vector per node)."""
-    if not BRepTools.Triangulation_s(shape.wrapped, tolerance):
-        # CadQuery's Shape.mesh, with OCCT's parallel flag: (shape, deflection, relative, angle, parallel)
-        BRepMesh_IncrementalMesh(shape.wrapped, tolerance, True, angular_tolerance, True)
-    verts, tris, offset = [np.zeros((0, 3))], [np.zeros((0, 3), dtype=np.int64)], 0
-    for face in shape.Faces():
+    """Vertices (V, 3) [mm] and triangles (F, 3) of a shape's faces, unmerged, in ``occ.faces`` order, each
+    face's triangles wound outwards (flipped on a reversed face). The shape is meshed once (OCCT's incremental
+    mesher: ``tolerance`` [mm] relative to each edge's size, ``angular_tolerance`` [rad]) with its faces in
+    parallel (OCCT meshes each face on its own once the edges are shared: the same triangles as one thread).
+    Nodes and triangles are read by index, each node as one coordinate tuple (iterating OCCT's arrays from
+    Python is four times slower)."""
+    if not BRepTools.Triangulation_s(shape, tolerance):
+        # (shape, deflection, relative, angle, parallel)
+        BRepMesh_IncrementalMesh(shape, tolerance, True, angular_tolerance, True)
+    coords: list[tuple[float, float, float]] = []
+    tris = [np.zeros((0, 3), dtype=np.int64)]
+    for face in occ.faces(shape):
         loc = TopLoc_Location()
-        poly = BRep_Tool.Triangulation_s(face.wrapped, loc)
+        poly = BRep_Tool.Triangulation_s(face, loc)
         if poly is None:
             continue
-        n, node = poly.NbNodes(), poly.Node
+        offset, n, node, tri = len(coords), poly.NbNodes(), poly.Node, poly.Triangle
         if loc.IsIdentity():
-            v = [node(i).Coord() for i in range(1, n + 1)]
+            coords += [node(i).Coord() for i in range(1, n + 1)]
         else:
             trsf = loc.Transformation()
-            v = [node(i).Transformed(trsf).Coord() for i in range(1, n + 1)]
-        verts.append(np.array(v, dtype=float).reshape(-1, 3))
-        t = np.array([tri.Get() for tri in poly.Triangles()], dtype=np.int64).reshape(-1, 3)
-        if face.wrapped.Orientation() == TopAbs_Orientation.TopAbs_REVERSED:
+            coords += [node(i).Transformed(trsf).Coord() for i in range(1, n + 1)]
+        t = np.array([tri(i).Get() for i in range(1, poly.NbTriangles() + 1)], dtype=np.int64).reshape(-1, 3)
+        if face.Orientation() == TopAbs_Orientation.TopAbs_REVERSED:
             t = t[:, [0, 2, 1]]
         tris.append(t + (offset - 1))  # OCCT numbers nodes from 1
-        offset += n
-    return np.concatenate(verts), np.concatenate(tris)
+    return np.array(coords, dtype=float).reshape(-1, 3), np.concatenate(tris)
 
 
 def to_mesh(
-    shape: cq.Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
+    shape: Shape, tolerance: float = MESH_TOLERANCE, angular_tolerance: float = MESH_ANGULAR_TOLERANCE
 ) -> trimesh.Trimesh:
     """Tessellate a solid into a trimesh with merged vertices (watertight when the B-rep is)."""
     return mesh_of(*triangulate(shape, tolerance, angular_tolerance))
 
 
-def segment_inside(shape: cq.Shape, start, end) -> list[tuple[float, float]]:
+def segment_inside(shape: Shape, start, end) -> list[tuple[float, float]]:
     """Parameter ranges [mm from ``start``] where the segment start→end lies inside ``shape``."""
-    a, b = cq.Vector(*start), cq.Vector(*end)
-    common = shape.intersect(cq.Edge.makeLine(a, b))
+    a, b = Vec(*start), Vec(*end)
     spans = []
-    for e in common.Edges():
-        s = sorted(((e.startPoint() - a).Length, (e.endPoint() - a).Length))
+    for e in occ.edges(occ.common(shape, occ.line(a, b))):
+        first, last = occ.edge_ends(e)
+        s = sorted(((first - a).length, (last - a).length))
         spans.append((s[0], s[1]))
     return sorted(spans)
 
 
 def measure_moment_arm(
-    moving: cq.Shape, z_mid: float, line_diameter: float, axis_point=(0.0, 0.0, 0.0), direction=(0.0, 1.0, 0.0)
+    moving: Shape, z_mid: float, line_diameter: float, axis_point=(0.0, 0.0, 0.0), direction=(0.0, 1.0, 0.0)
 ) -> float:
     """Tendon moment arm: radius where a ray from the axis leaves the eye (groove bottom) + line radius [mm]."""
-    o = cq.Vector(axis_point[0], axis_point[1], z_mid)
-    d = cq.Vector(*direction).normalized()
+    o = Vec(axis_point[0], axis_point[1], z_mid)
+    d = Vec(*direction).unit()
     spans = segment_inside(moving, o, o + d * 50.0)
     if not spans:
         raise RuntimeError("moment arm: the ray from the axis does not cross the eye")
     return spans[0][1] + line_diameter / 2
 
 
-def channel_axes(shape: cq.Shape, radius: float, tol: float = 1e-4) -> list[tuple[np.ndarray, np.ndarray]]:
+def channel_axes(shape: Shape, radius: float, tol: float = 1e-4) -> list[tuple[np.ndarray, np.ndarray]]:
     """Axes (point, unit direction) of the cylindrical faces of ``radius``: the channel's straight runs."""
     axes: list[tuple[np.ndarray, np.ndarray]] = []
-    for f in shape.Faces():
-        if f.geomType() != "CYLINDER":
+    for f in occ.faces(shape):
+        if not occ.is_cylinder(f):
             continue
-        cyl = BRepAdaptor_Surface(f.wrapped).Cylinder()
+        cyl = BRepAdaptor_Surface(f).Cylinder()
         if abs(cyl.Radius() - radius) > tol:
             continue
         ax = cyl.Axis()
         d = np.array([ax.Direction().X(), ax.Direction().Y(), ax.Direction().Z()])
-        c = np.array(f.Center().toTuple())
+        c = np.array(tuple(occ.area_centre(f)))
         if any(
             abs(abs(float(np.dot(d, d2))) - 1.0) < 1e-9 and np.linalg.norm(np.cross(c - p2, d2)) < radius * 2
             for p2, d2 in axes
@@ -107,7 +122,7 @@ def channel_axes(shape: cq.Shape, radius: float, tol: float = 1e-4) -> list[tupl
     return axes
 
 
-def measure_wrap_angle(shape: cq.Shape, radius: float, along=(1.0, 0.0, 0.0)) -> float:
+def measure_wrap_angle(shape: Shape, radius: float, along=(1.0, 0.0, 0.0)) -> float:
     """Total turning of the tendon channel: Σ angles between consecutive straight runs [rad].
 
     Runs are ordered by their centre's position ``along`` the link.
@@ -123,12 +138,51 @@ def measure_wrap_angle(shape: cq.Shape, radius: float, along=(1.0, 0.0, 0.0)) ->
     return total
 
 
-def step_bytes(solids: dict[str, cq.Shape], name: str) -> bytes:
-    """A STEP file whose solids carry the given names (through an Assembly)."""
-    assy = cq.Assembly(name=name)
+def _assembly(solids: dict[str, Shape], name: str):
+    """An XCAF document holding the assembly ``name``: one part per solid (the solid in a compound of its own),
+    placed once, each part and placement named after its key."""
+    app = XCAFApp_Application.GetApplication_s()
+    BinXCAFDrivers.DefineFormat_s(app)
+    doc = TDocStd_Document(TCollection_ExtendedString("BinXCAF"))
+    app.InitDocument(doc)
+    shapes = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    shapes.SetAutoNaming_s(False)
+
+    def named(label, text: str):
+        TDataStd_Name.Set_s(label, TCollection_ExtendedString(text))
+        return label
+
+    top = named(shapes.NewShape(), name)
     for n, s in solids.items():
-        assy.add(s, name=n)
+        part = shapes.NewShape()
+        compound, builder = TopoDS_Compound(), TopoDS_Builder()
+        builder.MakeCompound(compound)
+        builder.Add(compound, s)
+        shapes.SetShape(part, compound)
+        named(part, n)
+        named(shapes.AddComponent(top, part, TopLoc_Location()), n)
+    root = TDF_Label()
+    shapes.SetLocation(top, TopLoc_Location(), root)
+    named(root, name)
+    shapes.UpdateAssemblies()
+    return doc
+
+
+def step_bytes(solids: dict[str, Shape], name: str) -> bytes:
+    """A STEP file (AP214, mm) whose solids carry the given names: the assembly ``name`` of one part per solid."""
+    doc = _assembly(solids, name)
+    writer = STEPCAFControl_Writer(XSControl_WorkSession(), False)
+    writer.SetColorMode(True)
+    writer.SetLayerMode(True)
+    writer.SetNameMode(True)
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", 1)  # with the faces' parametric curves
+    Interface_Static.SetIVal_s("write.precision.mode", 0)
+    Interface_Static.SetIVal_s("write.stepcaf.subshapes.name", 1)
+    Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, f"{name}.step")
-        assy.export(path, exportType="STEP")
+        if writer.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:
+            raise RuntimeError(f"the STEP file of {name!r} could not be written")
         return Path(path).read_bytes()

@@ -13,10 +13,8 @@ from __future__ import annotations
 
 import math
 
-import cadquery as cq
-
+from rjcad.cad import occ
 from rjcad.cad.joint import (
-    Z,
     _fuse,
     _one_solid,
     ground_channel_points,
@@ -28,6 +26,7 @@ from rjcad.cad.joint import (
     moving_side_cuts,
     support_pin,
 )
+from rjcad.cad.occ import Shape
 from rjcad.cad.parts import CHANNEL_ROOF, tube_path
 from rjcad.design.finger_lengths import CHANNEL_RUNS, channel_shift
 from rjcad.design.finger_params import FingerParams
@@ -36,9 +35,8 @@ from rjcad.design.params import JointParams
 M3_CLEARANCE_DIAMETER = 3.4
 
 
-def _moved(shapes: list[cq.Shape], dx: float) -> list[cq.Shape]:
-    v = cq.Vector(dx, 0, 0)
-    return [s.translate(v) for s in shapes]
+def _moved(shapes: list[Shape], dx: float) -> list[Shape]:
+    return [occ.translated(s, (dx, 0.0, 0.0)) for s in shapes]
 
 
 def link_channel_points(p: JointParams, q: JointParams, length: float) -> list[tuple[float, float, float]]:
@@ -62,7 +60,7 @@ def m3_hole_heights(p: JointParams) -> tuple[float, float]:
     return 4.0, z
 
 
-def base_body(fp: FingerParams) -> cq.Shape:
+def base_body(fp: FingerParams) -> Shape:
     """Fork of joint 1, the base block with two M3 through holes (along Y) and the entry channel."""
     p = fp.joints[0]
     body = _fuse(
@@ -76,10 +74,10 @@ def base_body(fp: FingerParams) -> cq.Shape:
         for h in tube_path([(x_h, -p.link_width / 2 - 1, z), (x_h, p.link_width / 2 + 1, z)], M3_CLEARANCE_DIAMETER / 2)
     ]
     cuts = tube_path(ground_channel_points(p, fp.base_length), p.tendon_diameter / 2) + holes + ground_side_cuts(p)
-    return _one_solid(body.cut(*cuts), "base cuts")
+    return _one_solid(occ.cut(body, *cuts), "base cuts")
 
 
-def link_body(p: JointParams, q: JointParams) -> cq.Shape:
+def link_body(p: JointParams, q: JointParams) -> Shape:
     """Moving side of joint p fused with the fork of joint q placed at x = L_p."""
     L = p.link_length
     H = max(p.height, q.height)
@@ -91,7 +89,7 @@ def link_body(p: JointParams, q: JointParams) -> cq.Shape:
         + tube_path(link_channel_points(p, q, L), p.tendon_diameter / 2)
         + _moved(ground_side_cuts(q), L)
     )
-    body = _one_solid(body.cut(*cuts), "link cuts")
+    body = _one_solid(occ.cut(body, *cuts), "link cuts")
     return _fuse([body, support_pin(p)], "link support pin")
 
 
@@ -100,20 +98,20 @@ def distal_anchor_x(p: JointParams) -> float:
     return p.link_length - p.link_width / 2 - 2.0
 
 
-def distal_body(p: JointParams) -> cq.Shape:
+def distal_body(p: JointParams) -> Shape:
     """Moving side of the last joint, ending in a rounded fingertip, with the tendon's cross-hole anchor.
 
     The tip is a cylinder of the link's width cut at the block's start: a wide, short link's whole cylinder
     would reach back behind it, into the joint's clearance."""
     L, W, H = p.link_length, p.link_width, p.height
-    tip: cq.Shape = cq.Solid.makeCylinder(W / 2, H, cq.Vector(L - W / 2, 0, 0), Z)
+    tip = occ.cylinder(W / 2, H, (L - W / 2, 0.0, 0.0))
     if L - W < p.block_start:
-        tip = tip.intersect(link_block(p.block_start, L, W, H))
+        tip = occ.common(tip, link_block(p.block_start, L, W, H))
     body = _fuse(moving_side(p) + [link_block(p.block_start, L - W / 2, W, H), tip], "distal fuse")
     xa = distal_anchor_x(p)
-    anchor = cq.Solid.makeCylinder(max(1.0, p.tendon_diameter), H + 2, cq.Vector(xa, p.moment_arm, -1), Z)
+    anchor = occ.cylinder(max(1.0, p.tendon_diameter), H + 2, (xa, p.moment_arm, -1.0))
     channel = tube_path([moving_channel_start(p), (xa, p.moment_arm, p.z_mid)], p.tendon_diameter / 2)
-    body = _one_solid(body.cut(*moving_side_cuts(p, H), *channel, anchor), "distal cuts")
+    body = _one_solid(occ.cut(body, *moving_side_cuts(p, H), *channel, anchor), "distal cuts")
     return _fuse([body, support_pin(p)], "distal support pin")
 
 
@@ -133,11 +131,11 @@ def tendon_path(fp: FingerParams) -> list[tuple[float, float, float]]:
     return pts
 
 
-def build_finger(fp: FingerParams) -> dict[str, cq.Shape]:
+def build_finger(fp: FingerParams) -> dict[str, Shape]:
     """Every body of the finger, named, in finger coordinates (joint 1's axis at the origin)."""
     js = fp.joints
     bodies = {"base": base_body(fp)}
     for i in range(len(js) - 1):
-        bodies[f"link{i + 1}"] = link_body(js[i], js[i + 1]).translate(cq.Vector(fp.axis_x[i], 0, 0))
-    bodies["distal"] = distal_body(js[-1]).translate(cq.Vector(fp.axis_x[-1], 0, 0))
+        bodies[f"link{i + 1}"] = occ.translated(link_body(js[i], js[i + 1]), (fp.axis_x[i], 0.0, 0.0))
+    bodies["distal"] = occ.translated(distal_body(js[-1]), (fp.axis_x[-1], 0.0, 0.0))
     return bodies

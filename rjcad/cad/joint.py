@@ -24,30 +24,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cadquery as cq
-from OCP.BRepCheck import BRepCheck_Analyzer
-
-from rjcad.cad import desktop
+from rjcad.cad import desktop, occ
+from rjcad.cad.occ import Shape
 from rjcad.cad.parts import socket_solids, spring_phi0, spring_solids, tube_path
 from rjcad.cad.spiral import CLOCKWISE, radial_box, strip_solid
 from rjcad.design.params import JointParams
 
-Z = cq.Vector(0, 0, 1)
-ORIGIN = cq.Vector(0, 0, 0)
 
-
-def _one_solid(shape: cq.Shape, what: str) -> cq.Shape:
+def _one_solid(shape: Shape, what: str) -> Shape:
     """Check a boolean result is exactly one valid solid (OCC can return wrong unions silently)."""
-    solids = shape.Solids()
-    valid = BRepCheck_Analyzer(shape.wrapped, True, True).IsValid()  # Shape.isValid's check, on all cores
+    solids = occ.solids(shape)
+    valid = occ.is_valid(shape)
     if len(solids) != 1 or not valid:
         raise RuntimeError(f"{what}: boolean gave {len(solids)} solids, valid={valid}")
     return solids[0]
 
 
-def _fuse(parts: list[cq.Shape], what: str) -> cq.Shape:
+def _fuse(parts: list[Shape], what: str) -> Shape:
     """One batched fuse (never a loop), then clean and check."""
-    fused = parts[0].fuse(*parts[1:]).clean()
+    fused = occ.clean(occ.fuse(parts[0], *parts[1:]))
     return _one_solid(fused, what)
 
 
@@ -61,15 +56,15 @@ def _fuse(parts: list[cq.Shape], what: str) -> cq.Shape:
 # --------------------------------------------------------------------------
 
 
-def fork_parts(p: JointParams) -> list[cq.Shape]:
+def fork_parts(p: JointParams) -> list[Shape]:
     """Ground-side parts around the axis: pin, cheeks, plates to the block at −X_g, stop lugs, springs."""
     H, xg = p.height, p.ground_block_start
-    parts: list[cq.Shape] = [cq.Solid.makeCylinder(p.pin_radius, H, ORIGIN, Z)]
+    parts: list[Shape] = [occ.cylinder(p.pin_radius, H)]
     for z0, z1 in (p.z_cheek1, p.z_cheek2):
         h = z1 - z0
-        parts.append(cq.Solid.makeCylinder(p.cheek_radius, h, cq.Vector(0, 0, z0), Z))
+        parts.append(occ.cylinder(p.cheek_radius, h, (0.0, 0.0, z0)))
         w = p.cheek_plate_half_width
-        parts.append(cq.Solid.makeBox(xg + 1.0, 2 * w, h, cq.Vector(-xg - 1.0, -w, z0)))
+        parts.append(occ.box(xg + 1.0, 2 * w, h, (-xg - 1.0, -w, z0)))
         # stop lugs: extension (clockwise of the post at rest) and flexion (counter-clockwise at max)
         r0, r1, lw = p.cheek_radius - 1.0, p.post_ring_radius + p.post_radius + 0.5, 2.0
         parts.append(radial_box(r0, r1, lw, -p.stop_angle, z0, h, side=-lw / 2))
@@ -80,7 +75,7 @@ def fork_parts(p: JointParams) -> list[cq.Shape]:
     return parts
 
 
-def eye_parts(p: JointParams) -> list[cq.Shape]:
+def eye_parts(p: JointParams) -> list[Shape]:
     """Moving-side parts around the axis: eye with groove flanges, eye-band beam to the block, post, sockets."""
     xm = p.block_start
     ze0, ze1 = p.z_eye
@@ -88,67 +83,67 @@ def eye_parts(p: JointParams) -> list[cq.Shape]:
     R_e, flange = p.eye_radius, 1.0
     h_s = p.seat_height
     z_post0, z_post1 = p.z_spring1[1] - h_s, p.z_spring2[0] + h_s
-    sockets: list[cq.Shape] = []
+    sockets: list[Shape] = []
     if p.end_condition == "clamped":
         sockets = socket_solids(p, z_post0, h_s) + socket_solids(p, p.z_spring2[0], h_s)
     return sockets + [
-        cq.Solid.makeCylinder(R_e, he, cq.Vector(0, 0, ze0), Z),
-        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze0), Z),
-        cq.Solid.makeCylinder(R_e + 0.6, flange, cq.Vector(0, 0, ze1 - flange), Z),
-        cq.Solid.makeBox(xm + 1.0, 2 * R_e, he, cq.Vector(0, -R_e, ze0)),
-        cq.Solid.makeCylinder(p.post_radius, z_post1 - z_post0, cq.Vector(p.post_ring_radius, 0, z_post0), Z),
+        occ.cylinder(R_e, he, (0.0, 0.0, ze0)),
+        occ.cylinder(R_e + 0.6, flange, (0.0, 0.0, ze0)),
+        occ.cylinder(R_e + 0.6, flange, (0.0, 0.0, ze1 - flange)),
+        occ.box(xm + 1.0, 2 * R_e, he, (0.0, -R_e, ze0)),
+        occ.cylinder(p.post_radius, z_post1 - z_post0, (p.post_ring_radius, 0.0, z_post0)),
     ]
 
 
-def eye_cuts(p: JointParams, height: float) -> list[cq.Shape]:
+def eye_cuts(p: JointParams, height: float) -> list[Shape]:
     """The eye's bore (pin + clearance) and the tendon slot in the moving block."""
     ze0, ze1 = p.z_eye
     W, R_e, xm = p.link_width, p.eye_radius, p.block_start
     return [
-        cq.Solid.makeCylinder(p.pin_radius + p.clearance_mm, height + 2, cq.Vector(0, 0, -1), Z),
-        cq.Solid.makeBox(p.slot_length, W / 2 - R_e + 1.0, ze1 - ze0, cq.Vector(xm, R_e, ze0)),
+        occ.cylinder(p.pin_radius + p.clearance_mm, height + 2, (0.0, 0.0, -1.0)),
+        occ.box(p.slot_length, W / 2 - R_e + 1.0, ze1 - ze0, (xm, R_e, ze0)),
     ]
 
 
-def ground_side(p: JointParams) -> list[cq.Shape]:
+def ground_side(p: JointParams) -> list[Shape]:
     """The ground body's parts around the axis, in ``p``'s layout."""
     if p.layout == "desktop":
         return desktop.ground_parts(p)
     return fork_parts(p)
 
 
-def ground_side_cuts(p: JointParams) -> list[cq.Shape]:
+def ground_side_cuts(p: JointParams) -> list[Shape]:
     """What the ground body's parts around the axis lose (desktop: the tendon's way through the web)."""
     if p.layout == "desktop":
         return desktop.ground_cuts(p)
     return []
 
 
-def moving_side(p: JointParams) -> list[cq.Shape]:
+def moving_side(p: JointParams) -> list[Shape]:
     """The moving body's parts around the axis, in ``p``'s layout."""
     if p.layout == "desktop":
         return desktop.moving_parts(p)
     return eye_parts(p)
 
 
-def moving_side_cuts(p: JointParams, height: float) -> list[cq.Shape]:
+def moving_side_cuts(p: JointParams, height: float) -> list[Shape]:
     """What the moving body's parts lose: the bore and the slot (stacked), the groove and the slot (desktop)."""
     if p.layout == "desktop":
         return desktop.moving_cuts(p)
     return eye_cuts(p, height)
 
 
-def support_pin(p: JointParams) -> cq.Solid:
+def support_pin(p: JointParams) -> Shape:
     """Tendon support pin across the slot, above the tendon, embedded 0.5 mm above and below the slot."""
     ze0, ze1 = p.z_eye
     xs = p.block_start + p.slot_length / 2
     ys = p.moment_arm + p.tendon_diameter / 2 + p.support_pin_radius
-    return cq.Solid.makeCylinder(p.support_pin_radius, ze1 - ze0 + 1.0, cq.Vector(xs, ys, ze0 - 0.5), Z)
+    return occ.cylinder(p.support_pin_radius, ze1 - ze0 + 1.0, (xs, ys, ze0 - 0.5))
 
 
-def link_block(x0: float, x1: float, width: float, height: float) -> cq.Solid:
+def link_block(x0: float, x1: float, width: float, height: float) -> Shape:
     """Full-height link block from x0 to x1, centred on y = 0, from the bed up."""
-    return cq.Solid.makeBox(x1 - x0, width, height, cq.Vector(x0, -width / 2, 0))
+    return occ.box(x1 - x0, width, height, (x0, -width / 2, 0.0))
 
 
 #: Straight run of the tendon's channel into the ground link's end face [mm].
@@ -172,7 +167,7 @@ def moving_channel_points(p: JointParams, reach: float) -> list[tuple[float, flo
     return [moving_channel_start(p), (reach + 0.5, p.moment_arm, p.z_mid)]
 
 
-def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
+def build_ground(p: JointParams, reach: float | None = None, channel: bool = True) -> Shape:
     """Ground body of a module: fork parts plus the block from x = −reach to −X_g, with its channel."""
     reach = p.link_length if reach is None else reach
     body = _fuse(ground_side(p) + [link_block(-reach, -p.ground_block_start, p.link_width, p.height)], "ground fuse")
@@ -180,18 +175,18 @@ def build_ground(p: JointParams, reach: float | None = None, channel: bool = Tru
     if channel:
         cuts += tube_path(ground_channel_points(p, reach), p.tendon_diameter / 2)
     if cuts:
-        body = _one_solid(body.cut(*cuts), "ground channel cut")
+        body = _one_solid(occ.cut(body, *cuts), "ground channel cut")
     return body
 
 
-def build_moving(p: JointParams, reach: float | None = None, channel: bool = True) -> cq.Shape:
+def build_moving(p: JointParams, reach: float | None = None, channel: bool = True) -> Shape:
     """Moving body of a module: eye parts plus the block from X_m to x = reach, slot, support pin, channel."""
     reach = p.link_length if reach is None else reach
     body = _fuse(moving_side(p) + [link_block(p.block_start, reach, p.link_width, p.height)], "moving fuse")
     cuts = moving_side_cuts(p, p.height)
     if channel:
         cuts += tube_path(moving_channel_points(p, reach), p.tendon_diameter / 2)
-    body = _one_solid(body.cut(*cuts), "moving cut")
+    body = _one_solid(occ.cut(body, *cuts), "moving cut")
     return _fuse([body, support_pin(p)], "support pin")
 
 
@@ -200,8 +195,8 @@ class JointSolids:
     """The two printed bodies of one module, in the module frame."""
 
     params: JointParams
-    ground: cq.Shape
-    moving: cq.Shape
+    ground: Shape
+    moving: Shape
 
     @property
     def axis_point(self) -> tuple[float, float, float]:
@@ -219,4 +214,4 @@ def build_joint(p: JointParams) -> JointSolids:
 
 def strip_volume(p: JointParams) -> float:
     """B-rep volume of the joint's free spring strips (the parts buried in the fittings excluded) [mm³]."""
-    return p.springs * strip_solid(p.spring, spring_phi0(p), 0.0, hand=CLOCKWISE).Volume()
+    return p.springs * occ.volume(strip_solid(p.spring, spring_phi0(p), 0.0, hand=CLOCKWISE))

@@ -1,7 +1,7 @@
 """What a joint's files and manifest need from its solids, as plain numbers (so that another process can build
 them: ``rjcad.cad.process``), in the order the writer needs them: the shape (each body's triangles, the tendon
 at rest, the axis), then the measurements (tendon moment arm and wrap, each body's volume, mass and centre,
-the spring strips' volume), then the STEP file. Imports CadQuery, not trimesh."""
+the spring strips' volume), then the STEP file. Imports OCP, not trimesh."""
 
 from __future__ import annotations
 
@@ -18,14 +18,14 @@ from rjcad.io.manifest import BodyEntry
 
 def body_entries(solids: dict, density_g_cm3: float) -> list[BodyEntry]:
     """Name, volume [mm³], mass [g] (at ``density_g_cm3``) and centre of mass [mm] of each solid: one volume
-    integration per solid (the one CadQuery's Volume and centerOfMass each run)."""
+    integration per solid (volume and centre together)."""
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
     entries = []
     for n, s in solids.items():
         props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(s.wrapped, props)
+        BRepGProp.VolumeProperties_s(s, props)
         c = props.CentreOfMass()
         v = float(props.Mass())
         entries.append(BodyEntry(n, v, v * density_g_cm3 / 1000.0, [float(c.X()), float(c.Y()), float(c.Z())]))

@@ -1,4 +1,4 @@
-"""The mesh side of the exports (no CadQuery): meshes from triangle arrays, STL, 3MF, GLB, the preview PNG
+"""The mesh side of the exports (no OpenCASCADE): meshes from triangle arrays, STL, 3MF, GLB, the preview PNG
 and the atomic write of a set; the B-rep side (tessellation, measurements, STEP) is ``rjcad.cad.export``. A process that has only the arrays (``rjcad.cad.process``) writes with this alone.
 trimesh is imported where it is used, so that the B-rep side (and a process that only builds) does not load
 it (0.6 s with SciPy's spatial package)."""
@@ -20,8 +20,8 @@ from rjcad.io.outputs import write_set
 if TYPE_CHECKING:
     import trimesh
 
-#: Tessellation: OCCT's linear deflection, relative to each edge's and face's size (CadQuery's ``Shape.mesh``
-#: passes it as relative, and ``triangulate`` keeps that), and the angular deflection δ [rad]. The angle governs on
+#: Tessellation: OCCT's linear deflection, relative to each edge's and face's size (``export.triangulate`` passes
+#: it as relative), and the angular deflection δ [rad]. The angle governs on
 #: curved faces: a chord sags by R·(1 − cos δ/2) = 1.25e-3·R, 2.5 µm on a 2 mm pin, 0.03 mm on the desktop cup's
 #: roof (a cone up to R ≈ 23 mm), the default joint's worst (tests/test_joint.py measures it on the built bodies).
 MESH_TOLERANCE = 0.01

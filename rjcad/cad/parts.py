@@ -5,32 +5,25 @@ from __future__ import annotations
 
 import math
 
-import cadquery as cq
+from OCP.TopoDS import TopoDS_Wire
 
+from rjcad.cad import occ
+from rjcad.cad.occ import Shape, Vec, Z
 from rjcad.cad.spiral import CLOCKWISE, line_box, radial_box, ring, strip_solid
 from rjcad.design.params import KEY_ENGAGEMENT, STRIP_OVERLAP, JointParams
-
-Z = cq.Vector(0, 0, 1)
-
 
 #: Slope of a horizontal channel's pointed roof from horizontal [rad] (a teardrop section: no ceiling
 #: prints over the channel's air; each layer steps in by less than a road's half-width).
 CHANNEL_ROOF = math.radians(50.0)
 
 
-def _teardrop_wire(c: cq.Vector, side: cq.Vector, radius: float) -> cq.Wire:
+def _teardrop_wire(c: Vec, side: Vec, radius: float) -> TopoDS_Wire:
     """Teardrop section around ``c`` in the plane of ``side`` and Z: the bore's lower arc between its tangent
     points c + r·(±sin β·side + cos β·Z), and the two roof lines up to the apex c + Z·r/cos β (one face: no
     tangent faces between separate tool solids, which OCC's cut mishandles)."""
     u, v, h = radius * math.sin(CHANNEL_ROOF), radius * math.cos(CHANNEL_ROOF), radius / math.cos(CHANNEL_ROOF)
     left, right, apex = c - side * u + Z * v, c + side * u + Z * v, c + Z * h
-    return cq.Wire.assembleEdges(
-        [
-            cq.Edge.makeThreePointArc(left, c - Z * radius, right),
-            cq.Edge.makeLine(right, apex),
-            cq.Edge.makeLine(apex, left),
-        ]
-    )
+    return occ.wire([occ.arc(left, c - Z * radius, right), occ.line(right, apex), occ.line(apex, left)])
 
 
 def _horizontal(a, b) -> bool:
@@ -42,44 +35,39 @@ def _horizontal(a, b) -> bool:
 MITRE_OVERLAP = 0.01
 
 
-def _keep_side(solid: cq.Shape, at: cq.Vector, normal: cq.Vector) -> cq.Shape:
+def _keep_side(solid: Shape, at: Vec, normal: Vec) -> Shape:
     """``solid`` cut by the half-space beyond the vertical plane through ``at`` with horizontal ``normal``
     (the part where (x − at)·normal ≤ 0 stays)."""
-    n = normal.normalized()
+    n = normal.unit()
     big = 1000.0
-    t = Z.cross(n).normalized()
+    t = Z.cross(n).unit()
     corner = at - t * (big / 2) - Z * (big / 2)
-    box = cq.Solid.extrudeLinear(
-        cq.Face.makeFromWires(
-            cq.Wire.makePolygon([corner, corner + t * big, corner + t * big + Z * big, corner + Z * big], close=True)
-        ),
-        n * big,
-    )
-    return solid.cut(box)
+    square = occ.polygon([corner, corner + t * big, corner + t * big + Z * big, corner + Z * big])
+    return occ.cut(solid, occ.prism(occ.planar_face(square), n * big))
 
 
-def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[cq.Shape]:
+def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[Shape]:
     """A channel to cut along a polyline: teardrop prisms along horizontal segments (cylinders along others).
     Two horizontal segments meet in a mitre: each prism runs r·tan(β/2) past the knee (β the bend) and is cut
     on the bisector's vertical plane (+ MITRE_OVERLAP), so that their roofs meet in one ridge with no notch or
     fin; other knees get a ball."""
-    pts = [cq.Vector(*p) for p in points]
+    pts = [Vec(*p) for p in points]
     n = len(pts)
     horiz = [_horizontal(points[i], points[i + 1]) for i in range(n - 1)]
-    solids: list[cq.Shape] = []
+    solids: list[Shape] = []
     for i in range(n - 1):
         va, vb = pts[i], pts[i + 1]
         d = vb - va
         if not horiz[i]:
-            solids.append(cq.Solid.makeCylinder(radius, d.Length, va, d.normalized()))
+            solids.append(occ.cylinder(radius, d.length, va, d.unit()))
             continue
-        u = d.normalized()
+        u = d.unit()
         cuts, start, end = [], va, vb
         for j, sign in ((i - 1, -1), (i + 1, +1)):  # the knee at the start (j = i − 1), at the end (j = i + 1)
             if not 0 <= j < n - 1 or not horiz[j]:
                 continue
             knee = va if sign < 0 else vb
-            other = (pts[j + 1] - pts[j]).normalized()
+            other = (pts[j + 1] - pts[j]).unit()
             bend = math.acos(max(-1.0, min(1.0, u.dot(other))))
             if bend < 1e-6:
                 continue
@@ -88,11 +76,10 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
                 start = va - u * reach
             else:
                 end = vb + u * reach
-            bisector = (u + other).normalized()  # normal of the mitre plane, along the mean direction
+            bisector = (u + other).unit()  # normal of the mitre plane, along the mean direction
             cuts.append((knee + bisector * (sign * MITRE_OVERLAP), bisector * sign))
-        side = Z.cross(u).normalized()
-        face = cq.Face.makeFromWires(_teardrop_wire(start, side, radius))
-        prism: cq.Shape = cq.Solid.extrudeLinear(face, end - start)
+        side = Z.cross(u).unit()
+        prism = occ.prism(occ.planar_face(_teardrop_wire(start, side, radius)), end - start)
         for at, normal in cuts:
             prism = _keep_side(prism, at, normal)
         solids.append(prism)
@@ -102,8 +89,8 @@ def tube_path(points: list[tuple[float, float, float]], radius: float) -> list[c
         a, k, b = pts[i - 1], pts[i], pts[i + 1]
         # a ball, poles along the mean direction so they lie buried in the segments
         # (poles on the channel's surface tessellate into an open seam)
-        d = (k - a).normalized() + (b - k).normalized()
-        solids.append(cq.Solid.makeSphere(radius, k, d.normalized(), angleDegrees1=-90, angleDegrees2=90))
+        d = (k - a).unit() + (b - k).unit()
+        solids.append(occ.ball(radius, k, d.unit()))
     return solids
 
 
@@ -112,7 +99,7 @@ def spring_phi0(p: JointParams) -> float:
     return -p.preload + 2 * math.pi * p.spring.turns
 
 
-def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Shape]]:
+def spring_solids(p: JointParams, z0: float) -> tuple[Shape, list[Shape]]:
     """The strip alone, and its fused end fittings (inner tab, outer key or stub + ring), for z ∈ [z0, z0+b].
 
     The strip runs STRIP_OVERLAP mm past both end rays into the fittings, which lie beyond the rays
@@ -136,7 +123,7 @@ def spring_solids(p: JointParams, z0: float) -> tuple[cq.Solid, list[cq.Shape]]:
     return strip, [tab, stub, ring(R_h, phi1, r_ring, r_ring + p.hook_wall, z0, b)]
 
 
-def socket_solids(p: JointParams, z0: float, height: float, base_end: float | None = None) -> list[cq.Shape]:
+def socket_solids(p: JointParams, z0: float, height: float, base_end: float | None = None) -> list[Shape]:
     """A clamped spring's socket on the moving link at rest (its key's ray is +X), z ∈ [z0, z0 + height].
 
     Key seated: u ∈ [key root, R_k], v ∈ [−w_k, 0]. The clockwise tine's face passes through the key's
@@ -153,5 +140,5 @@ def socket_solids(p: JointParams, z0: float, height: float, base_end: float | No
     v_lo, v_hi = p.socket_span
     # the base, bridged out to the link block (so that the block, not only the post, holds it)
     base_end = p.block_start + 0.5 if base_end is None else base_end
-    base = cq.Solid.makeBox(base_end - Rk, v_hi - v_lo, height, cq.Vector(Rk, v_lo, z0))
+    base = occ.box(base_end - Rk, v_hi - v_lo, height, (Rk, v_lo, z0))
     return [ccw, cw, base]

@@ -39,13 +39,13 @@ class CadProcessError(RuntimeError):
 
 def usable() -> bool:
     """True if a forked CAD process would help and is safe: fork is available (Linux), this process has one
-    thread and no CadQuery yet, and ``RJCAD_CAD_PROCESS`` is not 0."""
+    thread and no OpenCASCADE (OCP) yet, and ``RJCAD_CAD_PROCESS`` is not 0."""
     return (
         os.environ.get(ENV, "1") != "0"
         and sys.platform.startswith("linux")
         and "fork" in multiprocessing.get_all_start_methods()
         and threading.active_count() == 1
-        and "cadquery" not in sys.modules
+        and "OCP" not in sys.modules
     )
 
 
@@ -135,7 +135,7 @@ def _serve(conn, parent_end) -> None:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     failure: BaseException | None = None
     try:
-        from rjcad.cad.measure import LocalJoint  # CadQuery: the reason for this process
+        from rjcad.cad.measure import LocalJoint  # OpenCASCADE: the reason for this process
     except BaseException as e:
         failure = e
     try:

@@ -1,6 +1,6 @@
 """The preview PNG, rendered off-screen with VTK: a shaded, depth-correct view and plane sections.
 
-VTK comes with CadQuery's OCP; the preview imports only the VTK modules it draws with (the ``rjcad`` program
+VTK comes with OCP (the ``cadquery-ocp`` package); the preview imports only the VTK modules it draws with (the ``rjcad`` program
 renders while its CAD process builds, and has not loaded all of VTK). The window is off-screen: EGL (Mesa's
 software rasteriser when there is no GPU) unless ``VTK_DEFAULT_OPENGL_WINDOW`` says otherwise, so no display
 is needed. One window holds every panel (a viewport each): the isometric view (bodies in their colours, the
@@ -41,7 +41,7 @@ def _vtk():
     from vtkmodules.util import numpy_support
 
     # text drawn by FreeType always: VTK gives a label with '|' to matplotlib's MathText when it can (when the
-    # process has loaded all of VTK, as CadQuery's import does), which draws it differently
+    # process has loaded all of VTK), which draws it differently
     vtkRenderingCore.vtkTextRenderer.GetInstance().SetDefaultBackend(vtkRenderingCore.vtkTextRenderer.FreeType)
 
     class V:

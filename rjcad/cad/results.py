@@ -1,5 +1,5 @@
 """What a joint's build hands to its writer, as plain numbers (``rjcad.cad.measure`` makes them; they cross
-from the CAD process to the ``rjcad`` program pickled, so this module imports neither CadQuery nor trimesh)."""
+from the CAD process to the ``rjcad`` program pickled, so this module imports neither OCP nor trimesh)."""
 
 from __future__ import annotations
 

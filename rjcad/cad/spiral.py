@@ -14,16 +14,18 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import cadquery as cq
+from OCP.TopoDS import TopoDS_Edge
 
+from rjcad.cad import occ
+from rjcad.cad.occ import Shape, Vec
 from rjcad.spring import SpringDesign
 
 CLOCKWISE = -1
 COUNTER_CLOCKWISE = 1
 
 
-def _pt(r: float, phi: float) -> cq.Vector:
-    return cq.Vector(r * math.cos(phi), r * math.sin(phi), 0.0)
+def _pt(r: float, phi: float) -> Vec:
+    return Vec(r * math.cos(phi), r * math.sin(phi), 0.0)
 
 
 def spiral_side(
@@ -37,7 +39,7 @@ def spiral_side(
     hand: int = CLOCKWISE,
     a_start: float = 0.0,
     a_end: float | None = None,
-) -> list[cq.Edge]:
+) -> list[TopoDS_Edge]:
     """Arcs through r(a) + offset at φ0 + hand·a, for a from ``a_start`` to ``a_end`` (2πn), or back [rad]."""
     k = pitch / (2 * math.pi)
     a_end = 2 * math.pi * turns if a_end is None else a_end
@@ -51,7 +53,7 @@ def spiral_side(
             a, b = b, a
         m = 0.5 * (a + b)
         edges.append(
-            cq.Edge.makeThreePointArc(
+            occ.arc(
                 _pt(r_in + k * a + offset, phi0 + hand * a),
                 _pt(r_in + k * m + offset, phi0 + hand * m),
                 _pt(r_in + k * b + offset, phi0 + hand * b),
@@ -62,7 +64,7 @@ def spiral_side(
 
 def strip_solid(
     design: SpringDesign, phi0: float, z0: float, arcs_per_turn: int = 6, hand: int = CLOCKWISE, extend: float = 0.0
-) -> cq.Solid:
+) -> Shape:
     """The spiral strip alone (no tab, no key), extruded over z ∈ [z0, z0 + b].
 
     ``extend`` [mm] prolongs the strip past both end rays (arc length ≈ extend at each end).
@@ -76,34 +78,31 @@ def strip_solid(
     k = p / (2 * math.pi)
     r0, r1 = r_in + k * a0, r_in + k * a1
     phi_s, phi_e = phi0 + hand * a0, phi0 + hand * a1
-    end_cap = cq.Edge.makeLine(_pt(r1 + t / 2, phi_e), _pt(r1 - t / 2, phi_e))
-    start_cap = cq.Edge.makeLine(_pt(r0 - t / 2, phi_s), _pt(r0 + t / 2, phi_s))
-    wire = cq.Wire.assembleEdges(outer + [end_cap] + inner_back + [start_cap])
-    face = cq.Face.makeFromWires(wire)
-    return cq.Solid.extrudeLinear(face, cq.Vector(0, 0, design.width)).translate(cq.Vector(0, 0, z0))
+    end_cap = occ.line(_pt(r1 + t / 2, phi_e), _pt(r1 - t / 2, phi_e))
+    start_cap = occ.line(_pt(r0 - t / 2, phi_s), _pt(r0 + t / 2, phi_s))
+    face = occ.planar_face(occ.wire(outer + [end_cap] + inner_back + [start_cap]))
+    return occ.translated(occ.prism(face, (0.0, 0.0, design.width)), (0.0, 0.0, z0))
 
 
-def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height: float, side: float = 0.0) -> cq.Solid:
+def radial_box(r0: float, r1: float, width: float, phi: float, z0: float, height: float, side: float = 0.0) -> Shape:
     """Box from radius r0 to r1 along the ray at angle φ, ``width`` across it.
 
     ``side`` shifts the box across the ray (+ = counter-clockwise side) by that many mm.
     """
-    box = cq.Solid.makeBox(r1 - r0, width, height, cq.Vector(r0, -width / 2 + side, z0))
-    return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(phi))
+    return occ.rotated(occ.box(r1 - r0, width, height, (r0, -width / 2 + side, z0)), math.degrees(phi))
 
 
 def line_box(
     u: float, v: float, angle: float, s: tuple[float, float], q: tuple[float, float], z0: float, height: float
-) -> cq.Solid:
+) -> Shape:
     """Box in the frame whose origin is (u, v) and whose x axis points at ``angle`` [rad]:
     s[0]..s[1] along that axis, q[0]..q[1] across it (+ = to its left), z0..z0 + height."""
-    box = cq.Solid.makeBox(s[1] - s[0], q[1] - q[0], height, cq.Vector(s[0], q[0], z0))
-    return box.rotate(cq.Vector(0, 0, 0), cq.Vector(0, 0, 1), math.degrees(angle)).translate(cq.Vector(u, v, 0))
+    box = occ.box(s[1] - s[0], q[1] - q[0], height, (s[0], q[0], z0))
+    return occ.translated(occ.rotated(box, math.degrees(angle)), (u, v, 0.0))
 
 
-def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float) -> cq.Shape:
+def ring(centre_r: float, phi: float, r_inner: float, r_outer: float, z0: float, height: float) -> Shape:
     """A closed ring, the annulus [r_inner, r_outer] around the point at radius ``centre_r`` on the ray φ."""
     c = _pt(centre_r, phi)
-    return cq.Solid.makeCylinder(r_outer, height, cq.Vector(c.x, c.y, z0)).cut(
-        cq.Solid.makeCylinder(r_inner, height, cq.Vector(c.x, c.y, z0))
-    )
+    base = (c.x, c.y, z0)
+    return occ.cut(occ.cylinder(r_outer, height, base), occ.cylinder(r_inner, height, base))

@@ -88,14 +88,14 @@ def joint(config, out_dir, no_png, **options):
     import rjcad.cli
     from rjcad.cad import process
 
-    # the rjcad program builds in a forked process that imports CadQuery while this one designs the spring
+    # the rjcad program builds in a forked process that imports OCP while this one designs the spring
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
     with cad or contextlib.nullcontext():
         from rjcad.design.params import JointParams
         from rjcad.io.outputs import check_writable
 
         params = JointParams(**merge_config(options, config, FIELDS))
-        check_writable(out_dir)  # before this process imports CadQuery or meshes
+        check_writable(out_dir)  # before this process imports OCP or meshes
         from rjcad.cad.build import write_joint
 
         b = write_joint(params, out_dir, png=not no_png, cad=cad)

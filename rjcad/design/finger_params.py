@@ -1,6 +1,6 @@
 """A finger's design, validated (no CAD kernel): one ``JointParams`` per joint, the base length, and the
 template they came from; ``rjcad.cad.finger`` builds it. Kept apart from the builder so that reading and
-checking a template (``rjcad finger``'s bad input, ``rjcad simulate finger``) never imports CadQuery."""
+checking a template (``rjcad finger``'s bad input, ``rjcad simulate finger``) never imports OpenCASCADE."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Build mode: one task per design point, the joint built with CadQuery and checked (process pool or Dask)."""
+"""Build mode: one task per design point, the joint built (OpenCASCADE) and checked (process pool or Dask)."""
 
 from __future__ import annotations
 

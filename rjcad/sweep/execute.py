@@ -85,7 +85,7 @@ def _pool_tasks(
     from concurrent.futures import as_completed as done
     from multiprocessing.context import BaseContext
 
-    # forkserver where the platform has it: a clean server process imports CadQuery once (about 2 s) and
+    # forkserver where the platform has it: a clean server process imports rjcad's build modules once and
     # forks the workers from there, so they start at once; plain fork could inherit locked thread pools
     if "forkserver" in mp.get_all_start_methods():
         forkserver = mp.get_context("forkserver")

@@ -68,7 +68,7 @@ def _preload() -> None:
     os.environ.setdefault("MPLBACKEND", "Agg")
     import rjcad.cli  # noqa: F401
 
-    # rjcad.cad.build imports no CadQuery (the joint's CAD process does): the builders are named as well
+    # rjcad.cad.build imports no OCP (the joint's CAD process does): the builders are named as well
     for name in (
         "rjcad.cad.build",
         "rjcad.cad.measure",
