@@ -24,9 +24,9 @@ def test_gauss_is_numpys_solve_and_says_singular():
             A = rng.normal(size=(k, k))
             b = rng.normal(size=k)
             x = np.zeros(k)
-            assert cp.gauss(A.copy(), b.copy(), x)
+            assert cp.gauss(A.copy(), b.copy(), x, k)
             assert np.allclose(x, np.linalg.solve(A, b), rtol=1e-9, atol=1e-9)
-    assert not cp.gauss(np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([1.0, 2.0]), np.zeros(2))
+    assert not cp.gauss(np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([1.0, 2.0]), np.zeros(2), 2)
 
 
 def random_step(rng, n=3, friction=True, comp=0.0):
@@ -66,22 +66,11 @@ def random_step(rng, n=3, friction=True, comp=0.0):
 def coupled_solve(st, state=None):
     """``cp.coupled_solve`` on a ``random_step``, every joint first sticking: (θ − prev, T, slack) or None."""
     state = np.zeros(st.n + 1, np.int64) if state is None else state
-    d = np.zeros(st.n)
-    ok, T = cp.coupled_solve(
-        state,
-        st.t_d,
-        st.tol,
-        st.prev,
-        st.prev_T,
-        st.E,
-        st.H,
-        st.prev + st.th0,
-        Joints(st.th0, st.thmax, st.r, st.f0, st.gp, st.gn),
-        st.rc,
-        st.comp,
-        d,
-    )
-    return (d, T, bool(state[st.n] == 1)) if ok else None
+    J = np.zeros(st.n, cp.JOINT_STEP)
+    J["th0"], J["thmax"], J["r"], J["f0"], J["gp"], J["gn"] = st.th0, st.thmax, st.r, st.f0, st.gp, st.gn
+    J["prev"], J["s"], J["rc"], J["E"] = st.prev, st.prev + st.th0, st.rc, st.E
+    ok, T = cp.coupled_solve(J, st.H, state, st.t_d, st.tol, st.prev_T, st.comp, cp.linear_system(st.n))
+    return (J["d"], T, bool(state[st.n] == 1)) if ok else None
 
 
 def assert_conditions(st, d, T, slack):
@@ -245,7 +234,18 @@ def test_a_joint_the_tendon_holds_where_it_was_does_not_flip_between_sliding_and
     c_pull, _ = fm.capstan_factors(m)
     comp = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / m.tendon_stiffness
     ok, T, slack = cp.coupled_step(
-        0.0, z, 0.0, z, E0, B, Joints(th0, thmax, r, f0, gp, gn), r * c_pull, comp, fm.weight_of(m), th
+        0.0,
+        z,
+        0.0,
+        z,
+        E0,
+        B,
+        Joints(th0, thmax, r, f0, gp, gn),
+        r * c_pull,
+        comp,
+        fm.weight_of(m),
+        th,
+        cp.coupled_work(m.n),
     )
     assert ok and slack and T == 0.0 and np.degrees(th[0]) > 30
     c = fm.Closure(

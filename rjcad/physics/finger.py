@@ -15,7 +15,8 @@ unique: it stays as close to the previous step's as the tendon allows.
 
 The solver is compiled (numba), one loop over the path: ``rjcad.physics.finger_path`` (a step's terms and the
 weight), ``rjcad.physics.tendon_step`` (the exact piecewise-linear tendon solve), ``rjcad.physics.coupled`` (the
-joints coupled through the weight's full slope, Newton) and ``rjcad.physics.gravity`` (the weight's torque).
+joints coupled through the weight's full slope, Newton) and ``rjcad.physics.gravity`` (the weight's torque);
+``rjcad.physics.kernel`` says how they are compiled. A path allocates its scratch once: a step allocates nothing.
 tests/test_physics_finger.py and tests/test_finger_closed_forms.py check it against closed forms and root finders.
 """
 

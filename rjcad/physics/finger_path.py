@@ -5,8 +5,9 @@ E_i + B_i·(θ_i − prev_i) [N·mm] (``spring_terms``): the spring K·(θ + θ0
 k3·(θ + θ0)³, viscous damping c·θ̇ and a Maxwell relaxation arm (dτ_M/dt = K_M·θ̇ − τ_M/T_r), the rate terms
 linearised about ``prev`` over the step's Δt. The links' weight is then added:
 1. coupled (``rjcad.physics.coupled.coupled_step``): the joints tied through the weight's full slope, Newton;
-2. where that finds no equilibrium, each joint's own slope only (``own_slope_step``: the exact tendon solve of
-   ``rjcad.physics.tendon_step`` re-linearised up to GRAVITY_ITERATIONS times), and Newton once more from there.
+2. where that finds no equilibrium (``fallback_step``), each joint's own slope only (``own_slope_step``: the exact
+   tendon solve of ``rjcad.physics.tendon_step`` re-linearised up to GRAVITY_ITERATIONS times), and Newton once
+   more from there.
 Without weight a step is one exact tendon solve. Units: mm, N, N·mm, rad, s.
 """
 
@@ -16,10 +17,10 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
-from rjcad.physics.coupled import GRAVITY_CONTRACTION, GRAVITY_TOL, coupled_step
-from rjcad.physics.gravity import Weight, weight_torque
+from rjcad.physics.coupled import GRAVITY_CONTRACTION, GRAVITY_TOL, CoupledWork, coupled_step, coupled_work
+from rjcad.physics.gravity import Weight, weight_frame, weight_torque
+from rjcad.physics.kernel import inline_kernel, kernel, path_kernel
 from rjcad.physics.tendon_step import Joints, solve_tendon
 
 #: The weight's slope enters a step's linearisation down to −this × the joint's own step stiffness B (a weight
@@ -41,7 +42,27 @@ class Springs(NamedTuple):
     tr: float
 
 
-@njit(cache=True, inline="always")
+class StepWork(NamedTuple):
+    """A step's scratch, made once per path by ``step_work``: a step allocates nothing."""
+
+    E: np.ndarray  # (n,) the step's torque at prev with the weight (each joint's own slope) [N·mm] ...
+    B: np.ndarray  # (n,) ... and its slope [N·mm/rad]
+    tg: np.ndarray  # (n,) the weight's torque [N·mm] ...
+    slope: np.ndarray  # (n,) ... and its slope in each joint's own angle [N·mm/rad]
+    frame: np.ndarray  # (4, n + 1): ``weight_torque``'s scratch
+    bps: np.ndarray  # (4n + 1,): the tendon solve's breakpoints
+    coupled: CoupledWork
+
+
+@kernel
+def step_work(n: int) -> StepWork:
+    """A ``StepWork`` for n joints."""
+    return StepWork(
+        np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), weight_frame(n), np.zeros(4 * n + 1), coupled_work(n)
+    )
+
+
+@inline_kernel
 def spring_terms(
     prev: np.ndarray,
     tau_m: np.ndarray,
@@ -65,7 +86,7 @@ def spring_terms(
         B[i] = K[i] + 3.0 * k3[i] * s**2 + inv_dt * c[i] + km[i] * b
 
 
-@njit(cache=True)
+@kernel
 def own_slope_step(
     t_d: float,
     prev: np.ndarray,
@@ -78,41 +99,38 @@ def own_slope_step(
     comp: float,
     wt: Weight,
     th: np.ndarray,
-    E: np.ndarray,
-    B: np.ndarray,
-    tg: np.ndarray,
-    slope: np.ndarray,
-    bps: np.ndarray,
+    w: StepWork,
 ) -> tuple[float, bool]:
     """The step with each joint's own slope of the weight k_g = max(S_i, −GRAVITY_SOFTENING·B_i): the weight
     tg + k_g·(θ − at) re-linearised about the result (damped by half once the moves stop contracting) until no
     angle moves by more than GRAVITY_TOL, at most GRAVITY_ITERATIONS times: (T, slack), angles in ``th``; ``at``
-    is overwritten. ``E``, ``B``, ``tg``, ``slope``, ``bps``: the path's scratch arrays (no allocation per step)."""
+    is overwritten. ``w``: the path's scratch."""
     n = len(prev)
+    E, B, tg, slope = w.E, w.B, w.tg, w.slope
     T, slack = 0.0, False
-    last, w = math.inf, 1.0
+    last, step = math.inf, 1.0
     for _ in range(GRAVITY_ITERATIONS):
-        weight_torque(at, wt, tg, slope)
+        weight_torque(at, wt, tg, slope, w.frame)
         for i in range(n):
             kg = max(slope[i], -GRAVITY_SOFTENING * Bs[i])
             E[i] = Es[i] + tg[i] - kg * (at[i] - prev[i])
             B[i] = Bs[i] + kg
-        T, slack = solve_tendon(t_d, prev, prev_T, E, B, jt, rc, comp, th, bps)
+        T, slack = solve_tendon(t_d, prev, prev_T, E, B, jt, rc, comp, th, w.bps)
         moved = 0.0
         for i in range(n):
             moved = max(moved, abs(th[i] - at[i]))
         if moved <= GRAVITY_TOL:
             break
         if moved > GRAVITY_CONTRACTION * last:
-            w = 0.5
+            step = 0.5
         last = moved
         for i in range(n):
-            at[i] = at[i] + w * (th[i] - at[i])
+            at[i] = at[i] + step * (th[i] - at[i])
     return T, slack
 
 
-@njit(cache=True)
-def weighted_step(
+@kernel
+def fallback_step(
     t_d: float,
     prev: np.ndarray,
     prev_T: float,
@@ -125,28 +143,21 @@ def weighted_step(
     wt: Weight,
     th: np.ndarray,
     coupled: bool,
-    E: np.ndarray,
-    B: np.ndarray,
-    tg: np.ndarray,
-    slope: np.ndarray,
-    bps: np.ndarray,
+    w: StepWork,
 ) -> tuple[float, bool]:
-    """A step with the links' weight: (T, slack), angles in ``th``. The joints coupled through the weight
-    (``coupled_step``, Newton from ``at``) first; where that finds no equilibrium, each joint's own slope
-    (``own_slope_step``), then Newton once more from its answer. ``coupled`` False: the own slope only."""
-    if coupled:
-        done, T, slack = coupled_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th)
-        if done:
-            return T, slack
-    T, slack = own_slope_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, E, B, tg, slope, bps)
+    """A step with the links' weight where ``coupled_step`` found no equilibrium from ``at``: each joint's own slope
+    (``own_slope_step``), then Newton once more from its answer (``coupled`` False: the own slope only). (T, slack),
+    angles in ``th``; ``at`` is overwritten; ``w``: the path's scratch."""
+    T, slack = own_slope_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, w)
     if coupled:  # near an equilibrium now: Newton from there again
-        ok, T2, slack2 = coupled_step(t_d, prev, prev_T, th.copy(), Es, Bs, jt, rc, comp, wt, th)
+        at[:] = th
+        ok, T2, slack2 = coupled_step(t_d, prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, w.coupled)
         if ok:
             return T2, slack2
     return T, slack
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float]:
     """(a, b, 1/Δt) of step k (``spring_terms``), zeros without times or at the first step."""
     if len(t) == 0 or k == 0:
@@ -156,7 +167,7 @@ def _rate_factors(t: np.ndarray, k: int, tr: float) -> tuple[float, float, float
     return a, tr * (1.0 - a) / dt, 1.0 / dt
 
 
-@njit(cache=True, nogil=True)
+@path_kernel
 def closure_path(
     td: np.ndarray,
     t: np.ndarray,
@@ -179,7 +190,8 @@ def closure_path(
     slack = np.zeros(n_steps, np.bool_)
     prev, tau_m, at, th, rc = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
     Es, Bs = np.zeros(n), np.zeros(n)
-    E, B, tg, slope, bps = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(4 * n + 1)  # scratch
+    w = step_work(n)
+    cw, bps = w.coupled, w.bps  # read once: a field read per step costs a reference count per array in it
     r, thmax, km, gravity = jt.r, jt.thmax, sp.km, wt.on  # read once: the loop below runs per step
     pulling = True
     for k in range(n_steps):
@@ -195,7 +207,11 @@ def closure_path(
         else:  # the weight: the joints coupled through it (Newton) first, each joint's own slope as the fallback
             for i in range(n):  # Newton's first guess: the last two readings' extrapolation
                 at[i] = min(max(2.0 * prev[i] - theta[k - 2, i], 0.0), thmax[i]) if k >= 2 else prev[i]
-            T, sl = weighted_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, coupled, E, B, tg, slope, bps)
+            done, T, sl = False, 0.0, False
+            if coupled:
+                done, T, sl = coupled_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, cw)
+            if not done:
+                T, sl = fallback_step(td[k], prev, prev_T, at, Es, Bs, jt, rc, comp, wt, th, coupled, w)
         for i in range(n):  # the Maxwell arm after the step, exact for a constant rate
             tau_m[i] = a * tau_m[i] + km[i] * b * (th[i] - prev[i])
             theta[k, i] = th[i]

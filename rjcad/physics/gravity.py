@@ -12,7 +12,8 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
+
+from rjcad.physics.kernel import kernel
 
 G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
 
@@ -37,26 +38,25 @@ def weight_of(m: Any) -> Weight:
     return Weight(length, com, weight, float(gx), float(gy), bool(m.has_gravity))
 
 
-@njit(cache=True)
-def weight_torque(theta: np.ndarray, wt: Weight, tau: np.ndarray, slope: np.ndarray) -> None:
+@kernel
+def weight_torque(theta: np.ndarray, wt: Weight, tau: np.ndarray, slope: np.ndarray, frame: np.ndarray) -> None:
     """Fills ``tau`` with the weight's torque about each joint, resisting flexion when positive [N·mm], and
     ``slope`` with its slope in that joint's own angle [N·mm/rad], at the angles ``theta`` [rad].
 
     Flexion is positive about +Z; g = (gx, gy). With r_ij = p_j − (joint i), p_j link j's centre of mass:
     τ_i = −Σ_{j≥i} w_j (r_ij × g)_z, and turning joint i turns every r_ij, so ∂τ_i/∂θ_i = Σ_{j≥i} w_j r_ij·g
-    (positive where the links hang below the joint: gravity then stiffens it).
+    (positive where the links hang below the joint: gravity then stiffens it). ``frame``: (4, n + 1) scratch, left
+    holding the joints' positions x, y [mm] and the links' directions cos, sin (``weight_frame``).
     """
     n = len(theta)
-    x = np.zeros(n + 1)  # joint positions along the chain [mm]
-    y = np.zeros(n + 1)
-    c = np.zeros(n)  # each link's absolute direction
-    s = np.zeros(n)
+    x, y, c, s = frame[0], frame[1], frame[2], frame[3]
+    x[0] = y[0] = 0.0
     ang = 0.0
     for i in range(n):
         ang += theta[i]
         c[i], s[i] = math.cos(ang), math.sin(ang)
-        x[i + 1] = x[i] + wt.length[i] * math.cos(ang)
-        y[i + 1] = y[i] + wt.length[i] * math.sin(ang)
+        x[i + 1] = x[i] + wt.length[i] * c[i]
+        y[i + 1] = y[i] + wt.length[i] * s[i]
     for i in range(n):
         torque = 0.0
         stiff = 0.0
@@ -69,12 +69,18 @@ def weight_torque(theta: np.ndarray, wt: Weight, tau: np.ndarray, slope: np.ndar
         slope[i] = stiff
 
 
+@kernel
+def weight_frame(n: int) -> np.ndarray:
+    """``weight_torque``'s scratch for n joints: made once per path, not once per call."""
+    return np.zeros((4, n + 1))
+
+
 def gravity_terms(m: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]:
     """Torque of the links' weight about each joint, resisting flexion when positive [N·mm], and its slope in the
     joint's own angle [N·mm/rad] (zeros when no weight acts)."""
     tau, slope = np.zeros(m.n), np.zeros(m.n)
     if m.has_gravity:
-        weight_torque(np.ascontiguousarray(theta, dtype=float), weight_of(m), tau, slope)
+        weight_torque(np.ascontiguousarray(theta, dtype=float), weight_of(m), tau, slope, weight_frame(m.n))
     return tau, slope
 
 

@@ -19,7 +19,8 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+
+from rjcad.physics.kernel import inline_kernel
 
 #: Σ r·θ within this of t_d [mm] (× max(1, t_d)) counts as meeting it: where every joint sticks, S(T) is flat and
 #: the tension anywhere on that flat stretch solves the constraint.
@@ -39,7 +40,7 @@ class Joints(NamedTuple):
     gn: np.ndarray
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def angles_at_tension(
     T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, out: np.ndarray
 ) -> None:
@@ -62,7 +63,7 @@ def angles_at_tension(
         out[i] = min(max(th, 0.0), thmax[i])
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def take_up(
     T: float, prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, comp: float, th: np.ndarray
 ) -> float:
@@ -76,7 +77,7 @@ def take_up(
     return S
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def _sort_prefix(a: np.ndarray, m: int) -> None:
     """Insertion sort of a[:m] in place (a dozen breakpoints: no allocation; duplicates are harmless)."""
     for i in range(1, m):
@@ -88,7 +89,7 @@ def _sort_prefix(a: np.ndarray, m: int) -> None:
         a[j + 1] = v
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def tension_breakpoints(
     prev: np.ndarray, E: np.ndarray, B: np.ndarray, jt: Joints, rc: np.ndarray, bps: np.ndarray
 ) -> int:
@@ -113,7 +114,7 @@ def tension_breakpoints(
     return m
 
 
-@njit(cache=True, inline="always")
+@inline_kernel
 def solve_tendon(
     t_d: float,
     prev: np.ndarray,
