@@ -1,18 +1,17 @@
-"""A second process for the CAD work of ``rjcad joint``: it imports CadQuery while this process designs the
-spring and imports the mesh side (trimesh, VTK), then builds the joint and hands back plain numbers.
+"""A second process for the CAD work of ``rjcad joint``: it imports OCP (OpenCASCADE) while this process designs
+the spring and imports the mesh side (trimesh, VTK), then builds the joint and hands back plain numbers.
 
-``import cadquery`` is most of the command's time (1.6–2.0 s, OCP's library alone 0.9 s) and nothing in it
-can start before the design is known; the design, trimesh and VTK take another 1.3 s that do not need
-CadQuery. Forked before either, the child pays the first while the parent pays the second, on two cores.
+Importing OCP's library is about 1.0 s and nothing in it can start before the design is known; the design,
+trimesh and VTK take another 1.3 s that do not need OCP. Forked before either, the child pays the first while
+the parent pays the second, on two cores (``benchmarks/cli.py`` measures what it saves against one process).
 The child runs ``rjcad.cad.measure.LocalJoint`` (the in-process builder itself) and sends its three stages
 as they are ready: the shape (triangles, tendon, axis), the measurements, the STEP file. The parent meshes
 and renders the first while the child measures and writes STEP. The arrays cross the pipe pickled, bit for
-bit: the files are the ones an in-process build writes (``tests/test_cad_process.py``). Measured: 4.17 → 3.40 s
-for ``rjcad joint`` (``benchmarks/cli.py``). Building the two bodies in two processes as well was tried and
+bit: the files are the ones an in-process build writes (``tests/test_cad_process.py``). Building the two bodies in two processes as well was tried and
 gave nothing (OCCT's booleans already use both cores): the bodies are built here one after the other.
 
 Used only by the ``rjcad`` program itself (``rjcad.cli.entry``), where fork is the platform's way to start a
-process, before any thread or CadQuery exists in it, and unless ``RJCAD_CAD_PROCESS=0``. An error in the
+process, before any thread or OCP exists in it, and unless ``RJCAD_CAD_PROCESS=0``. An error in the
 child is raised again in the parent (its traceback is a note, printed with ``--debug``). The child ignores
 Ctrl-C and SIGTERM's handler (the parent handles both and ends it), and ends when the parent's end of the
 pipe closes.
