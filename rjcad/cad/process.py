@@ -7,8 +7,9 @@ the parent pays the second, on two cores (``benchmarks/cli.py`` measures what it
 The child runs ``rjcad.cad.measure.LocalJoint`` (the in-process builder itself) and sends its three stages
 as they are ready: the shape (triangles, tendon, axis), the measurements, the STEP file. The parent meshes
 and renders the first while the child measures and writes STEP. The arrays cross the pipe pickled, bit for
-bit: the files are the ones an in-process build writes (``tests/test_cad_process.py``). Building the two bodies in two processes as well was tried and
-gave nothing (OCCT's booleans already use both cores): the bodies are built here one after the other.
+bit: the files are the ones an in-process build writes (``tests/test_cad_process.py``). Building the two
+bodies in two processes as well was tried and gave nothing (OCCT's booleans already use both cores): the
+bodies are built here one after the other.
 
 Used only by the ``rjcad`` program itself (``rjcad.cli.entry``), where fork is the platform's way to start a
 process, before any thread or OCP exists in it, and unless ``RJCAD_CAD_PROCESS=0``. An error in the
