@@ -20,7 +20,7 @@ import numpy as np
 from rjcad.cad import mesh_export as mx
 from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 from rjcad.io.manifest import JointEntry, Manifest
-from rjcad.io.outputs import check_writable
+from rjcad.io.outputs import OutputError, TemporaryWriteError, check_writable
 
 if TYPE_CHECKING:
     import trimesh
@@ -283,8 +283,11 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
     check_writable(out_dir)
     if cad is not None:
         mx.prepare(png)  # while the CAD process imports OCP and builds
-    b = build(p, cad)
-    files = render_files(b, "joint", png=png)
+    try:
+        b = build(p, cad)
+        files = render_files(b, "joint", png=png)
+    except TemporaryWriteError as e:
+        raise OutputError(out_dir, str(e)) from e
     mx.write_outputs(out_dir, files, remove=("joint.png",))
     return b
 
@@ -426,7 +429,10 @@ def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: boo
     without it, a finger.html of an earlier run is removed with the set's other stale files."""
     check_writable(out_dir)
     b = build_finger_model(fp)
-    files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
+    try:
+        files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
+    except TemporaryWriteError as e:
+        raise OutputError(out_dir, str(e)) from e
     if more is not None:
         files.update(more(b, files))
     mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))

@@ -34,6 +34,7 @@ from OCP.XSControl import XSControl_WorkSession
 from rjcad.cad import occ
 from rjcad.cad.mesh_export import MESH_ANGULAR_TOLERANCE, MESH_TOLERANCE, mesh_of
 from rjcad.cad.occ import Shape, Vec
+from rjcad.io.outputs import TemporaryWriteError
 
 if TYPE_CHECKING:
     import trimesh
@@ -183,6 +184,6 @@ def step_bytes(solids: dict[str, Shape], name: str) -> bytes:
     writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, f"{name}.step")
-        if writer.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:
-            raise RuntimeError(f"the STEP file of {name!r} could not be written")
+        if writer.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:  # a full disk, a file size limit
+            raise TemporaryWriteError(f"its STEP file could not be written in the temporary folder ({d})")
         return Path(path).read_bytes()

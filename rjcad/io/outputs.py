@@ -34,6 +34,11 @@ class OutputError(RjcadError):
         return OutputError, (self.path, self.reason)
 
 
+class TemporaryWriteError(OSError):
+    """A file an output is made through (OpenCASCADE's STEP, read back) could not be written in the temporary
+    folder: a full disk, a file size limit. Reported against the output directory (``OutputError``)."""
+
+
 def cannot_write(path: str | os.PathLike, err: OSError) -> OutputError:
     """The ``OutputError`` for ``path`` from the OSError that stopped its write (names a file in the way)."""
     path = Path(path)

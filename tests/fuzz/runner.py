@@ -64,7 +64,7 @@ def _obey_permissions() -> bool:
 
 
 def _preload() -> None:
-    """Import what the commands import lazily, so that every child starts warm."""
+    """Import what the commands import lazily, and compile the finger solver, so that every child starts warm."""
     os.environ.setdefault("MPLBACKEND", "Agg")
     import rjcad.cli  # noqa: F401
 
@@ -82,6 +82,17 @@ def _preload() -> None:
     ):
         with contextlib.suppress(Exception):  # a missing optional module is the command's business, not the runner's
             __import__(name)
+    try:  # the finger solver's compiled kernels, so that no child compiles them (numba's cache may still be cold)
+        import io
+        from pathlib import Path
+
+        from rjcad.cli import main
+
+        template = Path(__file__).resolve().parents[2] / "templates" / "finger.toml"
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            main(["simulate", "finger", str(template), "--json"])
+    except (Exception, SystemExit):
+        pass
     try:  # the preview's VTK modules (imports only: an OpenGL context is made in each child, after the fork)
         from rjcad.cad.render import _vtk
 
