@@ -1,7 +1,8 @@
 """Shared by every benchmark: one timer, the --quick switch, the targets object and the JSON output.
 
 Not a benchmark itself (`make bench` skips files starting with "_"). Times are wall-clock seconds
-(time.perf_counter); a figure is the median of several runs after untimed warm-up runs.
+(time.perf_counter), and CPU seconds where a figure's name says so (time.process_time: user + system of the
+whole process, every thread); a figure is the median of several runs after untimed warm-up runs.
 """
 
 from __future__ import annotations
@@ -37,6 +38,20 @@ def median_time(fn: Callable, repeats: int, *, warmup: int = 1, setup: Callable 
     """Median seconds of ``repeats`` calls of ``fn`` after ``warmup`` untimed ones, and the last call's result."""
     runs = timed_runs(fn, max(repeats, 1), warmup=warmup, setup=setup)
     return statistics.median(t for t, _ in runs), runs[-1][1]
+
+
+def median_wall_cpu(fn: Callable, repeats: int, *, warmup: int = 1) -> tuple[float, float, Any]:
+    """(median wall seconds, median CPU seconds, the last call's result) of ``repeats`` calls of ``fn`` after
+    ``warmup`` untimed ones. CPU time is the steadier figure on a shared machine: another job's load stretches the
+    wall time far more than it does the process's own CPU time."""
+    walls, cpus, result = [], [], None
+    for i in range(warmup + max(repeats, 1)):
+        t0, c0 = time.perf_counter(), time.process_time()
+        result = fn()
+        if i >= warmup:
+            walls.append(time.perf_counter() - t0)
+            cpus.append(time.process_time() - c0)
+    return statistics.median(walls), statistics.median(cpus), result
 
 
 def median_of(rows: list[dict[str, float]]) -> dict[str, float]:

@@ -5,8 +5,10 @@ paper campaign; 1e5 samples: one run unless --repeats-large). Targets (issue #7)
 campaign (5 × 3000 samples, full selection) in ≤ 10 s; the time grows no worse than linearly
 with samples per experiment (every scaling exponent ≤ 1.05). Issue #18: a 3-joint whole-finger campaign of
 3 experiments × 3000 samples in ≤ 30 s (one hidden effect and a pair), and the finger solver's speed on one path
-(µs per step: the angles and tension that fits use, and the full closure with joint tensions and states).
-The scaling exponent is log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
+(µs per step: the angles and tension that fits use, and the full closure with joint tensions and states; with
+link weight too, as the campaigns' orientations give it). Each campaign figure comes as wall seconds and as CPU
+seconds (``*_cpu_s``: the process's user + system time, every thread; steadier than wall time on a shared
+machine). The scaling exponent is log(t_b/t_a)/log(n_b/n_a) between sizes measured in this same run.
 Run: .venv/bin/python benchmarks/identify.py [--sizes 1000,10000,100000] [--repeats 3] [--quick]
 """
 
@@ -15,9 +17,10 @@ from __future__ import annotations
 import argparse
 import math
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
-from _timing import emit, median_time, parse_args, target
+from _timing import emit, median_time, median_wall_cpu, parse_args, target
 
 from rjcad.identify.bench import PAPER_PRESET, write_campaign
 from rjcad.identify.data import load_campaign
@@ -49,39 +52,45 @@ def finger(
     from rjcad.identify.finger.problem import FingerSelector, identify_finger
     from rjcad.physics.finger import FingerModel, simulate_angles, simulate_path
 
-    out = {"finger_campaign_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
+    out = {"finger_campaign_s": {}, "finger_campaign_cpu_s": {}, "finger_campaign_found": {}, "finger_samples": samples}
     with tempfile.TemporaryDirectory() as tmp:
         for effects in sets:
             d = Path(tmp) / "_".join(effects)
             write_finger_campaign(d, list(effects), seed=1, samples=samples)
-            t, ident = median_time(lambda d=d: identify_finger(load_any(d / "campaign.toml")), repeats)
+            t, cpu, ident = median_wall_cpu(lambda d=d: identify_finger(load_any(d / "campaign.toml")), repeats)
             out["finger_campaign_s"]["+".join(effects)] = round(t, 3)
+            out["finger_campaign_cpu_s"]["+".join(effects)] = round(cpu, 3)
             out["finger_campaign_found"]["+".join(effects)] = ident.effects
-        threads, workers = {}, FingerSelector.workers
+        threads, cpus, workers = {}, {}, FingerSelector.workers
         try:
             for w in (1, 2):
                 if quick and w == workers:
-                    threads[str(w)] = t  # the last set, just run with the default thread count
+                    threads[str(w)], cpus[f"cpu_{w}"] = t, cpu  # the last set, just run with the default threads
                     continue
                 FingerSelector.workers = w
-                threads[str(w)], _ = median_time(lambda: identify_finger(load_any(d / "campaign.toml")), repeats)
+                threads[str(w)], cpus[f"cpu_{w}"], _ = median_wall_cpu(
+                    lambda: identify_finger(load_any(d / "campaign.toml")), repeats
+                )
         finally:
             FingerSelector.workers = workers
         out["finger_campaign_threads_s"] = {
             "set": "+".join(effects),
             **{k: round(v, 3) for k, v in threads.items()},
+            **{k: round(v, 3) for k, v in cpus.items()},
             "ratio_1_over_2": round(threads["1"] / threads["2"], 2),
         }
     m = FingerModel(
         (5.2, 7.8, 10.4), (90 * DEG,) * 3, (90 * DEG,) * 3, (6.0,) * 3, friction=(1.0,) * 3, gamma=(1.0,) * 3
     )
+    heavy = replace(m, link_mass=(8.0, 6.0, 4.0), gravity=(0.0, -1.0))
     td = np.concatenate([np.linspace(0, 25, 1500), np.linspace(25, 0, 1500)])
-    t_angles, _ = median_time(lambda: simulate_angles(m, td), repeats)
-    t_closure, _ = median_time(lambda: simulate_path(m, td), repeats)
-    out["finger_solver_us_per_step"] = {
-        "angles": round(1e6 * t_angles / len(td), 3),
-        "closure": round(1e6 * t_closure / len(td), 3),
-    }
+    steps = {}
+    for name, model in (("", m), ("_weight", heavy)):
+        t_angles, _ = median_time(lambda model=model: simulate_angles(model, td), repeats)
+        t_closure, _ = median_time(lambda model=model: simulate_path(model, td), repeats)
+        steps[f"angles{name}"] = round(1e6 * t_angles / len(td), 3)
+        steps[f"closure{name}"] = round(1e6 * t_closure / len(td), 3)
+    out["finger_solver_us_per_step"] = steps
     return out
 
 
@@ -95,13 +104,15 @@ def main() -> None:
 
     warm = 0 if args.quick else 1  # --quick: a smoke run, no untimed warm-up
     t_load, _ = median_time(lambda: load_campaign(PAPER), args.repeats, warmup=warm)
-    t_paper, ident = median_time(lambda: run(PAPER), args.repeats, warmup=warm)
+    t_paper, cpu_paper, ident = median_wall_cpu(lambda: run(PAPER), args.repeats, warmup=warm)
     out = {
         "paper_campaign_s": round(t_paper, 3),
+        "paper_campaign_cpu_s": round(cpu_paper, 3),
         "paper_campaign_load_s": round(t_load, 4),
         "paper_campaign_effects": ident.effects,
         "samples_per_experiment": [],
         "seconds": [],
+        "cpu_seconds": [],
         "effects_found": [],
     }
     with tempfile.TemporaryDirectory() as tmp:
@@ -111,9 +122,10 @@ def main() -> None:
                 d, PAPER_PRESET["effects"], PAPER_PRESET["params"], design=PAPER_PRESET["design"], seed=1, samples=n
             )
             reps = args.repeats_large if n >= 100_000 else args.repeats
-            t, ident = median_time(lambda d=d: run(d / "campaign.toml"), reps, warmup=0)
+            t, cpu, ident = median_wall_cpu(lambda d=d: run(d / "campaign.toml"), reps, warmup=0)
             out["samples_per_experiment"].append(n)
             out["seconds"].append(round(t, 3))
+            out["cpu_seconds"].append(round(cpu, 3))
             out["effects_found"].append(ident.effects)
     s, t = out["samples_per_experiment"], out["seconds"]
     out["us_per_sample"] = [round(1e6 * ti / (5 * ni), 2) for ni, ti in zip(s, t)]

@@ -82,14 +82,17 @@ BENCHMARKS = {
     "identify": (
         {
             "paper_campaign_s",
+            "paper_campaign_cpu_s",
             "paper_campaign_load_s",
             "paper_campaign_effects",
             "samples_per_experiment",
             "seconds",
+            "cpu_seconds",
             "effects_found",
             "us_per_sample",
             "scaling_exponent",
             "finger_campaign_s",
+            "finger_campaign_cpu_s",
             "finger_campaign_found",
             "finger_solver_us_per_step",
             "finger_samples",
@@ -219,6 +222,8 @@ def check_identify(d):
     assert len(d["scaling_exponent"]) == 1
     assert d["finger_campaign_found"] == {"moment_arm": ["moment_arm"]} and d["finger_samples"] == 300
     assert d["finger_solver_us_per_step"]["angles"] > 0 and d["finger_solver_us_per_step"]["closure"] > 0
+    assert d["finger_solver_us_per_step"]["angles_weight"] > 0 and d["finger_solver_us_per_step"]["closure_weight"] > 0
+    assert len(d["cpu_seconds"]) == 2 and d["finger_campaign_cpu_s"]["moment_arm"] > 0  # CPU time, beside wall time
 
 
 def check_physics(d):

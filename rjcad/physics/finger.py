@@ -32,9 +32,9 @@ from numpy.typing import ArrayLike
 
 from rjcad import DEG
 from rjcad.errors import ParameterError
-from rjcad.physics.finger_model import FingerModel
+from rjcad.physics.finger_model import FingerModel, G
 from rjcad.physics.finger_path import closure_path
-from rjcad.physics.gravity import G, gravity_terms, gravity_torques, weight_of
+from rjcad.physics.gravity import gravity_terms, gravity_torques, weight_of
 
 __all__ = [
     "AT_STOP",

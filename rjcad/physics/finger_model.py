@@ -11,7 +11,10 @@ from typing import Any
 import numpy as np
 
 from rjcad.errors import ParameterError
-from rjcad.physics.gravity import G
+
+#: N per g: the weight of a 1 g mass [N/g]. Here, not beside the weight's kernels in ``gravity``: a model (and a
+#: campaign that names one) is read without importing numba, which alone takes about 0.2 s.
+G = 9.81e-3
 
 #: ``FingerModel.arrays()``: (K, θ0, θmax, r, wrap, f0, (γ⁺, γ⁻)).
 ModelArrays = tuple[

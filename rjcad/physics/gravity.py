@@ -2,8 +2,8 @@
 
 Links are point masses [g] at their centres of mass, lengths in mm, torques in N·mm. ``weight_torque`` is the
 compiled kernel the finger's solver calls at every step; ``gravity_terms`` and ``gravity_torques`` wrap it for a
-``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports them; the model is not imported here, since
-its module imports this one).
+``rjcad.physics.finger.FingerModel`` ``m`` (that module re-exports them). The links' weights come from the model
+in N (``finger_model.G``).
 """
 
 from __future__ import annotations
@@ -14,8 +14,6 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from rjcad.physics.kernel import kernel
-
-G = 9.81e-3  # N per g: weight of a 1 g mass [N/g]
 
 
 class Weight(NamedTuple):

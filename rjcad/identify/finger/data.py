@@ -23,7 +23,8 @@ from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.identify.data import MIN_SAMPLES, _check_time, _data_path, _read_csv
 from rjcad.io.untrusted import confined
-from rjcad.physics.finger import FingerModel, model_from_manifest, model_from_template
+from rjcad.physics.finger_model import FingerModel
+from rjcad.physics.finger_sources import model_from_manifest, model_from_template
 
 #: Gravity in the finger's plane, as a unit vector in the finger's frame (x along the straight finger towards
 #: the tip, y towards the palm: the side the finger flexes to). A number is the angle of gravity from x
