@@ -174,15 +174,13 @@ class JointBuild:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def build(p: JointParams, cad=None) -> JointBuild:
-    """Build, tessellate and measure the joint; nothing is written. ``cad``: a ``rjcad.cad.process.CadProcess``
-    to build the solids in (default: this process)."""
-    if cad is None:
+def build(p: JointParams, source=None) -> JointBuild:
+    """Build, tessellate and measure the joint; nothing is written. ``source``: the joint a
+    ``rjcad.cad.process.CadProcess`` builds (``cad.joint(p)``; default: built in this process)."""
+    if source is None:
         from rjcad.cad.measure import LocalJoint  # OCP
 
         source = LocalJoint(p)
-    else:
-        source = cad.joint(p)
     shape = source.shape()
     t0 = time.perf_counter()
     meshes = {name: mx.mesh_of(v, f) for name, (v, f) in shape.triangles.items()}
@@ -281,10 +279,12 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
     """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set).
     ``cad``: a ``rjcad.cad.process.CadProcess`` to build the solids in (default: this process)."""
     check_writable(out_dir)
+    source = None
     if cad is not None:
-        mx.prepare(png)  # while the CAD process imports OCP and builds
+        source = cad.joint(p)  # sent now: the CAD process builds as soon as it has imported OCP
+        mx.prepare(png)  # meanwhile
     try:
-        b = build(p, cad)
+        b = build(p, source)
         files = render_files(b, "joint", png=png)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
