@@ -70,3 +70,8 @@ class InfeasibleDesign(RjcadError):
     def __init__(self, constraint: str, message: str) -> None:
         self.constraint = constraint
         super().__init__(message)
+
+
+class BadInput(RjcadError):
+    """An input file is unusable: a mesh (unreadable, empty, not matching its manifest), a missing
+    installation's data, or a name that matches nothing."""

@@ -7,11 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from rjcad.errors import RjcadError
-
-
-class BadInput(RjcadError):
-    """The input is not a usable mesh (unreadable, empty, not a mesh, or not matching its manifest)."""
+from rjcad.errors import BadInput as BadInput  # re-exported: the checks raise it for an unusable mesh
 
 
 @dataclass
