@@ -21,6 +21,7 @@ from rjcad.cad import mesh_export as mx
 from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 from rjcad.io.manifest import JointEntry, Manifest
 from rjcad.io.outputs import OutputError, TemporaryWriteError, check_writable
+from rjcad.materials import profile_entries
 
 if TYPE_CHECKING:
     import trimesh
@@ -232,10 +233,10 @@ def build(p: JointParams, source=None) -> JointBuild:
         "joint",
         [entry],
         measured.bodies,
-        material=p.material,
-        printer=p.printer,
+        material=p.material_spec.key,
+        printer=p.printer_spec.key,
         clearance_mm=p.clearance_mm,
-        extra=extra,
+        extra=extra | profile_entries(p.printer_spec, p.material_spec),
     )
     timings = {
         "build_s": shape.timings["build_s"],
@@ -349,10 +350,10 @@ def build_finger_model(fp) -> FingerBuild:
         "finger",
         joints,
         body_entries(solids, p0.material_spec.density_g_cm3),
-        material=p0.material,
-        printer=p0.printer,
+        material=p0.material_spec.key,
+        printer=p0.printer_spec.key,
         clearance_mm=p0.clearance_mm,
-        extra=extra,
+        extra=extra | profile_entries(p0.printer_spec, p0.material_spec),
     )
     t3 = time.perf_counter()
     return FingerBuild(

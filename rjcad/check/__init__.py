@@ -29,7 +29,7 @@ from rjcad.check.overhang import check_overhang
 from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
 from rjcad.check.slicer import GCODE_CACHE, Slicing, check_slicer, finish_slicer, prusa_config, start_slicer
 from rjcad.io.manifest import Manifest
-from rjcad.materials import get_printer
+from rjcad.materials import printer_of
 
 __all__ = [
     "CONE_HALF_ANGLE",
@@ -96,7 +96,7 @@ def run_checks(
     names = name_bodies(meshes, names, man)
     if clearance is None:
         clearance = float(man.clearance_mm) if man is not None and man.clearance_mm is not None else 0.25
-    prn = get_printer(printer or (man.printer if man is not None else None) or "generic-0.4")
+    prn = printer_of(printer, man)
     expected = (
         bodies if bodies is not None else (len(man.bodies) if man is not None and man.bodies is not None else None)
     )

@@ -42,7 +42,7 @@ def prusa_config(printer: Printer) -> str:
         [
             f"nozzle_diameter = {printer.nozzle_mm}",
             f"layer_height = {printer.layer_height_mm}",
-            f"first_layer_height = {printer.layer_height_mm}",
+            f"first_layer_height = {printer.first_layer_mm}",
             f"extrusion_width = {w}",
             f"first_layer_extrusion_width = {w}",
             f"bed_shape = 0x0,{x:g}x0,{x:g}x{y:g},0x{y:g}",

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+from rjcad.cli.options import Field, design_options, echo_profiles, merge_config, print_table, requirement
 
 if TYPE_CHECKING:
     from rjcad.io.manifest import Manifest
@@ -100,6 +100,7 @@ def joint(config, out_dir, no_png, **options):
 
         b = write_joint(params, out_dir, png=not no_png, cad=cad)
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
+    echo_profiles(params.printer_spec, params.material_spec)
     print_joint(b.manifest)
 
 
@@ -134,6 +135,12 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
     help="Output directory.",
 )
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
+@click.option(
+    "--printer", help="Printer profile, instead of the template's: a name or a .toml file (see rjcad profiles)."
+)
+@click.option(
+    "--material", help="Material profile, instead of the template's: a name or a .toml file (see rjcad profiles)."
+)
 @click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
 @click.option("--mjcf", is_flag=True, help="Also write finger.xml (MuJoCo, SI units) and one STL per body.")
 @click.option(
@@ -142,14 +149,15 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
     show_default=True,
     help="With --mjcf: gravity relative to the finger (see rjcad mjcf --help).",
 )
-def finger(template, out_dir, no_png, html, mjcf, gravity):
+def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
     from rjcad.design.finger_params import FingerParams
     from rjcad.io.outputs import check_writable
     from rjcad.io.templates import DEFAULT_FINGER
 
-    fp = _template(template) if template else FingerParams.from_dict(DEFAULT_FINGER, "built-in finger")
+    given = {k: v for k, v in (("printer", printer), ("material", material)) if v is not None}
+    fp = _template(template, given) if template else FingerParams.from_dict(DEFAULT_FINGER | given, "built-in finger")
     check_writable(out_dir)
     grav = None
     if mjcf:
@@ -169,18 +177,20 @@ def finger(template, out_dir, no_png, html, mjcf, gravity):
         f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
         + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else "")
     )
+    echo_profiles(fp.joints[0].printer_spec, fp.joints[0].material_spec)
     print_finger(m)
 
 
-def _template(path: str):
-    """The finger template ``path`` (read through rjcad.io.untrusted); a bad value names the file and its key."""
+def _template(path: str, given: dict[str, str] | None = None):
+    """The finger template ``path`` (read through rjcad.io.untrusted), with ``given`` keys replacing its own; a
+    bad value names the file and its key."""
     from pathlib import Path
 
     from rjcad.design.finger_params import FingerParams
     from rjcad.errors import ParameterError
 
     try:
-        return FingerParams.from_toml(path)
+        return FingerParams.from_toml(path, given)
     except ParameterError as e:
         name = Path(path).name
         if e.parameter.startswith(f"{name}: "):

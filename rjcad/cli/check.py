@@ -43,14 +43,14 @@ def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_js
     """Check a mesh for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
     from rjcad.check import format_table, run_checks
     from rjcad.io.manifest import ManifestError
-    from rjcad.materials import get_printer
+    from rjcad.materials import printer_of
     from rjcad.validate import in_range
 
     if clearance is not None:
         in_range("--clearance", clearance, *CLEARANCE_MM, unit="mm")
     in_range("--allowance", allowance, *ALLOWANCE_MM, unit="mm")
     man = _manifest(manifest, mesh)
-    prn = get_printer(printer or (man.printer if man is not None else None) or "generic-0.4")
+    prn = printer_of(printer, man)
     if clearance is not None:
         prn.check_gap("--clearance", clearance)
     elif man is not None and man.clearance_mm is not None:  # a gap the printer cannot print fails the check

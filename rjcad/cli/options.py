@@ -7,13 +7,14 @@ from ``REQUIREMENT``, the seven options of a spring requirement.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import NamedTuple
 
 import click
 
 from rjcad import DEG
 from rjcad.io.config import load_toml
-from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, MATERIALS, PRINTERS
+from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, MATERIALS, PRINTERS, profiles_beside
 
 
 class Field(NamedTuple):
@@ -41,8 +42,20 @@ REQUIREMENT = (
     Field("--stiffness", "stiffness_nmm_per_rad", float, "Joint stiffness, both springs [N·mm/rad]."),
     Field("--rotation", "rotation_deg", float, "Joint rotation range [deg] (default 90).", degrees=True),
     Field("--preload", "preload_deg", float, "Spring preload at rest [deg] (default 90).", degrees=True),
-    Field("--material", "material", str, f"One of: {', '.join(MATERIALS)} (default {DEFAULT_MATERIAL})."),
-    Field("--printer", "printer", str, f"One of: {', '.join(PRINTERS)} (default {DEFAULT_PRINTER})."),
+    Field(
+        "--material",
+        "material",
+        str,
+        f"A material: built in ({', '.join(MATERIALS)}; default {DEFAULT_MATERIAL}), a name in your profile "
+        "folder, or a profile file (.toml); see rjcad profiles.",
+    ),
+    Field(
+        "--printer",
+        "printer",
+        str,
+        f"A printer: built in ({', '.join(PRINTERS)}; default {DEFAULT_PRINTER}), a name in your profile "
+        "folder, or a profile file (.toml); see rjcad profiles.",
+    ),
     Field("--safety-factor", "safety_factor", float, "Safety factor on yield (default 1.5)."),
     Field(
         "--end",
@@ -82,7 +95,8 @@ def merge_config(options: dict, config: str | None, fields: tuple[Field, ...]) -
     if config:
         toml_types = {f.toml: ((int, float) if f.type is float else f.type) for f in fields}
         by_key = {f.toml: f.name for f in fields}
-        for key, value in load_toml(config, toml_types).items():
+        data = profiles_beside(load_toml(config, toml_types), Path(config).parent)
+        for key, value in data.items():
             given.setdefault(by_key[key], value)
     return {name: by_name[name].internal(v) for name, v in given.items()}
 
@@ -93,3 +107,11 @@ def print_table(rows: list[tuple[str, str, str]]) -> None:
     w1 = max(len(r[1]) for r in rows)
     for name, value, unit in rows:
         click.echo(f"  {name:<{w0}}  {value:>{w1}}  {unit}")
+
+
+def echo_profiles(*profiles) -> None:
+    """Say which file each of the user's profiles (printer or material) came from; nothing for built-in ones."""
+    for prof in profiles:
+        if not prof.builtin:
+            kind = "printer" if hasattr(prof, "nozzle_mm") else "material"
+            click.echo(f"{kind} {prof.key}: your profile {prof.file}")

@@ -7,7 +7,7 @@ import json
 import click
 
 from rjcad import DEG
-from rjcad.cli.options import Field, design_options, merge_config, print_table, requirement
+from rjcad.cli.options import Field, design_options, echo_profiles, merge_config, print_table, requirement
 from rjcad.errors import RjcadError
 from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
@@ -78,6 +78,7 @@ def spring(config, as_json, plot, **options):
     if as_json:
         click.echo(json.dumps(design.to_dict(), indent=2))
     else:
+        echo_profiles(design.requirement.printer_spec, design.requirement.material_spec)
         print_design(design)
         if plot:
             click.echo(f"  plot written to {plot}")
@@ -99,7 +100,7 @@ def print_design(design: SpringDesign) -> None:
     click.echo(
         f"Spiral spring for a {req.joint_stiffness:g} N·mm/rad joint "
         f"({share}), {d['rotation_deg']:g}° rotation, "
-        f"{d['preload_deg']:g}° preload, {req.material}, {req.printer}, {req.end} outer end, "
+        f"{d['preload_deg']:g}° preload, {req.material_spec.key}, {req.printer_spec.key}, {req.end} outer end, "
         f"loaded unwinding; checked by the rod model"
     )
     print_table(

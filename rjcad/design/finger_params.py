@@ -16,6 +16,7 @@ from rjcad.errors import ParameterError, RjcadError
 from rjcad.io import templates
 from rjcad.io.config import check_key as _typed
 from rjcad.io.config import load_toml
+from rjcad.materials import profiles_beside
 
 #: The paper's finger, as plain data in rjcad.io.templates (the builder's default).
 PAPER_FINGER = templates.PAPER_FINGER
@@ -39,6 +40,12 @@ class FingerParams:
     def from_dict(cls, data: dict[str, Any], source: str = "<dict>") -> FingerParams:
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
         built, requested = cls.joints_from_dict(data)
+        # a link whose length is not given: 40 mm, or the shortest whole mm that holds its joints if longer
+        for i, (p, req) in enumerate(zip(built, requested)):
+            if "link_length_mm" not in req:
+                need = link_length_min(p, built[i + 1] if i + 1 < len(built) else None)
+                if need > p.link_length + 1e-9:
+                    built[i] = replace(p, link_length=whole_mm(need))
         # no base length given: the shortest that holds joint 1 (whole mm, at least 25)
         base = (
             float(data["base_length_mm"])
@@ -113,9 +120,10 @@ class FingerParams:
         return built, requested
 
     @classmethod
-    def from_toml(cls, path: str | Path) -> FingerParams:
-        data = load_toml(path, GLOBAL_KEYS)
-        return cls.from_dict(data, source=str(path))
+    def from_toml(cls, path: str | Path, given: dict[str, Any] | None = None) -> FingerParams:
+        """The template ``path`` (a profile path in it taken from its folder), ``given`` keys replacing its own."""
+        data = profiles_beside(load_toml(path, GLOBAL_KEYS), Path(path).parent)
+        return cls.from_dict(data | (given or {}), source=str(path))
 
     def validate_lengths(self) -> None:
         """Each link must hold its joints' blocks, the tendon slot and the anchor (rjcad.design.finger_lengths)."""

@@ -35,8 +35,11 @@ from typing import Any, Protocol
 CONE_ANGLE = math.radians(50.0)
 T = math.tan(CONE_ANGLE)
 SEC = 1.0 / math.cos(CONE_ANGLE)
-#: Roof thickness, normal to the cone [mm].
+#: Roof thickness, normal to the cone, at least [mm]; thicker on a printer whose walls must be (``roof``).
 ROOF_NORMAL = 1.2
+#: The roof is at least this much thicker than the printer's thinnest wall, so that its faceted cone still
+#: measures a wall (at 0.4 mm nozzles: 0.8 + 0.3 < ROOF_NORMAL) [mm].
+ROOF_WALL_MARGIN = 0.3
 #: Flat land at the roof's bore, so that the roof's top does not end in a knife edge [mm].
 ROOF_LAND = 0.8
 #: How far the flare reaches under the roof's bore edge [mm].
@@ -121,6 +124,7 @@ class DesktopLayout:
     w_web: float  # web half-width
     groove_half: float  # groove's flat bottom half-height
     groove_depth: float
+    roof: float = ROOF_NORMAL  # roof thickness normal to the cone: max(ROOF_NORMAL, min wall + ROOF_WALL_MARGIN)
 
     @classmethod
     def of(cls, p: JointLike) -> DesktopLayout:
@@ -137,6 +141,7 @@ class DesktopLayout:
         R_f = R_bore + FLARE_OVERLAP
         w_arm = min(4.5, p.moment_arm - p.tendon_diameter / 2 - 0.4)
         wall = 2.0 * p.printer_spec.min_wall_mm
+        roof = max(ROOF_NORMAL, p.printer_spec.min_wall_mm + ROOF_WALL_MARGIN)
         # the cup holds the key and the wound spring, clears the flare's rim, and its roof holds the stop lugs
         # (LUG_WIDTH square at least, beside the arm at the clearance; see lug_span)
         lug_corner = math.hypot(R_bore + LUG_INSET[0] + LUG_WIDTH, w_arm + c + LUG_WIDTH) + LUG_INSET[1]
@@ -154,7 +159,7 @@ class DesktopLayout:
             b + seat + c + 0.2,  # the lifted key passes under the roof
             b + cz + gz + 2 * T * R_f - (R_ci + r_h) * T,
         )  # the flare clears the spring
-        roof_top_bore = z_w0 + (R_ci - R_bore) * T + ROOF_NORMAL * SEC
+        roof_top_bore = z_w0 + (R_ci - R_bore) * T + roof * SEC
         flank = depth * T
         # the arm's cone at the band's radius (raised by tendon_lift: a finger's joints share one tendon plane)
         z_step = roof_top_bore + cz + (R_bore - R_band) * T + getattr(p, "tendon_lift", 0.0)
@@ -190,6 +195,7 @@ class DesktopLayout:
             w_web=w_web,
             groove_half=groove_half,
             groove_depth=depth,
+            roof=roof,
         )
 
     # --- cone surfaces, z of r -------------------------------------------------
@@ -203,7 +209,7 @@ class DesktopLayout:
         return self.z_w0 + (self.R_ci - r) * T
 
     def roof_top(self, r: float) -> float:
-        return self.roof_under(r) + ROOF_NORMAL * SEC
+        return self.roof_under(r) + self.roof * SEC
 
     def arm_under(self, r: float) -> float:
         """The arm's underside: the roof's top plus the clearance, continued outwards [mm]."""

@@ -28,7 +28,15 @@ from rjcad import DEG
 from rjcad.design.envelope import WoundEnvelope, wound_envelope
 from rjcad.design.layout_desktop import DesktopLayout
 from rjcad.errors import ParameterError
-from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER, Material, Printer, get_material, get_printer
+from rjcad.materials import (
+    DEFAULT_MATERIAL,
+    DEFAULT_PRINTER,
+    REFERENCE_NOZZLE_MM,
+    Material,
+    Printer,
+    get_material,
+    get_printer,
+)
 from rjcad.spring import DEFAULT_END, SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 from rjcad.validate import in_range
@@ -71,10 +79,12 @@ def default_layout(printer: str) -> str:
 
 
 def default_clearance(material: str, printer: str, layout: str) -> float:
-    """The clearance a layout uses when none is given: the material's desktop print-in-place clearance on a
-    printer without soluble support in the desktop layout, else 0.25 mm [mm]."""
-    if layout == "desktop" and not get_printer(printer).soluble_support:
-        return get_material(material).desktop_clearance_mm
+    """The clearance a layout uses when none is given: the print-in-place clearance of the material on the
+    printer (``Printer.desktop_clearance``: scaled with the nozzle) on a printer without soluble support in the
+    desktop layout, else 0.25 mm [mm]."""
+    prn = get_printer(printer)
+    if layout == "desktop" and not prn.soluble_support:
+        return prn.desktop_clearance(get_material(material))
     return STACKED_CLEARANCE
 
 
@@ -136,9 +146,11 @@ class JointParams:
             value = getattr(self, name)
             if name == "tendon_moment_arm" and value is None:
                 continue
+            if name == "clearance":  # a wider nozzle needs, and gets, wider clearances (Printer.desktop_clearance)
+                hi *= max(1.0, get_printer(self.printer).nozzle_mm / REFERENCE_NOZZLE_MM)
             _check(name, value, lo, hi, unit)
-        object.__setattr__(self, "material", get_material(self.material).key)
-        object.__setattr__(self, "printer", get_printer(self.printer).key)
+        object.__setattr__(self, "material", get_material(self.material).ref)
+        object.__setattr__(self, "printer", get_printer(self.printer).ref)
         self.printer_spec.check_gap("clearance", self.clearance)
         if self.tendon_line_diameter >= self.tendon_diameter:
             raise ParameterError(

@@ -198,10 +198,15 @@ def spec_from_manifest(
     identified: dict[str, Any] | None = None,
 ) -> FingerSpec:
     """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
-    from rjcad.materials import MATERIALS
+    from rjcad.errors import ParameterError
+    from rjcad.materials import Material, from_manifest
 
     check_manifest(man, source)
-    dens = MATERIALS[man.material].density_g_cm3 if man.material in MATERIALS else None
+    try:
+        mat = from_manifest("materials", man.material, man.extra)
+    except ParameterError:  # a material this rjcad does not know: the bodies' masses must say
+        mat = None
+    dens = mat.density_g_cm3 if isinstance(mat, Material) else None
     man_bodies = _checked(man.bodies)
     bodies = []
     for b in man_bodies:

@@ -119,8 +119,8 @@ class SpringRequirement:
         if self.min_gap is not None:
             in_range("min_gap", self.min_gap, 0.05, 2.0, limit="must be >= 0.05 and <= 2 mm")
         check_end(self.end)
-        object.__setattr__(self, "material", get_material(self.material).key)
-        object.__setattr__(self, "printer", get_printer(self.printer).key)
+        object.__setattr__(self, "material", get_material(self.material).ref)
+        object.__setattr__(self, "printer", get_printer(self.printer).ref)
 
     @property
     def material_spec(self) -> Material:
@@ -330,8 +330,8 @@ class SpringDesign:
             "max_torque_nmm": req.springs * rod.torque_at(req.max_windup),
             "springs": req.springs,
             "min_gap_mm": req.gap_min,
-            "material": req.material,
-            "printer": req.printer,
+            "material": req.material_spec.key,
+            "printer": req.printer_spec.key,
             "end": req.end,
             "loading_sense": self.sense,
             "verified": True,

@@ -57,7 +57,7 @@ def analytic_rows(points: list[dict]) -> list[dict]:
         except RjcadError as e:
             rows[i] = {**pt, "id": point_id(pt), "status": "failed", "feasible": False, "error": str(e)}
             continue
-        key = (get_material(pt["material"]).key, get_printer(pt["printer"]).key, pt["end"])
+        key = (get_material(pt["material"]).ref, get_printer(pt["printer"]).ref, pt["end"])
         groups.setdefault(key, []).append(i)
     for (mat, prn, end), idx in groups.items():
         material, printer = get_material(mat), get_printer(prn)

@@ -30,6 +30,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.io.config import load_toml
+from rjcad.materials import beside, profiles_beside
 from rjcad.spring.formulas import DEFAULT_END
 from rjcad.validate import in_range
 
@@ -140,6 +141,12 @@ class SweepSpec:
     def from_toml(cls, path: str | Path) -> SweepSpec:
         """The sweep file ``path`` (rjcad.io.untrusted); a bad file is one error line naming it and the key."""
         data = load_toml(path, {"sweep": dict, "fixed": dict, "params": dict})
+        folder = Path(path).parent
+        if isinstance(data.get("fixed"), dict):
+            data["fixed"] = profiles_beside(data["fixed"], folder)
+        for name, spec in data.get("params", {}).items() if isinstance(data.get("params"), dict) else ():
+            if name in ("printer", "material") and isinstance(spec, dict) and isinstance(spec.get("values"), list):
+                spec["values"] = [beside(v, folder) for v in spec["values"]]
         try:
             return cls.from_dict(data)
         except ParameterError as e:

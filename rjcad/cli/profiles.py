@@ -1,0 +1,95 @@
+"""``rjcad profiles``: the printer and material profiles rjcad can see, and a printer imported from PrusaSlicer."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import click
+
+
+@click.group(invoke_without_command=True)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.pass_context
+def profiles(ctx: click.Context, as_json: bool) -> None:
+    """List every printer and material profile by name, with the file each comes from (your folder's first)."""
+    if ctx.invoked_subcommand is not None:
+        return
+    import json
+
+    from rjcad.materials import MATERIALS, PRINTERS, Material, Printer, everything, user_dir
+
+    rows: dict[str, list[dict[str, Any]]] = {}
+    for kind in ("printers", "materials"):
+        rows[kind] = []
+        for prof in everything(kind):
+            shadowed = not prof.builtin and prof.key in (PRINTERS if kind == "printers" else MATERIALS)
+            row: dict[str, Any] = {
+                "name": prof.key,
+                "title": prof.name,
+                "from": "built-in" if prof.builtin else "yours",
+            }
+            if shadowed:
+                row["from"] = "yours, over the built-in"
+            row["file"] = prof.file
+            if isinstance(prof, Printer):
+                row.update(
+                    nozzle_mm=prof.nozzle_mm,
+                    layer_mm=prof.layer_height_mm,
+                    bed_mm=list(prof.build_volume_mm),
+                    min_wall_mm=prof.min_wall_mm,
+                    min_gap_mm=prof.min_gap_mm,
+                    soluble_support=prof.soluble_support,
+                )
+            elif isinstance(prof, Material):
+                row.update(youngs_modulus_mpa=prof.youngs_modulus_mpa, yield_mpa=prof.yield_strength_mpa)
+            rows[kind].append(row)
+    folder = user_dir()
+    if as_json:
+        click.echo(json.dumps({"user_dir": str(folder), **rows}, indent=2))
+        return
+    click.echo(f"your profiles: {folder}/printers/*.toml and {folder}/materials/*.toml (a name there wins)")
+    for kind in ("printers", "materials"):
+        click.echo(f"{kind}:")
+        width = max(len(r["name"]) for r in rows[kind])
+        for r in rows[kind]:
+            what = (
+                f"{r['nozzle_mm']:g} mm nozzle, {r['layer_mm']:g} mm layers, bed "
+                f"{' × '.join(f'{v:g}' for v in r['bed_mm'])} mm"
+                if kind == "printers"
+                else f"E {r['youngs_modulus_mpa']:g} MPa, yield {r['yield_mpa']:g} MPa"
+            )
+            click.echo(f"  {r['name']:<{width}}  {r['from']:<9}  {what}  ({r['file']})")
+
+
+@profiles.command("import-prusaslicer")
+@click.argument("printer_name")
+@click.option(
+    "--out",
+    "out",
+    type=click.Path(dir_okay=False),
+    required=True,
+    help="The printer profile to write (.toml); put it in your profile folder to use it by name.",
+)
+@click.option(
+    "--profiles-dir",
+    type=click.Path(file_okay=False),
+    help="PrusaSlicer's vendor profiles folder (default: the installed PrusaSlicer's).",
+)
+def import_prusaslicer(printer_name: str, out: str, profiles_dir: str | None) -> None:
+    """Write a printer profile from one of PrusaSlicer's bundled printers (its nozzle, bed, height, layers)."""
+    from pathlib import Path
+
+    from rjcad.io.config import write_atomic
+    from rjcad.io.prusaslicer import printer_toml, read_printer
+    from rjcad.io.untrusted import parse_toml
+    from rjcad.materials import Printer, normalise
+
+    printer = read_printer(printer_name, profiles_dir)
+    key = normalise(Path(out).stem)
+    text = printer_toml(printer, key)
+    Printer.from_profile(parse_toml(text, out), key, file=out)  # the profile rjcad will read: checked now
+    write_atomic(out, text)
+    click.echo(
+        f"printer profile written to {out}: {printer['name']} ({printer['nozzle_mm']:g} mm nozzle, "
+        f"{printer['layer_mm']:g} mm layers, bed {' × '.join(f'{v:g}' for v in printer['bed_mm'])} mm)"
+    )
