@@ -278,6 +278,8 @@ def _checked(data: dict[str, Any], keys: dict[str, _Spec], label: str) -> dict[s
 
 
 def _number(name: str, value: Any, lo: float | None, hi: float | None, unit: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ParameterError(name, value, f"must be a number [{unit}]" if unit else "must be a number")
     return float(
         in_range(
             name, value, lo, hi, unit=unit, not_a_number="must be a number", limit=f"must be in [{lo:g}, {hi:g}] {unit}"

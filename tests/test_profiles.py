@@ -163,6 +163,7 @@ def test_a_bad_printer_file_is_one_line_naming_the_file_and_key(home, tmp_path, 
         (MATERIAL_SOFT.replace("1900", "-5"), ["youngs_modulus_mpa"]),
         (MATERIAL_SOFT.replace("density_g_cm3 = 1.2\n", ""), ["density_g_cm3", "is required"]),
         (MATERIAL_SOFT.replace("1900", "true"), ["youngs_modulus_mpa", "number"]),
+        (MATERIAL_SOFT.replace("40", '"40"'), ["yield_mpa", "must be a number"]),
     ],
 )
 def test_a_bad_material_file_is_refused_naming_the_key(home, tmp_path, text, words):
@@ -295,3 +296,9 @@ def test_import_prusaslicer_without_its_profiles_is_one_line(home, tmp_path, cli
     )
     assert code == 2 and err.count("\n") == 1 and "apt-get install prusa-slicer" in err
     assert not (tmp_path / "x.toml").exists()
+
+
+def test_a_printer_too_short_for_the_joint_is_refused_before_building(home, tmp_path, cli):
+    (tmp_path / "flat.toml").write_text(PRINTER_06.replace("[180, 180, 180]", "[180, 180, 20]"))
+    code, _, err = cli("joint", "--printer", tmp_path / "flat.toml", "--out", tmp_path / "o")
+    assert code == 2 and "build height, 20 mm" in err and not (tmp_path / "o").exists()

@@ -145,7 +145,7 @@ class FingerParams:
             raise ParameterError(
                 "base_length_mm + link_length_mm",
                 length,
-                f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer}",
+                f"the finger lies straight on the bed: must be <= {bed:g} mm on {js[0].printer_spec.key}",
                 unit="mm",
             )
 

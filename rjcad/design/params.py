@@ -171,7 +171,14 @@ class JointParams:
                 hi=half,
                 unit="mm",
                 tol=1e-12,
-                limit=f"must be <= {half:g} mm on {self.printer}: the joint, two links long, must fit its bed",
+                limit=f"must be <= {half:g} mm on {self.printer_spec.key}: the joint, two links long, must fit its bed",
+            )
+        tall = self.printer_spec.build_volume_mm[2]
+        if self.height > tall + 1e-9:  # a finger's joints are as tall as the joint
+            raise ParameterError(
+                "printer",
+                self.printer_spec.key,
+                f"its build height, {tall:g} mm, is under the joint's {self.height:.1f} mm: choose a taller printer",
             )
         in_range(
             "preload",

@@ -14,7 +14,7 @@ tests/test_fuzz_corpus.py):
   ``forbid`` never appears in its output; ``post`` (when given) checks the files it left.
 
 Classes (the ``id`` prefix): ``num`` option values; ``toml``/``json`` damaged input files for every
-command that reads one; ``out`` output places that cannot be written; ``mesh``/``manifest`` for
+command that reads one (printer and material profiles included); ``out`` output places that cannot be written; ``mesh``/``manifest`` for
 ``rjcad check``; ``sweep`` sweep files and bad designs; ``resume`` damaged results.csv; ``ident``
 campaigns that name files outside their folder or give radians; ``long`` huge values.
 """
@@ -126,6 +126,20 @@ rotation_deg = 90
 [[joint]]
 stiffness_nmm_per_rad = 5.2
 link_length_mm = 44
+"""
+
+
+#: A printer and a material profile (docs/profiles.md) of the user's own.
+PRINTER_PROFILE = """name = "a 0.6 mm printer"
+nozzle_mm = 0.6
+layer_mm = 0.3
+bed_mm = [180, 180, 180]
+soluble_support = false
+"""
+MATERIAL_PROFILE = """name = "a soft filament"
+youngs_modulus_mpa = 1900
+yield_mpa = 40
+density_g_cm3 = 1.2
 """
 
 
@@ -313,6 +327,8 @@ def toml_users(sh: Shared) -> list[TomlUser]:
         TomlUser(
             "identify", ("identify", "camp/campaign.toml", "--json", "r.json"), campaign, "stiffness_nmm_per_rad = 5.2"
         ),
+        TomlUser("printer", ("spring", "--stiffness", "5.2", "--printer", "{f}"), PRINTER_PROFILE, "nozzle_mm = 0.6"),
+        TomlUser("material", ("spring", "--stiffness", "5.2", "--material", "{f}"), MATERIAL_PROFILE, "yield_mpa = 40"),
     ]
 
 
