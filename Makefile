@@ -10,8 +10,8 @@ JOBS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$
 
 .PHONY: demo test test-fast pytest lint bench clean docs-images paper-finger paper-campaign identify-doc mujoco-doc vendor
 
-# three.js for `rjcad view`'s pages, from the npm registry (pinned; MIT licence kept beside it); not committed.
-THREE_VERSION ?= 0.170.0
+# three.js for `rjcad view`'s pages, from the npm registry (pinned by version and integrity; MIT licence kept
+# beside it; tools/vendor_three.py, which a wheel's build runs too); not committed.
 VENDOR = rjcad/data/vendor
 
 $(VENV)/.installed: pyproject.toml
@@ -19,18 +19,13 @@ $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/pip install --quiet --upgrade pip
 	$(VENV)/bin/pip install --quiet -e '.[test]'
-	$(MAKE) --no-print-directory vendor || echo "warning: could not fetch three.js (npm); rjcad view will say so"
+	$(MAKE) --no-print-directory vendor || echo "warning: could not fetch three.js; rjcad view will say so"
 	touch $@
 
 vendor: $(VENDOR)/three.module.min.js
 
 $(VENDOR)/three.module.min.js:
-	mkdir -p $(VENDOR)
-	tmp=$$(mktemp -d) && trap 'rm -rf "$$tmp"' EXIT && \
-	  (cd "$$tmp" && npm pack --silent three@$(THREE_VERSION) >/dev/null) && \
-	  tar -xzf "$$tmp/three-$(THREE_VERSION).tgz" -C "$$tmp" package/build/three.module.min.js package/LICENSE && \
-	  cp "$$tmp/package/LICENSE" $(VENDOR)/three.LICENSE && \
-	  cp "$$tmp/package/build/three.module.min.js" $@.tmp && mv $@.tmp $@
+	$(PYTHON) tools/vendor_three.py $(VENDOR)
 
 demo: $(VENV)/.installed
 	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger

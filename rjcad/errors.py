@@ -75,3 +75,17 @@ class InfeasibleDesign(RjcadError):
 class BadInput(RjcadError):
     """An input file is unusable: a mesh (unreadable, empty, not matching its manifest), a missing
     installation's data, or a name that matches nothing."""
+
+
+class MissingExtra(RjcadError):
+    """An optional package a command needs is not installed; the message names the extra that brings it."""
+
+
+def optional_import(module: str, extra: str) -> Any:
+    """The module ``module``, or MissingExtra naming ``pip install 'rjcad[extra]'``."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        raise MissingExtra(f"{module} is not installed; this command needs it: pip install 'rjcad[{extra}]'") from None

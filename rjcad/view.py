@@ -30,10 +30,12 @@ class ViewerError(RjcadError):
 
 
 def vendored_three() -> str:
-    """The vendored three.js module's source (``make vendor`` fetches it from the npm registry)."""
+    """The vendored three.js module's source (fetched from the npm registry when a wheel is built, or by ``make vendor``)."""
     f = importlib.resources.files("rjcad") / "data" / "vendor" / THREE_FILE
     if not f.is_file():
-        raise ViewerError(f"rjcad/data/vendor/{THREE_FILE} is missing: run `make vendor` (npm pack three) once")
+        raise ViewerError(
+            f"rjcad/data/vendor/{THREE_FILE} is missing: run `python tools/vendor_three.py` (make vendor) in the checkout once"
+        )
     return f.read_text(encoding="utf-8")
 
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from rjcad.errors import ParameterError, RjcadError
+from rjcad.errors import ParameterError, RjcadError, optional_import
 
 GRAVITY_HELP = (
     "Gravity relative to the finger: horizontal-palm-down (default), horizontal-palm-up, "
@@ -83,7 +83,7 @@ def mujoco_model(source: str | None, gravity: str | None = None):
     from rjcad.mjcf.simulate import load
 
     if source is not None and Path(source).suffix.lower() == ".xml":
-        import mujoco
+        mujoco = optional_import("mujoco", "mujoco")
 
         if not Path(source).is_file():
             raise RjcadError(f"{source}: file not found")

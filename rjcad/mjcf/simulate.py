@@ -25,6 +25,7 @@ import itertools
 
 import numpy as np
 
+from rjcad.errors import optional_import
 from rjcad.physics.finger import Closure
 
 DT = 5e-4  # time step [s]
@@ -43,13 +44,13 @@ FIRST_SETTLE = 400  # time steps at t_d = 0 before the first reading
 
 def load(xml: str, assets: dict[str, bytes] | None = None):
     """A MuJoCo model from MJCF text and its mesh files (name → bytes)."""
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     return mujoco.MjModel.from_xml_string(xml, assets or {})
 
 
 def _driven_tendon(model) -> int:
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     for a in range(model.nu):
         if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON:
@@ -63,7 +64,7 @@ def _driven_tendon(model) -> int:
 
 def _prepare(model):
     """The settling set-up described in the module docstring, in place."""
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     model.opt.timestep = DT
     model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
@@ -84,7 +85,7 @@ def _prepare(model):
 
 
 def hinge_addresses(model) -> np.ndarray:
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     return np.array(
         [model.jnt_qposadr[j] for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE], dtype=int
@@ -93,7 +94,7 @@ def hinge_addresses(model) -> np.ndarray:
 
 def _actuator(model, t: int) -> int:
     """The position actuator on tendon ``t``, made a spring of stiffness KP [N/m] pulling only, no damping."""
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     for a in range(model.nu):
         if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON and model.actuator_trnid[a, 0] == t:
@@ -116,7 +117,7 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     """
     import copy
 
-    import mujoco
+    mujoco = optional_import("mujoco", "mujoco")
 
     m = copy.copy(model)
     _prepare(m)
