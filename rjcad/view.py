@@ -6,7 +6,9 @@ registry at setup time into ``rjcad/data/vendor/``, inlined as a module), the bo
 ``rjcad simulate finger MANIFEST --json``). A slider runs over the pull's tendon stroke; each link turns about
 its joint's axis (the manifest's ``axis_point_mm``, ``axis_dir``) by the physics' angle, children with their
 parents. The page reports the current angles and tension in ``#readout`` and ``window.rjcad``.
-Units: mm and N in the page's data, degrees in its display.
+Units: mm and N in the page's data (the manifest's frame, +Z up), degrees in its display. The scene is the GLB's
+frame (glTF's: metres, +Y up): the page maps the joints' axes and the tendon into it by the matrix the GLB states
+(``frame``, from ``asset.extras``; an rjcad GLB written before it stated one is in the manifest's frame).
 """
 
 from __future__ import annotations
@@ -73,7 +75,38 @@ def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
         raise ViewerError(
             f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild to get it)"
         )
-    return man, glb.read_bytes()
+    data = glb.read_bytes()
+    glb_frame(data, str(glb))  # a damaged GLB is refused before the simulation
+    return man, data
+
+
+#: The identity, column-major: the frame of an rjcad GLB that states none (mm, +Z up, as the manifest).
+SAME_FRAME = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+
+
+def glb_frame(glb: bytes, name: str = "GLB") -> list[float]:
+    """The map from the manifest's frame [mm, +Z up] to the GLB's (4×4, column-major), as its ``asset.extras``
+    state it (``rjcad.cad.mesh_export.GLTF_FRAME``: metres, +Y up); ``SAME_FRAME`` when it states none."""
+    from rjcad.cad.mesh_export import glb_json_chunk
+    from rjcad.io.untrusted import decode, parse_json
+
+    try:
+        raw = glb_json_chunk(glb)
+    except ValueError as e:
+        raise ViewerError(f"{name}: not a GLB ({e}); rebuild to get it") from None
+    doc = parse_json(decode(raw, name, "JSON"), name)  # its JSON, as any user's: limits, one error line
+    asset = doc.get("asset") if isinstance(doc, dict) else None
+    extras = asset.get("extras") if isinstance(asset, dict) else None
+    if not isinstance(extras, dict) or "source_to_gltf_matrix" not in extras:
+        return list(SAME_FRAME)
+    m = extras["source_to_gltf_matrix"]
+    if not (
+        isinstance(m, list)
+        and len(m) == 16
+        and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in m)
+    ):
+        raise ViewerError(f"{name}: asset.extras.source_to_gltf_matrix is not 16 finite numbers; rebuild to get it")
+    return [float(v) for v in m]
 
 
 def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0) -> dict:
@@ -91,6 +124,7 @@ def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t
     return {
         "title": title,
         "glb_base64": base64.b64encode(glb).decode("ascii"),
+        "frame": glb_frame(glb),
         "joints": joints,
         "chains": chains(joints),
         "tendon_mm": tendon,

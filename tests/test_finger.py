@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gltf_tools import counts, glb_bodies, validate
 from mesh_tools import load_bodies, manifold, posed, reimport_step, worst_overlap
 
 from rjcad.cad.joint import LEAD_IN
@@ -58,6 +59,31 @@ def test_outputs(default_finger):
     out = default_finger[0]
     for ext in ("stl", "3mf", "step", "glb", "png", "json", *(["html"] if THREE else [])):
         assert (out / f"finger.{ext}").stat().st_size > 1000, ext
+
+
+def test_glb_by_the_gltf_spec(default_finger):
+    """The Khronos glTF validator finds nothing in finger.glb; metres and +Y up: 0.163 m along X (base end to
+    fingertip), about 0.03 m tall, the bed at y = 0; one node per body named as the manifest's, in its preview
+    colour, each mesh closed with the body's volume in m³ (positive: outward winding)."""
+    out, manifest, *_ = default_finger
+    report = validate(out / "finger.glb")["finger.glb"]
+    assert counts(report) == {"errors": 0, "warnings": 0, "infos": 0, "hints": 0}, report["issues"]["messages"]
+    doc, meshes = glb_bodies((out / "finger.glb").read_bytes())
+    assert doc["asset"]["extras"]["units"] == "m" and doc["asset"]["extras"]["up"] == "+Y"
+    names = [b["name"] for b in manifest["bodies"]]
+    assert [n["name"] for n in doc["nodes"]] == names == ["base", "link1", "link2", "distal"]
+    lo = np.min([m.bounds[0] for m in meshes.values()], axis=0)
+    hi = np.max([m.bounds[1] for m in meshes.values()], axis=0)
+    assert (lo[0], hi[0]) == pytest.approx((-0.029, 0.134), abs=1e-4)  # base 29 mm + links 44 + 48 + 42 mm
+    assert lo[1] == 0.0 and 0.025 < hi[1] < 0.035  # up: +Y, from the bed
+    assert hi[2] - lo[2] == pytest.approx(0.040, abs=0.002)  # across: rjcad's Y
+    for i, b in enumerate(manifest["bodies"]):
+        m = meshes[b["name"]]
+        assert m.is_watertight and m.volume == pytest.approx(b["volume_mm3"] * 1e-9, rel=0.005), b["name"]
+        factor = doc["materials"][doc["meshes"][i]["primitives"][0]["material"]]["pbrMetallicRoughness"]
+        linear = np.array(factor["baseColorFactor"][:3])
+        srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+        assert np.round(255 * srgb) == pytest.approx([int(BODY_COLOURS[i][k : k + 2], 16) for k in (1, 3, 5)])
 
 
 def test_four_watertight_manifold_bodies(default_finger):

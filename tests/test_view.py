@@ -2,12 +2,14 @@
 imports (a command pays only for what it needs). The page itself is tested in Chromium in test_finger.py."""
 
 import json
+import re
 import subprocess
 import sys
 
 import pytest
 
-from rjcad.view import chains, tendon_owner
+from rjcad.errors import RjcadError
+from rjcad.view import SAME_FRAME, chains, glb_frame, tendon_owner
 
 JOINTS = [
     {"parent": "base", "child": "link1", "axis_point_mm": [0.0, 0, 0], "axis_dir": [0, 0, 1]},
@@ -33,6 +35,48 @@ def test_view_refuses_a_manifest_without_its_glb(cli, tmp_path, root):
     r = cli("view", str(man), "--out", str(tmp_path / "f.html"))
     assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("rjcad: error:"), r.err
     assert "finger.glb: not found" in r.err
+    assert not (tmp_path / "f.html").exists()
+
+
+def test_the_page_takes_the_glbs_frame_from_the_glb():
+    """The map from the manifest's frame (mm, +Z up) into the GLB's is what the GLB's asset.extras state (metres,
+    +Y up); an rjcad GLB written before it stated one (trimesh's, mm, +Z up) is in the manifest's frame."""
+    import numpy as np
+    import trimesh
+
+    from rjcad.cad.mesh_export import GLTF_FRAME, glb_bytes
+
+    box = trimesh.creation.box((10, 10, 10))
+    frame = glb_frame(glb_bytes({"base": box}))
+    assert frame == GLTF_FRAME["source_to_gltf_matrix"]
+    m = np.array(frame).reshape(4, 4).T  # column-major, as three.js's Matrix4.fromArray reads it
+    assert np.allclose(m @ [0, 0, 1000, 1], [0, 1, 0, 1]) and np.allclose(m @ [1000, 0, 0, 1], [1, 0, 0, 1])
+    older = trimesh.Scene({"base": box}).export(file_type="glb")
+    assert glb_frame(older) == SAME_FRAME
+
+
+@pytest.mark.parametrize(
+    "damage, why",
+    [
+        (lambda g: g[:40], "not a GLB (its header is not that of a glTF 2 binary of its length)"),
+        (lambda g: g[:20] + b"[" + g[21:], "not valid JSON (Expecting"),  # its JSON broken
+        (lambda g: g.replace(b'"source_to_gltf_matrix":[0.001', b'"source_to_gltf_matrix":["xyz"'), "16 finite"),
+    ],
+)
+def test_view_refuses_a_damaged_glb_in_one_line(cli, tmp_path, root, damage, why):
+    """A GLB cut short, with broken JSON or a frame that is not 16 numbers: one error line naming it, no page."""
+    import trimesh
+
+    from rjcad.cad.mesh_export import glb_bytes
+
+    man = tmp_path / "finger.json"
+    man.write_text((root / "tests" / "data" / "manifest_v0_finger.json").read_text())
+    (tmp_path / "finger.glb").write_bytes(damage(glb_bytes({"base": trimesh.creation.box((10, 10, 10))})))
+    with pytest.raises(RjcadError, match=re.escape(why)):  # ViewerError, or the JSON reader's
+        glb_frame((tmp_path / "finger.glb").read_bytes())
+    r = cli("view", str(man), "--out", str(tmp_path / "f.html"))
+    assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("rjcad: error:"), r.err
+    assert f"{tmp_path / 'finger.glb'}: " in r.err and why in r.err
     assert not (tmp_path / "f.html").exists()
 
 

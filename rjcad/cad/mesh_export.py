@@ -6,7 +6,9 @@ it (0.6 s with SciPy's spatial package)."""
 from __future__ import annotations
 
 import io
+import json
 import os
+import struct
 import zipfile
 from collections.abc import Sequence
 from pathlib import Path
@@ -148,24 +150,131 @@ def preview_png(
     return render(meshes, title, lines, colours, sections)
 
 
+#: glTF's frame from rjcad's: glTF 2.0 says metres, +Y up, right-handed (+Z the asset's front); rjcad models in mm
+#: with +Z up (the bed at z = 0) and +X along the finger. p_gltf [m] = GLTF_FROM_RJCAD · p_rjcad [mm]: a rotation of
+#: −90° about X, (x, y, z) → (x, z, −y) (determinant +1, not a mirror: triangles keep their outward winding), times
+#: 0.001 m/mm. The bed becomes y = 0 and rjcad's −Y the front.
+GLTF_FROM_RJCAD = 0.001 * np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+
+#: What a GLB states about its frame, in ``asset.extras``: units, up axis, the frame it came from and the map from it
+#: (4×4, column-major like a glTF node's ``matrix``), which ``rjcad view`` reads to place the manifest's axes [mm].
+GLTF_FRAME = {
+    "units": "m",
+    "up": "+Y",
+    "source_frame": "rjcad: mm, +Z up (the bed at z = 0), +X along the finger",
+    "source_to_gltf_matrix": [*(float(v) for col in GLTF_FROM_RJCAD.T for v in (*col, 0.0)), *(0.0, 0.0, 0.0, 1.0)],
+}
+
+#: glTF's codes: component types, buffer view targets, GLB chunk types.
+_FLOAT, _UINT16, _UINT32 = 5126, 5123, 5125
+_ARRAY_BUFFER, _ELEMENT_ARRAY_BUFFER = 34962, 34963
+_GLB_MAGIC, _JSON_CHUNK, _BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
+
+
+def _linear(colour: str) -> list[float]:
+    """'#rrggbb' (sRGB) → glTF's linear base colour factor (r, g, b, 1): c/12.92 below 0.04045, else
+    ((c + 0.055)/1.055)^2.4."""
+    from rjcad.cad.render import rgb
+
+    return [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb(colour)] + [1.0]
+
+
+class _GlbBuffer:
+    """The binary chunk being assembled: one buffer view per accessor, each at a 4-byte boundary."""
+
+    def __init__(self) -> None:
+        self.parts: list[bytes] = []
+        self.views: list[dict] = []
+        self.accessors: list[dict] = []
+        self.size = 0
+
+    def accessor(self, data: np.ndarray, kind: str, target: int, bounds: bool) -> int:
+        """Add ``data`` (rows of one VEC3 or SCALAR each) as a buffer view and its accessor; its index. ``bounds``:
+        the accessor's min and max, the stored (float32) values exactly."""
+        raw = data.tobytes()
+        self.views.append({"buffer": 0, "byteOffset": self.size, "byteLength": len(raw), "target": target})
+        self.parts.append(raw + b"\0" * (-len(raw) % 4))
+        self.size += len(self.parts[-1])
+        code = {np.dtype("<f4"): _FLOAT, np.dtype("<u2"): _UINT16, np.dtype("<u4"): _UINT32}[data.dtype]
+        acc = {"bufferView": len(self.views) - 1, "componentType": code, "count": len(data), "type": kind}
+        if bounds:
+            acc |= {"min": data.min(axis=0).tolist(), "max": data.max(axis=0).tolist()}
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
 def glb_bytes(meshes: dict[str, trimesh.Trimesh], colours: dict[str, str] | None = None) -> bytes:
-    """A binary glTF (GLB) of the bodies, one named node and mesh each, at their modelled positions [mm];
-    each body's material in its preview colour (linear, as glTF says). Web and AR viewers read it (and ``rjcad
-    view`` embeds it)."""
-    import trimesh
+    """A binary glTF 2.0 (GLB) of the bodies, in glTF's frame (metres, +Y up: ``GLTF_FROM_RJCAD``), stated in
+    ``asset.extras`` (``GLTF_FRAME``). One node per body, named by it, with its own mesh (positions and triangles;
+    no normals: a viewer computes flat ones, as the spec says) and material, the body's preview colour (linear, as
+    glTF says). Web and AR viewers read it, and ``rjcad view`` embeds it. Same meshes, same bytes.
 
-    from rjcad.cad.render import PALETTE, rgb
+    The rotation and scale are applied to the vertices, not held in a root node's matrix: a reader that takes
+    the positions alone (or the accessors' min/max, which viewers use to frame and scale a model) still gets
+    metres with +Y up, and the validator checks those bounds against the data."""
+    from rjcad.cad.render import PALETTE
 
-    scene = trimesh.Scene()
+    buf = _GlbBuffer()
+    nodes, gmeshes, materials = [], [], []
     for i, (name, m) in enumerate(meshes.items()):
+        vertices = (np.asarray(m.vertices, dtype=float) @ GLTF_FROM_RJCAD.T).astype("<f4") + np.float32(0.0)  # no -0
+        faces = np.asarray(m.faces).reshape(-1)
+        faces = faces.astype("<u2" if len(vertices) <= 0xFFFF else "<u4")  # u16 up to 65534 (65535: restart)
         colour = (colours or {}).get(name, PALETTE[i % len(PALETTE)])
-        linear = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb(colour)]  # glTF: linear
-        mat = trimesh.visual.material.PBRMaterial(
-            name=name, baseColorFactor=[*linear, 1.0], metallicFactor=0.0, roughnessFactor=0.7
+        attributes = {"POSITION": buf.accessor(vertices, "VEC3", _ARRAY_BUFFER, bounds=True)}
+        indices = buf.accessor(faces, "SCALAR", _ELEMENT_ARRAY_BUFFER, bounds=False)
+        gmeshes.append({"name": name, "primitives": [{"attributes": attributes, "indices": indices, "material": i}]})
+        materials.append(
+            {
+                "name": name,
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": _linear(colour),
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 0.7,
+                },
+            }
         )
-        body = trimesh.Trimesh(m.vertices, m.faces, process=False, visual=trimesh.visual.TextureVisuals(material=mat))
-        scene.add_geometry(body, node_name=name, geom_name=name)
-    return scene.export(file_type="glb")
+        nodes.append({"name": name, "mesh": i})
+    doc = {
+        "asset": {"version": "2.0", "generator": "rjcad", "extras": GLTF_FRAME},
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(nodes)))}],
+        "nodes": nodes,
+        "meshes": gmeshes,
+        "materials": materials,
+        "accessors": buf.accessors,
+        "bufferViews": buf.views,
+        "buffers": [{"byteLength": buf.size}],
+    }
+    return _glb(json.dumps(doc, separators=(",", ":")).encode("utf-8"), b"".join(buf.parts))
+
+
+def _glb(text: bytes, binary: bytes) -> bytes:
+    """The GLB container: a 12-byte header, the JSON chunk (padded with spaces) and the binary chunk (with zeros),
+    each chunk's length a multiple of 4."""
+    text += b" " * (-len(text) % 4)
+    binary += b"\0" * (-len(binary) % 4)
+    total = 12 + 8 + len(text) + 8 + len(binary)
+    return b"".join(
+        (
+            struct.pack("<III", _GLB_MAGIC, 2, total),
+            struct.pack("<II", len(text), _JSON_CHUNK),
+            text,
+            struct.pack("<II", len(binary), _BIN_CHUNK),
+            binary,
+        )
+    )
+
+
+def glb_json_chunk(data: bytes) -> bytes:
+    """The JSON chunk of a GLB (its first chunk, as the spec requires), as bytes; ``ValueError`` saying why if
+    ``data`` is not a GLB version 2."""
+    if len(data) < 20 or struct.unpack_from("<III", data) != (_GLB_MAGIC, 2, len(data)):
+        raise ValueError("its header is not that of a glTF 2 binary of its length")
+    length, kind = struct.unpack_from("<II", data, 12)
+    if kind != _JSON_CHUNK or 20 + length > len(data):
+        raise ValueError("its first chunk is not a whole JSON chunk")
+    return data[20 : 20 + length]
 
 
 def write_outputs(
