@@ -160,7 +160,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
         ]
     if any(_SHARED.values()):
         lines = lines + [
-            f"shared joints (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
+            f"shared designs (tests/shared_builds.py, per test process): built {_SHARED['built']}, "
             f"handed out again {_SHARED['reused']}; checked {_SHARED['checked']}, report handed out "
             f"again {_SHARED['check reused']}"
         ]

@@ -1,6 +1,7 @@
 """Designs built once per test process and shared by every test that reads them (issue #33).
 
-``joint_build(p)`` is ``rjcad.cad.build.build(p)`` kept by the parameters; ``joint_files(p)`` writes the
+``joint_build(p)`` is ``rjcad.cad.build.build(p)`` kept by the parameters (``finger_build(template)`` the same
+for a finger); ``joint_files(p)`` writes the
 ``joint.stl`` and ``joint.json`` of ``p`` once, the bytes ``write_joint`` writes (no STEP, 3MF, GLB or PNG: no
 check reads them), from the kept build if there is one, else from a build it drops; ``checked(stl, manifest,
 slicer=...)`` is ``rjcad.check.run_checks`` kept by the sha256 of the bytes it reads and its arguments, so that
@@ -21,7 +22,7 @@ from pathlib import Path
 _BUILDS: dict = {}
 _FILES: dict = {}
 _REPORTS: dict = {}
-#: Joints this process built here, times a test got one already built; reports run, times one was handed out again.
+#: Designs this process built here, times a test got one already built; reports run, times one was handed out again.
 STATS = {"built": 0, "reused": 0, "checked": 0, "check reused": 0}
 
 
@@ -34,6 +35,21 @@ def joint_build(p):
         STATS["reused"] += 1
     else:
         _BUILDS[key] = build(p)
+        STATS["built"] += 1
+    return _BUILDS[key]
+
+
+def finger_build(template: dict):
+    """The built finger of ``template`` (a finger template as a dict; ``build_finger_model``), built on the first
+    call only."""
+    from rjcad.cad.build import build_finger_model
+    from rjcad.design.finger_params import FingerParams
+
+    key = "finger " + repr(sorted(template.items()))
+    if key in _BUILDS:
+        STATS["reused"] += 1
+    else:
+        _BUILDS[key] = build_finger_model(FingerParams.from_dict(template))
         STATS["built"] += 1
     return _BUILDS[key]
 

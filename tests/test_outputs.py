@@ -301,3 +301,50 @@ def test_the_real_joint_on_a_full_tmpfs_keeps_the_earlier_set(tiny_fs, tmp_path)
     assert r.stderr.startswith(f"rjcad: error: {out}/joint.") and r.stderr.count("\n") == 1
     assert r.stderr.endswith("cannot write: No space left on device\n")
     assert snapshot(out) == before
+
+
+FOLDER_OLD = {"m.urdf": b"old urdf", "meshes/a.stl": b"old a", "meshes/gone.stl": b"old gone"}
+FOLDER_NEW = {"m.urdf": b"new urdf", "meshes/a.stl": b"new a", "meshes/b.stl": b"new b"}
+
+
+@pytest.fixture
+def earlier_folder(tmp_path) -> Path:
+    """An output directory holding an earlier set with a folder (mtimes in the past) and a file of the user's."""
+    out = tmp_path / "out"
+    write_set(out, FOLDER_OLD)
+    (out / "notes.txt").write_bytes(b"mine")
+    for p in sorted(out.rglob("*"), reverse=True):
+        os.utime(p, ns=(1_600_000_000_000_000_000, 1_600_000_000_000_000_000))
+    os.utime(out, ns=(1_600_000_000_000_000_000, 1_600_000_000_000_000_000))
+    return out
+
+
+def test_a_folder_member_is_replaced_whole(earlier_folder):
+    write_set(earlier_folder, FOLDER_NEW)
+    files = {p.relative_to(earlier_folder).as_posix(): p.read_bytes() for p in earlier_folder.rglob("*") if p.is_file()}
+    assert files == {**FOLDER_NEW, "notes.txt": b"mine"}  # meshes/gone.stl went with its set
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_a_rename_failing_half_way_puts_the_earlier_folder_back(earlier_folder, monkeypatch, k):
+    """The commit sets aside m.urdf and meshes/, then renames the new ones in; a failure puts the old ones back."""
+    before = snapshot(earlier_folder)
+    real, calls = os.replace, []
+
+    def flaky(src, dst):
+        calls.append(dst)
+        if len(calls) == k + 1:
+            raise OSError(errno.EIO, os.strerror(errno.EIO))
+        return real(src, dst)
+
+    monkeypatch.setattr(outputs.os, "replace", flaky)
+    with pytest.raises(OutputError, match="cannot write: Input/output error"):
+        write_set(earlier_folder, FOLDER_NEW)
+    assert snapshot(earlier_folder) == before
+
+
+@pytest.mark.parametrize("name", ["../x.stl", "meshes/../x.stl", "meshes/.hidden", "/abs.stl", "meshes//a.stl"])
+def test_a_member_name_must_stay_in_its_set(tmp_path, name):
+    with pytest.raises(ValueError, match="plain file name"):
+        write_set(tmp_path / "out", {name: b"x"})
+    assert not (tmp_path / "out").exists()

@@ -45,6 +45,7 @@ COMMANDS = {
     "bench": "identify:bench",
     "identify": "identify:identify",
     "mjcf": "mjcf:mjcf",
+    "urdf": "urdf:urdf",
     "profiles": "profiles:profiles",
 }
 

@@ -69,7 +69,8 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
     """Stage an output set: yield a fresh directory inside ``out_dir`` to write the set's files into.
 
     On a clean exit every file staged there moves into ``out_dir``, replacing earlier ones (the names in
-    ``remove`` that this set does not write are removed too, so a set never mixes runs). On any error or
+    ``remove`` that this set does not write are removed too, so a set never mixes runs); a folder staged there
+    replaces the folder of its name whole, set aside and put back like a file. On any error or
     interrupt ``out_dir`` is left as it was (and removed if this call made it). Write errors are
     ``OutputError``s naming the file in ``out_dir``, never the stage.
     """
@@ -102,14 +103,17 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
 def write_set(
     out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str], remove: tuple[str, ...] = ()
 ) -> list[Path]:
-    """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``)."""
+    """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``).
+    A name may hold a folder (``meshes/base.stl``): that folder is the set's, replaced whole."""
     out = Path(out_dir)
     for name in files:
-        if Path(name).name != name or name.startswith("."):
-            raise ValueError(f"output set member {name!r}: must be a plain file name")
+        parts = name.split("/")
+        if any(not part or part.startswith(".") or Path(part).name != part for part in parts):
+            raise ValueError(f"output set member {name!r}: must be a plain file name (or folder/name)")
     with output_set(out, remove) as stage:
         for name, data in files.items():
             try:
+                (stage / name).parent.mkdir(parents=True, exist_ok=True)
                 (stage / name).write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
             except OSError as e:
                 raise cannot_write(out / name, e) from None
@@ -150,7 +154,8 @@ def _target(path: Path, stage: Path, out: Path) -> Path:
         parts = Path(path).relative_to(stage).parts
     except ValueError:
         return Path(path)
-    return out / parts[-1] if parts else out
+    parts = parts[1:] if parts[:1] == (_ASIDE,) else parts
+    return out.joinpath(*parts)
 
 
 def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
@@ -158,7 +163,7 @@ def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
     new = sorted(p.name for p in stage.iterdir())
     old = [n for n in dict.fromkeys([*new, *remove]) if os.path.lexists(out / n)]
     for n in old:
-        if (out / n).is_dir() and not (out / n).is_symlink():
+        if (out / n).is_dir() and not (out / n).is_symlink() and not (stage / n).is_dir():
             raise OutputError(out / n, os.strerror(errno.EISDIR))
     aside = stage / _ASIDE
     aside.mkdir()

@@ -135,8 +135,8 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
             out[b.name] = threemf
         else:
             raise RjcadError(
-                f"{stl}: mesh file not found (nor {threemf.name}): the MJCF needs each body's mesh; "
-                "build the finger with rjcad finger (--mjcf writes one STL per body)"
+                f"{stl}: mesh file not found (nor {threemf.name}): each body's mesh is read beside the manifest "
+                "(rjcad joint and rjcad finger write the 3MF; rjcad finger --mjcf one STL per body)"
             )
     return out
 
@@ -189,16 +189,15 @@ def _site_owner(man: Manifest, point: np.ndarray) -> str:
     return owner
 
 
-def spec_from_manifest(
+def chain_from_manifest(
     man: Manifest,
     meshes: dict[str, trimesh.Trimesh],
     stem: str,
     source: str = "manifest",
-    gravity: tuple[float, float, float] | None = None,
     identified: dict[str, Any] | None = None,
-) -> FingerSpec:
-    """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
-    from rjcad.errors import ParameterError
+) -> tuple[tuple[BodySpec, ...], tuple[JointSpec, ...]]:
+    """The bodies (base first) and hinges (proximal first) of a finger or joint manifest and its body meshes
+    (trimesh, mm), in SI units and the finger frame; mesh files ``<stem>_<body>.stl``. No tendon path needed."""
     from rjcad.materials import Material, from_manifest
 
     check_manifest(man, source)
@@ -243,12 +242,25 @@ def spec_from_manifest(
         )
         for j, p in zip(man.joints, params)
     )
+    return tuple(bodies), joints
+
+
+def spec_from_manifest(
+    man: Manifest,
+    meshes: dict[str, trimesh.Trimesh],
+    stem: str,
+    source: str = "manifest",
+    gravity: tuple[float, float, float] | None = None,
+    identified: dict[str, Any] | None = None,
+) -> FingerSpec:
+    """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
+    bodies, joints = chain_from_manifest(man, meshes, stem, source, identified)
     pts = _path_points(man, source)
     sites = tuple((_site_owner(man, pt), tuple(pt * 1e-3)) for pt in pts)
     grav = gravity if gravity is not None else gravity_of(DEFAULT_GRAVITY)
     notes = _notes(man, source, identified, grav)
     return FingerSpec(
-        tuple(bodies), joints, sites, gravity=grav, notes=notes, model_name=f"rjcad finger ({len(joints)} joints)"
+        bodies, joints, sites, gravity=grav, notes=notes, model_name=f"rjcad finger ({len(joints)} joints)"
     )
 
 

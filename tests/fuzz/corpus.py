@@ -466,25 +466,36 @@ def json_cases(sh: Shared) -> list[Case]:
         "check": ["check", str(sh.joint / "joint.stl"), "--manifest", "m.json"],
         "simfinger": ["simulate", "finger", "m.json", "--json"],
         "paperfinger": ["paper-finger", "--out", "o", "--manifest", "m.json"],
+        "urdf": ["urdf", "m.json", "--out", "o"],  # its meshes: the joint's 3MF beside it, as m.3mf
     }
     cases = []
     for name, argv in users.items():
         for kind, data in manifest_damages(sh).items():
-            if name != "check" and kind.startswith(("clearance", "axis-point", "moving", "printer")):
-                continue  # fields only the mesh check reads
+            if name not in ("check", "urdf") and kind.startswith(("clearance", "axis-point", "moving", "printer")):
+                continue  # fields only the mesh check (and the URDF) read
             # the physics does not read the bodies nor the axis: a manifest without them may still simulate
             expect = "either" if name != "check" and kind.startswith(("bod", "no-bodies", "no-axis")) else "error"
+            if name == "urdf":  # the URDF reads the bodies and the axis, not the volumes, spring or printer
+                expect = "either" if kind in ("body-no-volume", "spring-null", "printer-unknown") else "error"
             words = ("m.json", "manifest", *kind.split("-")[:2])
             cases.append(
                 Case(
                     f"json-{name}-{kind}",
                     argv,
                     expect,
-                    lambda d, data=data: data is not None and write(d / "m.json", data),
+                    lambda d, data=data, name=name: _manifest_setup(sh, d, data, name),
                     mention=words,
                 )
             )
     return cases
+
+
+def _manifest_setup(sh: Shared, d: Path, data: bytes | str | None, user: str) -> None:
+    """A damaged manifest as ``m.json`` (none: missing); for ``rjcad urdf``, the joint's meshes beside it."""
+    if data is not None:
+        write(d / "m.json", data)
+    if user == "urdf":
+        shutil.copyfile(sh.joint / "joint.3mf", d / "m.3mf")
 
 
 # -------------------------------------------------------------------------- 3. output places
