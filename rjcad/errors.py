@@ -77,8 +77,9 @@ class BadInput(RjcadError):
     installation's data, or a name that matches nothing."""
 
 
-class MissingExtra(RjcadError):
-    """An optional package a command needs is not installed; the message names the extra that brings it."""
+class MissingExtra(RjcadError, ImportError):
+    """An optional package a command (or an API call) needs is not installed; the message names the extra that
+    brings it."""
 
 
 def optional_import(module: str, extra: str) -> Any:

@@ -18,11 +18,15 @@ import importlib.resources
 import json
 import math
 import re
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 from rjcad.errors import RjcadError
 
 THREE_FILE = "three.module.min.js"
+#: Samples of the closure over the pull: the same default as ``rjcad simulate finger --steps``.
+DEFAULT_STEPS = 500
 #: The page template, in rjcad/data/.
 TEMPLATE = "viewer.html"
 
@@ -157,6 +161,18 @@ def viewer_html(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu
 
 def _html_text(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def finger_page(b: Any, files: Mapping[str, bytes | str]) -> dict[str, str]:
+    """finger.html of a built finger ``b`` (``rjcad.cad.build.FingerBuild``) whose files hold its finger.glb:
+    the page at ``rjcad view``'s defaults (``rjcad finger --html``)."""
+    from rjcad.paper import FINGER
+
+    glb = files["finger.glb"]
+    assert isinstance(glb, bytes)
+    return {
+        "finger.html": viewer_html(b.manifest.to_json(), glb, "rjcad finger: finger.json", FINGER.stroke, DEFAULT_STEPS)
+    }
 
 
 def write_viewer(manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0) -> Path:

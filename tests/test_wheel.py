@@ -56,6 +56,8 @@ def test_the_wheel_holds_three_js_its_licence_and_the_profiles(wheel):
         "rjcad/data/printers/generic-0.4.toml",
         "rjcad/data/materials/petg.toml",
         "rjcad/data/table1.csv",
+        "rjcad/py.typed",  # the API's types (PEP 561)
+        "rjcad/__init__.pyi",
     ):
         assert f in names, f
     assert not any(n.startswith(("tests/", "tools/")) for n in names)

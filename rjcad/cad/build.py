@@ -286,11 +286,20 @@ def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None)
         mx.prepare(png)  # meanwhile
     try:
         b = build(p, source)
+    except TemporaryWriteError as e:
+        raise OutputError(out_dir, str(e)) from e
+    write_joint_files(b, out_dir, png=png)
+    return b
+
+
+def write_joint_files(b: JointBuild, out_dir: str | Path, png: bool = True) -> list[Path]:
+    """Write the built joint ``b`` as joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set;
+    without ``png``, a joint.png of an earlier run is removed); returns the files written."""
+    try:
         files = render_files(b, "joint", png=png)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
-    mx.write_outputs(out_dir, files, remove=("joint.png",))
-    return b
+    return mx.write_outputs(out_dir, files, remove=("joint.png",))
 
 
 # --------------------------------------------------------------------------
@@ -430,11 +439,19 @@ def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: boo
     without it, a finger.html of an earlier run is removed with the set's other stale files."""
     check_writable(out_dir)
     b = build_finger_model(fp)
+    write_finger_files(b, out_dir, png=png, more=more, mjcf=mjcf, gravity=gravity)
+    return b
+
+
+def write_finger_files(
+    b: FingerBuild, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False, gravity=None
+) -> list[Path]:
+    """Write the built finger ``b``'s files into ``out_dir`` (as one set), as ``write_finger`` does; returns the
+    files written."""
     try:
         files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
     if more is not None:
         files.update(more(b, files))
-    mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
-    return b
+    return mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import itertools
 import math
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -169,6 +170,17 @@ def _assembly(solids: dict[str, Shape], name: str):
     return doc
 
 
+#: OpenCASCADE numbers the assembly links (NAUO) of all the STEP files a process writes with one counter: each
+#: file's are renumbered 1, 2, …, so that a file does not depend on the files written before it in the process.
+_NAUO_ID = re.compile(rb"NEXT_ASSEMBLY_USAGE_OCCURRENCE\('\d+'")
+
+
+def _renumbered(step: bytes) -> bytes:
+    """``step`` with its assembly links numbered from 1 in the order they appear."""
+    ids = itertools.count(1)
+    return _NAUO_ID.sub(lambda m: b"NEXT_ASSEMBLY_USAGE_OCCURRENCE('%d'" % next(ids), step)
+
+
 def step_bytes(solids: dict[str, Shape], name: str) -> bytes:
     """A STEP file (AP214, mm) whose solids carry the given names: the assembly ``name`` of one part per solid."""
     doc = _assembly(solids, name)
@@ -186,4 +198,4 @@ def step_bytes(solids: dict[str, Shape], name: str) -> bytes:
         path = os.path.join(d, f"{name}.step")
         if writer.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:  # a full disk, a file size limit
             raise TemporaryWriteError(f"its STEP file could not be written in the temporary folder ({d})")
-        return Path(path).read_bytes()
+        return _renumbered(Path(path).read_bytes())

@@ -29,7 +29,7 @@ from rjcad.check.overhang import check_overhang
 from rjcad.check.report import BadInput, CheckResult, Report, format_table, skipped
 from rjcad.check.slicer import GCODE_CACHE, Slicing, check_slicer, finish_slicer, prusa_config, start_slicer
 from rjcad.io.manifest import Manifest
-from rjcad.materials import printer_of
+from rjcad.materials import Printer, printer_of
 
 __all__ = [
     "CONE_HALF_ANGLE",
@@ -56,6 +56,7 @@ __all__ = [
     "motion_joints",
     "name_bodies",
     "prusa_config",
+    "required_clearance",
     "run_checks",
     "start_slicer",
     "subtree",
@@ -76,6 +77,12 @@ def _bodies_of(source) -> tuple[list, list[str] | None, str | None]:
     if not meshes or any(len(m.faces) == 0 for m in meshes):
         raise BadInput("empty mesh")
     return meshes, names, "body names given"
+
+
+def required_clearance(man: Manifest, prn: Printer) -> float | None:
+    """The gap ``rjcad check`` requires of a manifest's bodies when none is given: the manifest's clearance,
+    raised to the printer's minimum gap (a gap the printer cannot print fails the check) [mm]; None without one."""
+    return max(float(man.clearance_mm), prn.min_gap_mm) if man.clearance_mm is not None else None
 
 
 def run_checks(

@@ -8,7 +8,8 @@ One module per command group, each thin (parse, call the library, print) with
 its printers beside it: ``spring``, ``build`` (joint, finger), ``check``,
 ``sweep``, ``simulate`` (simulate joint|finger, finger-design, paper-finger),
 ``life``, ``identify`` (bench, identify); ``options`` holds what several share
-(design options and their TOML keys, ``--config`` merging, the table printer).
+(the design options of ``rjcad.fields`` as click options, the table printer).
+``joint`` and ``finger`` read their input through the Python API (``rjcad.api``).
 A new command: a ``click.command`` in its group's module (or a new module),
 registered by name in ``COMMANDS`` below; the group imports a command's module only
 when that command runs. Heavy imports (CAD, matplotlib, scipy, VTK, identify) stay

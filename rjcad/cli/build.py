@@ -6,60 +6,19 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from rjcad.cli.options import Field, design_options, echo_profiles, merge_config, print_table, requirement
+from rjcad.cli.options import design_options, echo_profiles, print_table
+from rjcad.fields import JOINT_FIELDS
 
 if TYPE_CHECKING:
     from rjcad.io.manifest import Manifest
 
-#: ``rjcad joint``'s options: the spring requirement with the module's geometry after ``--printer``.
-FIELDS = requirement(
-    after_printer=(
-        Field(
-            "--clearance",
-            "clearance_mm",
-            float,
-            "Clearance between the bodies [mm] (default: desktop, the material's print-in-place "
-            "clearance, PLA 0.35, ABS 0.40, PETG 0.45; stacked 0.25).",
-        ),
-        Field(
-            "--layout",
-            "layout",
-            str,
-            "desktop (default without soluble support: one spring on the bed under nested 50° "
-            "cones, no support) or stacked (the paper's, two springs; default on dimension-elite).",
-        ),
-        Field(
-            "--link-length",
-            "link_length_mm",
-            float,
-            "Axis to link end, each link [mm] (default 40; at most half the bed's longest side).",
-        ),
-        Field("--tendon-diameter", "tendon_diameter_mm", float, "Tendon channel diameter [mm] (default 1.0)."),
-        Field(
-            "--tendon-moment-arm", "tendon_moment_arm_mm", float, "Tendon moment arm about the axis [mm] (default 6)."
-        ),
-        Field("--pin-radius", "pin_radius_mm", float, "Knuckle pin radius [mm] (default 2)."),
-    ),
-    stiffness="Joint stiffness, all springs [N·mm/rad] (default 5.2).",
-    end="Spring outer end: clamped (default; a key in a socket) or pinned (a ring on a post; stacked only).",
-)
+#: ``rjcad joint``'s options (``rjcad.api.build_joint``'s keywords): the spring requirement with the module's
+#: geometry after ``--printer``.
+FIELDS = JOINT_FIELDS
 
 
 def _outputs(out_dir: str, stem: str, no_png: bool, html: bool = False) -> str:
     return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json{',html' if html else ''}}}"
-
-
-def _viewer(b, files: dict) -> dict:
-    """finger.html for ``rjcad finger --html``: ``rjcad view``'s page at its defaults."""
-    from rjcad.cli.view import DEFAULT_STEPS
-    from rjcad.paper import FINGER
-    from rjcad.view import viewer_html
-
-    return {
-        "finger.html": viewer_html(
-            b.manifest.to_json(), files["finger.glb"], "rjcad finger: finger.json", FINGER.stroke, DEFAULT_STEPS
-        )
-    }
 
 
 def _springs(n: int) -> str:
@@ -91,10 +50,10 @@ def joint(config, out_dir, no_png, **options):
     # the rjcad program builds in a forked process that imports OCP while this one designs the spring
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
     with cad or contextlib.nullcontext():
-        from rjcad.design.params import JointParams
+        from rjcad.api import joint_params
         from rjcad.io.outputs import check_writable
 
-        params = JointParams(**merge_config(options, config, FIELDS))
+        params = joint_params(config=config, **{f.keyword: options[f.name] for f in FIELDS})
         check_writable(out_dir)  # before this process imports OCP or meshes
         from rjcad.cad.build import write_joint
 
@@ -152,12 +111,11 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
 def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
-    from rjcad.design.finger_params import FingerParams
+    from rjcad.api import finger_params
     from rjcad.io.outputs import check_writable
-    from rjcad.io.templates import DEFAULT_FINGER
+    from rjcad.view import finger_page, vendored_three
 
-    given = {k: v for k, v in (("printer", printer), ("material", material)) if v is not None}
-    fp = _template(template, given) if template else FingerParams.from_dict(DEFAULT_FINGER | given, "built-in finger")
+    fp = finger_params(template or None, printer=printer, material=material)
     check_writable(out_dir)
     grav = None
     if mjcf:
@@ -165,12 +123,10 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
 
         grav = gravity_of(gravity)
     if html:
-        from rjcad.view import vendored_three
-
         vendored_three()  # a missing three.js is said before the build
     from rjcad.cad.build import write_finger
 
-    b = write_finger(fp, out_dir, png=not no_png, more=_viewer if html else None, mjcf=mjcf, gravity=grav)
+    b = write_finger(fp, out_dir, png=not no_png, more=finger_page if html else None, mjcf=mjcf, gravity=grav)
     m = b.manifest
     click.echo(
         f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
@@ -179,23 +135,6 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     )
     echo_profiles(fp.joints[0].printer_spec, fp.joints[0].material_spec)
     print_finger(m)
-
-
-def _template(path: str, given: dict[str, str] | None = None):
-    """The finger template ``path`` (read through rjcad.io.untrusted), with ``given`` keys replacing its own; a
-    bad value names the file and its key."""
-    from pathlib import Path
-
-    from rjcad.design.finger_params import FingerParams
-    from rjcad.errors import ParameterError
-
-    try:
-        return FingerParams.from_toml(path, given)
-    except ParameterError as e:
-        name = Path(path).name
-        if e.parameter.startswith(f"{name}: "):
-            raise
-        raise ParameterError(f"{name}: {e.parameter}", e.value, e.limit, e.unit) from None
 
 
 def print_finger(m: Manifest | dict[str, Any]) -> None:

@@ -41,7 +41,7 @@ ALLOWANCE_MM = (0.0, 0.05)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_json):
     """Check a mesh for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
-    from rjcad.check import format_table, run_checks
+    from rjcad.check import format_table, required_clearance, run_checks
     from rjcad.io.manifest import ManifestError
     from rjcad.materials import printer_of
     from rjcad.validate import in_range
@@ -53,8 +53,8 @@ def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_js
     prn = printer_of(printer, man)
     if clearance is not None:
         prn.check_gap("--clearance", clearance)
-    elif man is not None and man.clearance_mm is not None:  # a gap the printer cannot print fails the check
-        clearance = max(float(man.clearance_mm), prn.min_gap_mm)
+    elif man is not None:
+        clearance = required_clearance(man, prn)
     try:
         rep = run_checks(
             mesh,

@@ -6,51 +6,21 @@ import json
 
 import click
 
-from rjcad import DEG
-from rjcad.cli.options import Field, design_options, echo_profiles, merge_config, print_table, requirement
+from rjcad.cli.options import design_options, echo_profiles, merge_config, print_table
 from rjcad.errors import RjcadError
+from rjcad.fields import SPRING_FIELDS, spring_kwargs
 from rjcad.spring import SpringDesign, SpringRequirement
 from rjcad.spring.optimise import design_spring
 
 #: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
-FIELDS = requirement() + (
-    Field(
-        "--springs",
-        "springs",
-        int,
-        "Springs sharing the joint stiffness: 2 (default; the stacked layout, the "
-        "paper's) or 1 (the desktop layout's one spring on the bed).",
-    ),
-    Field(
-        "--min-gap",
-        "min_gap_mm",
-        float,
-        "Gap the coils keep over the whole wind-up [mm] (default: the printer's "
-        "minimum gap; the desktop joint uses its clearance, e.g. 0.40 for ABS).",
-    ),
-    Field("--width-min", "width_min_mm", float, "Lower bound on spring width b [mm] (default 1)."),
-    Field("--width-max", "width_max_mm", float, "Upper bound on spring width b [mm] (default 10)."),
-    Field(
-        "--inner-radius-min", "inner_radius_min_mm", float, "Lower bound on the inner (pin) radius [mm] (default 3)."
-    ),
-    Field(
-        "--inner-radius-max", "inner_radius_max_mm", float, "Upper bound on the inner (pin) radius [mm] (default 10)."
-    ),
-    Field("--max-outer-radius", "max_outer_radius_mm", float, "Largest allowed outer radius [mm] (default 20)."),
-    Field("--min-turns", "min_turns", float, "Fewest turns of the spiral (default 1)."),
-    Field("--min-cycles", "min_cycles", float, "Required life: lower 90 % bound of the predicted cycles."),
-    Field("--backlash", "backlash_mm", float, "Pin backlash for the life model [mm] (default 0.25)."),
-)
-#: Options whose SpringRequirement field has another name.
-_RENAMED = {"stiffness": "joint_stiffness", "max_outer_radius": "outer_radius_max", "min_gap_mm": "min_gap"}
+FIELDS = SPRING_FIELDS
 
 
 def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
     """Merge defaults < config file < explicit options into a SpringRequirement (rotation defaults to 90°)."""
-    kwargs = {_RENAMED.get(k, k): v for k, v in merge_config(options, config, FIELDS).items()}
+    kwargs = spring_kwargs(merge_config(options, config, FIELDS))
     if "joint_stiffness" not in kwargs:
         raise click.UsageError("missing --stiffness (or stiffness_nmm_per_rad in --config)")
-    kwargs.setdefault("rotation", 90.0 * DEG)
     return SpringRequirement(**kwargs)
 
 

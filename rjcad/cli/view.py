@@ -5,12 +5,11 @@ from __future__ import annotations
 import click
 
 from rjcad.paper import FINGER
+from rjcad.view import DEFAULT_STEPS
 
 #: Tendon stroke the viewer accepts [mm] and the tendon friction coefficient (as ``rjcad simulate finger``).
 MAX_STROKE_MM = 1000.0
 MAX_MU_T = 2.0
-#: Samples over the pull: the same default as ``rjcad simulate finger --steps``.
-DEFAULT_STEPS = 500
 
 
 def check_view_options(stroke: float, mu_t: float) -> None:
