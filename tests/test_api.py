@@ -171,6 +171,7 @@ def test_a_finger_template_is_a_file_or_a_dict_and_errors_are_rjcad_fingers(cli,
     data = tomllib.loads((root / "templates" / "finger.toml").read_text())
     from_file = rjcad.finger_params(root / "templates" / "finger.toml")
     assert rjcad.finger_params(data).joints == from_file.joints == rjcad.finger_params().joints
+    assert rjcad.finger_params(printer="dimension-elite", material="pla").joints[0].layout == "stacked"
     data["joint"][1]["stiffness_nmm_per_rad"] = -2.0
     with pytest.raises(ParameterError, match=r"^joint\[2\]\.stiffness_nmm_per_rad = -2 N·mm/rad is invalid"):
         rjcad.finger_params(data)
@@ -269,23 +270,33 @@ def test_a_joint_check_is_rjcad_checks_report(joint, cli, tmp_path):
         joint.check(slicer="cura")
 
 
-def example(tmp_path, root, monkeypatch, printer: str):
-    """The issue's example, as written, in a fresh folder holding templates/ (``printer`` for "my.toml")."""
+#: ``my.toml`` of the example: a printer profile of one's own (docs/profiles.md).
+MY_PRINTER = """\
+name = "My printer, 0.4 mm nozzle"
+nozzle_mm = 0.4
+layer_mm = 0.2
+bed_mm = [250.0, 210.0, 220.0]
+soluble_support = false
+"""
+
+
+def test_the_issues_example_runs_as_written(cli, root, tmp_path, monkeypatch, capsys):
+    """The issue's example, exactly, in a fresh folder holding templates/ and my.toml (a printer profile)."""
     shutil.copytree(root / "templates", tmp_path / "templates")
+    (tmp_path / "my.toml").write_text(MY_PRINTER)
     monkeypatch.chdir(tmp_path)
-    spring = rjcad.design_spring(stiffness=5.2, rotation_deg=90, preload_deg=90, material="petg", printer=printer)
-    joint = rjcad.build_joint(stiffness=5.2, rotation_deg=90, preload_deg=90, printer=printer)
+
+    spring = rjcad.design_spring(stiffness=5.2, rotation_deg=90, preload_deg=90, material="petg", printer="my.toml")
+    joint = rjcad.build_joint(stiffness=5.2, rotation_deg=90, preload_deg=90, printer="my.toml")
     joint.write("out/joint")  # the same files as `rjcad joint --out out/joint`
     finger = rjcad.build_finger("templates/finger.toml")  # or a dict of the same keys
     finger.write("out/finger")
     report = finger.check()  # a CheckReport: .passed, .checks
     closure = finger.simulate(stroke_mm=25)  # arrays: tendon_mm, theta_deg, tension_n
-    return spring, joint, finger, report, closure
 
-
-def test_the_issues_example_runs_as_written(cli, root, tmp_path, monkeypatch):
-    spring, joint, finger, report, closure = example(tmp_path, root, monkeypatch, "generic-0.4")
-    assert spring.manifest["material"] == "petg" and joint.manifest["printer"] == "generic-0.4"
+    assert capsys.readouterr().out == ""  # the API prints nothing
+    assert spring.manifest["material"] == "petg" and spring.manifest["printer"] == joint.manifest["printer"] == "my"
+    assert joint.manifest["printer_profile"]["file"] == str(tmp_path / "my.toml")  # in the manifest, as the CLI's
     assert sorted(p.name for p in Path("out/joint").iterdir()) == [
         f"joint.{e}" for e in ("3mf", "glb", "json", "png", "step", "stl")
     ]
@@ -308,26 +319,3 @@ def test_the_issues_example_runs_as_written(cli, root, tmp_path, monkeypatch):
         finger.simulate(stroke_mm=0)
     with pytest.raises(ParameterError, match=r"^steps = 5 is invalid"):
         finger.simulate(steps=5)
-
-
-MY_PRINTER = """\
-# a printer profile of one's own (the profile loader reads it; keys as rjcad.materials.Printer's)
-name = "my printer"
-nozzle_mm = 0.4
-extrusion_width_mm = 0.45
-layer_height_mm = 0.2
-min_wall_mm = 0.9
-min_gap_mm = 0.25
-min_gap_vertical_mm = 0.4
-thickness_step_mm = 0.45
-soluble_support = false
-build_volume_mm = [250.0, 210.0, 210.0]
-"""
-
-
-@pytest.mark.xfail(strict=False, reason="profiles from files land with the profile loader")
-def test_the_issues_example_with_a_printer_file(root, tmp_path, monkeypatch):
-    (tmp_path / "my.toml").write_text(MY_PRINTER)
-    spring, joint, finger, report, closure = example(tmp_path, root, monkeypatch, "my.toml")
-    assert spring.manifest["printer"] == joint.manifest["printer"] != "generic-0.4"
-    assert finger.manifest["joints"] and report.passed and closure.theta_deg.shape[1] == 3

@@ -12,6 +12,8 @@ from rjcad import api
 
 #: A ```python block, and the line before it (``<!-- not run: reason -->`` skips the block).
 BLOCK = re.compile(r"(?:^(?P<before>[^\n]*)\n)?^```python\n(?P<code>.*?)^```$", re.S | re.M)
+#: A file the examples read, shown on the page: ``<!-- file: NAME -->`` and the block under it.
+FILE = re.compile(r"^<!-- file: (?P<name>[\w.-]+) -->\n```\w*\n(?P<text>.*?)^```$", re.S | re.M)
 
 
 def blocks(text: str) -> list[tuple[str, str]]:
@@ -41,13 +43,17 @@ def test_every_public_name_is_documented(root):
 
 @pytest.mark.slow(why="builds a joint and a finger (the page's examples)")
 def test_the_examples_run_in_order(root, tmp_path, monkeypatch):
-    code = blocks((root / "docs" / "api.md").read_text(encoding="utf-8"))
+    text = (root / "docs" / "api.md").read_text(encoding="utf-8")
+    code = blocks(text)
     assert len([src for src, why in code if not why]) >= 4
     shutil.copytree(root / "templates", tmp_path / "templates")
+    for m in FILE.finditer(text):
+        (tmp_path / m.group("name")).write_text(m.group("text"), encoding="utf-8")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {"__name__": "__api_doc__"}
     for i, (src, why) in enumerate(code, 1):
         if not why:
             exec(compile(src, f"docs/api.md, block {i}", "exec"), namespace)
     assert (tmp_path / "out" / "joint" / "joint.json").is_file() and (tmp_path / "out" / "spring.png").is_file()
+    assert namespace["joint"].manifest["printer"] == "my"  # the page's my.toml
     assert namespace["report"].passed and namespace["closure"].theta_deg.shape == (1001, 3)
