@@ -1,8 +1,13 @@
 """The finger in MuJoCo (issue 19): MJCF export, geometry and physics against rjcad, what MuJoCo cannot say,
-and bad input."""
+and bad input; the MJCF laid out like MuJoCo Menagerie's models ("conventions"): body frames at the joints,
+default classes, collision boxes, a folder with scene.xml and meshes/, a home keyframe, sensors, a pull actuator
+with a ctrlrange, the base turned by gravity, joint limits that hold, and the sag at rest said in one line."""
 
 from __future__ import annotations
 
+import contextlib
+import copy
+import io
 import json
 import shutil
 from dataclasses import replace
@@ -15,10 +20,11 @@ mujoco = pytest.importorskip("mujoco")
 
 from rjcad.io.manifest import Manifest  # noqa: E402
 from rjcad.io.templates import PAPER_FINGER  # noqa: E402
-from rjcad.mjcf.export import gravity_of, mesh_sources, mjcf_files, read_meshes  # noqa: E402
+from rjcad.mjcf.export import GRAVITY, gravity_of, mesh_sources, mjcf_files, read_meshes  # noqa: E402
 from rjcad.mjcf.fit import compare, mujoco_stroke, paper_friction_model, representable  # noqa: E402
 from rjcad.mjcf.model import spec_from_model  # noqa: E402
-from rjcad.mjcf.simulate import load, run_stroke  # noqa: E402
+from rjcad.mjcf.sag import rjcad_rest_pose  # noqa: E402
+from rjcad.mjcf.simulate import load, rest_pose, run_stroke  # noqa: E402
 from rjcad.mjcf.spec import to_xml  # noqa: E402
 from rjcad.physics.finger import FingerModel, gravity_torques, model_from_manifest, model_from_template, simulate_stroke  # noqa: E402
 
@@ -32,7 +38,8 @@ FIVE_JOINTS = (
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory, root):
-    """The default finger, a 1-joint and a 5-joint finger, each built with --mjcf: {name: output dir}."""
+    """The default finger (gravity palm down, the default), a 1-joint and a 5-joint finger (gravity off), each built
+    with --mjcf: {name: output dir}, and the default's stderr ("default stderr")."""
     from rjcad.cli import main
 
     out = {}
@@ -42,10 +49,13 @@ def built(tmp_path_factory, root):
         if isinstance(template, str):
             (base / f"{name}.toml").write_text(template)
             template = base / f"{name}.toml"
-        with pytest.raises(SystemExit) as e:
-            main(["finger", str(template), "--out", str(d), "--mjcf", "--no-png", "--gravity", "off"])
-        assert e.value.code == 0
+        err = io.StringIO()
+        gravity = [] if name == "default" else ["--gravity", "off"]
+        with pytest.raises(SystemExit) as e, contextlib.redirect_stderr(err):
+            main(["finger", str(template), "--out", str(d), "--mjcf", "--no-png", *gravity])
+        assert e.value.code == 0, err.getvalue()
         out[name] = d
+        out[f"{name} stderr"] = err.getvalue()
     return out
 
 
@@ -56,10 +66,15 @@ def _data(path: Path):
     return m, d
 
 
+def _stls(files: dict) -> dict:
+    """The mesh files of an MJCF folder in memory, as MuJoCo's assets (path → bytes)."""
+    return {k: v for k, v in files.items() if k.endswith(".stl")}
+
+
 @pytest.mark.parametrize("name,n", [("default", 3), ("one", 1), ("five", 5)])
 def test_every_exported_mjcf_loads_and_its_geometry_is_the_manifests(built, name, n):
     man = Manifest.read(built[name] / "finger.json")
-    m, d = _data(built[name] / "finger.xml")
+    m, d = _data(built[name] / "mjcf" / "finger.xml")
     assert (m.nbody, m.njnt, m.ntendon, m.nu, m.nmesh) == (n + 2, n, 2, 1, n + 1)
     J = d.ten_J.reshape(m.ntendon, m.nv)
     arms = np.array([j.tendon_moment_arm_mm for j in man.joints])
@@ -100,10 +115,10 @@ def _closures(model: FingerModel, xml: str, assets=None):
     return run_stroke(load(xml, assets), 25.0, STEPS), simulate_stroke(model, 25.0, STEPS)
 
 
-def _manifest_xml(built, man: Manifest, gravity=(0.0, 0.0, 0.0)):
+def _manifest_xml(built, man: Manifest, gravity=(0.0, 0.0, 0.0), pull="tendon"):
     src = built["default"] / "finger.json"
-    files = mjcf_files(man, read_meshes(mesh_sources(src, man)), "finger.xml", str(src), gravity=gravity)
-    return files.pop("finger.xml"), files
+    files = mjcf_files(man, read_meshes(mesh_sources(src, man)), "finger.xml", str(src), gravity=gravity, pull=pull)
+    return files.pop("finger.xml"), _stls(files)
 
 
 def _in_order(built, order: str) -> Manifest:
@@ -232,23 +247,177 @@ def test_what_mujoco_cannot_represent_is_measured(root):
     assert f"{doc['fitted']['rms_deg']:.2f}" in md and f"{doc['fitted_without_capstan_and_gamma']['max_deg']:.2f}" in md
 
 
+# ---------------------------------------------------------------- laid out like MuJoCo Menagerie's models
+
+
+def test_the_mjcf_folder_is_laid_out_like_menagerie(built):
+    """The folder: model, scene (floor, light; includes the model), meshes/; each body's frame at its joint's axis
+    (the hinge at its origin); default classes; visual meshes apart from collision boxes that hold them; the home
+    keyframe; the sensors; a ctrlrange of the tendon pull."""
+    d, man = built["default"] / "mjcf", Manifest.read(built["default"] / "finger.json")
+    names = [b.name for b in man.bodies]
+    assert sorted(p.relative_to(d).as_posix() for p in d.rglob("*")) == sorted(
+        ["finger.xml", "scene.xml", "meshes"] + [f"meshes/{b}.stl" for b in names]
+    )
+    scene, _ = _data(d / "scene.xml")
+    assert scene.geom_type[scene.geom("floor").id] == mujoco.mjtGeom.mjGEOM_PLANE and scene.nlight >= 1
+    assert scene.nbody == len(names) + 1  # the model, included
+    m, data = _data(d / "finger.xml")
+    text = (d / "finger.xml").read_text()
+    assert 'meshdir="meshes"' in text and all(f'class="{c}"' in text for c in ("rjcad", "joint", "visual", "collision"))
+    # each hinge at its body's origin, and that origin at the manifest's axis point (in the base's frame)
+    np.testing.assert_allclose(m.jnt_pos, 0.0)
+    base = m.body("base").id
+    rot, mount = data.xmat[base].reshape(3, 3), data.xpos[base]
+    for k, j in enumerate(man.joints):
+        assert m.jnt_bodyid[k] == m.body(j.child).id
+        np.testing.assert_allclose(data.xanchor[k], data.xpos[m.jnt_bodyid[k]], atol=1e-12)
+        np.testing.assert_allclose(rot.T @ (data.xanchor[k] - mount) * 1e3, j.axis_point_mm, atol=1e-6)
+    # the base turned so that palm-down gravity (finger +y) points down; MuJoCo's gravity the standard one
+    np.testing.assert_allclose(rot @ [0.0, 1.0, 0.0], [0.0, 0.0, -1.0], atol=1e-8)
+    np.testing.assert_allclose(m.opt.gravity, [0.0, 0.0, -9.81])
+    for b in names:
+        vis, col = m.geom(f"{b}_visual").id, m.geom(f"{b}_collision").id
+        assert (m.geom_type[vis], m.geom_group[vis], m.geom_contype[vis], m.geom_conaffinity[vis]) == (
+            mujoco.mjtGeom.mjGEOM_MESH,
+            2,
+            0,
+            0,
+        )
+        assert (m.geom_type[col], m.geom_group[col], m.geom_contype[col]) == (mujoco.mjtGeom.mjGEOM_BOX, 3, 2)
+        # the box holds the visual mesh: its vertices in the box's frame lie within its half sizes
+        mesh = m.geom_dataid[vis]
+        v = m.mesh_vert[m.mesh_vertadr[mesh] : m.mesh_vertadr[mesh] + m.mesh_vertnum[mesh]]
+        world = v @ data.geom_xmat[vis].reshape(3, 3).T + data.geom_xpos[vis]
+        local = (world - data.geom_xpos[col]) @ data.geom_xmat[col].reshape(3, 3)
+        np.testing.assert_allclose(np.abs(local).max(axis=0), m.geom_size[col], atol=1e-7)
+    home = m.key("home").id
+    np.testing.assert_array_equal(m.key_qpos[home], 0.0)
+    np.testing.assert_array_equal(m.key_ctrl[home], 0.0)
+    t = mujoco.mjtSensor
+    assert list(m.sensor_type) == [t.mjSENS_JOINTPOS] * 3 + [t.mjSENS_TENDONPOS, t.mjSENS_ACTUATORFRC]
+    stroke = sum(j.tendon_moment_arm_mm * np.radians(j.rotation_deg) for j in man.joints) * 1e-3
+    np.testing.assert_allclose(m.actuator_ctrlrange[0], [0.0, stroke])
+    assert data.actuator_force[0] == 0.0  # ctrl 0 pulls nothing
+
+
+def _drive(m, d, ctrl_from: float, ctrl_to: float, ramp_s: float, hold_s: float) -> np.ndarray:
+    """Move ctrl from → to over ramp_s, hold hold_s; the largest distance past either end of each joint's range
+    [rad] on the way."""
+    lo, hi = m.jnt_range[:, 0], m.jnt_range[:, 1]
+    worst = np.zeros(m.njnt)
+    n_ramp, n_hold = int(ramp_s / m.opt.timestep), int(hold_s / m.opt.timestep)
+    for k in range(n_ramp + n_hold):
+        d.ctrl[0] = ctrl_from + (ctrl_to - ctrl_from) * min(1.0, (k + 1) / max(n_ramp, 1))
+        mujoco.mj_step(m, d)
+        worst = np.maximum(worst, np.maximum(lo - d.qpos, d.qpos - hi))
+    return worst
+
+
+@pytest.mark.parametrize("pull", ["tendon", "path"])
+def test_ctrl_in_its_range_closes_the_finger_and_the_sensors_read_it(built, pull):
+    """The default finger palm down: ctrl (the tendon pull [m]) ramped to the top of its range closes every joint
+    (within the servo's error: its tension / 10 N/mm of pull); the sensors read the angles, length and tension."""
+    man = Manifest.read(built["default"] / "finger.json")
+    xml, assets = _manifest_xml(built, man, gravity_of("horizontal-palm-down"), pull)
+    m = load(xml, assets)
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    _drive(m, d, 0.0, m.actuator_ctrlrange[0, 1], 0.5, 1.5)
+    assert np.degrees(d.qpos).min() > 80.0, np.degrees(d.qpos)
+    t = m.tendon(pull).id
+    tension = d.actuator_force[0]
+    assert 1.0 < tension < 20.0
+    np.testing.assert_allclose(d.sensordata, [*d.qpos, d.ten_length[t], tension])
+    pulled = m.tendon_length0[t] - d.ten_length[t]
+    assert pulled == pytest.approx(m.actuator_ctrlrange[0, 1] - tension / 1e4, abs=1e-5)
+    _drive(m, d, m.actuator_ctrlrange[0, 1], 0.0, 0.5, 3.0)
+    assert d.actuator_force[0] == 0.0 and np.degrees(d.qpos[1:]).max() < 1.0  # released: the tendon slack
+
+
+def test_joint_limits_hold_under_the_worst_case(built):
+    """The default finger palm down (its links outweigh joint 1's spring): it falls from home at ctrl 0 and swings,
+    then the tendon is pulled to the top of ctrl's range (0.5 s ramp) and released: no joint passes its range by
+    0.5° on the way, and at rest on a stop by 0.05°. With MuJoCo's default limit softness the preload alone pushes
+    the joints 2° and more past their extension stops."""
+    m = mujoco.MjModel.from_xml_path(str(built["default"] / "mjcf" / "finger.xml"))
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    top = m.actuator_ctrlrange[0, 1]
+    moving = [_drive(m, d, 0.0, 0.0, 0.0, 3.0), _drive(m, d, 0.0, top, 0.5, 1.0)]
+    closed = _drive(m, d, top, top, 0.0, 0.5)
+    moving += [_drive(m, d, top, 0.0, 0.5, 3.0)]
+    assert np.degrees(np.max(moving)) < 0.5, np.degrees(moving)
+    assert np.degrees(closed.max()) < 0.05
+    soft = copy.copy(m)
+    soft.jnt_solref[:] = (0.02, 1.0)
+    soft.jnt_solimp[:] = (0.9, 0.95, 0.001, 0.5, 2.0)
+    soft.opt.gravity[:] = 0.0
+    d = mujoco.MjData(soft)
+    mujoco.mj_resetDataKeyframe(soft, d, 0)
+    assert np.degrees(_drive(soft, d, 0.0, 0.0, 0.0, 1.0).max()) > 2.0
+
+
+def test_the_sag_at_rest_is_said_in_one_line_and_both_engines_agree(built, tmp_path, cli):
+    """Palm down the default finger's springs cannot hold it: rjcad's statics and MuJoCo's settled pose agree on its
+    rest pose (in every orientation), and rjcad finger --mjcf, rjcad mjcf and simulate finger (both engines) each say
+    it in one line."""
+    man = Manifest.read(built["default"] / "finger.json")
+    for name in [*GRAVITY, "45", "135"]:
+        xml, assets = _manifest_xml(built, man, gravity_of(name))
+        rj, mj = rjcad_rest_pose(man, gravity_of(name)), rest_pose(load(xml, assets))
+        assert np.degrees(np.abs(rj - mj)).max() < 1.0, (name, np.degrees(rj), np.degrees(mj))
+    sag = np.degrees(rjcad_rest_pose(man, gravity_of("horizontal-palm-down")))
+    assert sag[0] > 30.0 and np.all(np.abs(sag[1:]) < 1.0)  # joint 1 sags; joints 2 and 3 hold
+    line = (
+        "rjcad: note: the springs cannot hold the finger straight under gravity (--gravity horizontal-palm-down): at "
+        f"rest, tendon slack, joint 1 sags {sag[0]:.1f}° (rjcad's statics)\n"
+    )
+    assert built["default stderr"] == line
+    code, _out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "m")
+    assert code == 0 and err == line
+    code, _out, err = cli(
+        "mjcf", built["default"] / "finger.json", "--out", tmp_path / "v", "--gravity", "vertical-tip-down"
+    )
+    assert code == 0 and err == ""
+    src = built["default"] / "finger.json"
+    args = ("--steps", "20", "--stroke", "5", "--gravity", "horizontal-palm-down")
+    code, _out, err = cli("simulate", "finger", src, "--compare", *args)
+    assert code == 0 and err.splitlines()[0] == line.strip(), err
+    assert len(err.splitlines()) == 2 and err.splitlines()[1].endswith("(MuJoCo, settled at ctrl 0)")
+    assert f"joint 1 sags {sag[0]:.1f}°" in err.splitlines()[1]
+    code, _out, err = cli(
+        "simulate", "finger", built["default"] / "mjcf" / "finger.xml", "--engine", "mujoco", *args[:4]
+    )
+    assert code == 0 and "(the MJCF's orientation)" in err and f"joint 1 sags {sag[0]:.1f}°" in err
+
+
 # ---------------------------------------------------------------- the CLI and bad input
 
 
 def test_rjcad_mjcf_from_the_3mf_and_simulate_with_both_engines(built, tmp_path, cli):
     d = tmp_path / "in"
     d.mkdir()
-    for f in ("finger.json", "finger.3mf"):  # no per-body STL: the 3MF's named parts
+    for f in ("finger.json", "finger.3mf"):  # only the 3MF's named parts
         shutil.copy(built["one"] / f, d / f)
-    code, out, err = cli("mjcf", d / "finger.json", "--out", tmp_path / "out" / "one.xml", "--gravity", "30")
+    code, out, err = cli("mjcf", d / "finger.json", "--out", tmp_path / "out", "--gravity", "30")
     assert code == 0, err
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["one.xml", "one_base.stl", "one_distal.stl"]
-    m, _ = _data(tmp_path / "out" / "one.xml")
-    np.testing.assert_allclose(m.opt.gravity, [9.81 * np.cos(np.radians(30)), 9.81 * np.sin(np.radians(30)), 0])
+    assert sorted(p.relative_to(tmp_path / "out").as_posix() for p in (tmp_path / "out").rglob("*")) == [
+        "finger.xml",
+        "meshes",
+        "meshes/base.stl",
+        "meshes/distal.stl",
+        "scene.xml",
+    ]
+    m, d = _data(tmp_path / "out" / "finger.xml")
+    # option gravity is the standard one; the base is turned so that the finger-frame gravity points down
+    np.testing.assert_allclose(m.opt.gravity, [0.0, 0.0, -9.81])
+    down = d.xmat[m.body("base").id].reshape(3, 3) @ [np.cos(np.radians(30)), np.sin(np.radians(30)), 0.0]
+    np.testing.assert_allclose(down, [0.0, 0.0, -1.0], atol=1e-8)
     code, out, err = cli(
         "simulate",
         "finger",
-        tmp_path / "out" / "one.xml",
+        tmp_path / "out" / "scene.xml",
         "--engine",
         "mujoco",
         "--steps",
@@ -274,23 +443,41 @@ def test_rjcad_mjcf_from_the_3mf_and_simulate_with_both_engines(built, tmp_path,
     )
     assert code == 0, err
     assert png.stat().st_size > 10000 and "rjcad:" in out and "mujoco:" in out
+    assert err == ""  # gravity off by default: no sag
+
+
+def test_the_former_out_file_still_works_with_a_note(built, tmp_path, cli):
+    """``--out FILE.xml`` (before the folder): the model under that name, scene.xml and meshes/ beside it, and one
+    note line on stderr."""
+    code, _out, err = cli(
+        "mjcf", built["one"] / "finger.json", "--out", tmp_path / "sim" / "one.xml", "--gravity", "off"
+    )
+    assert code == 0, err
+    assert (
+        err == f"rjcad: note: --out takes a folder now; wrote {tmp_path / 'sim' / 'one.xml'} with scene.xml and "
+        f"meshes/ beside it (say --out {tmp_path / 'sim'})\n"
+    )
+    assert sorted(p.name for p in (tmp_path / "sim").iterdir()) == ["meshes", "one.xml", "scene.xml"]
+    assert '<include file="one.xml" />' in (tmp_path / "sim" / "scene.xml").read_text()
+    _data(tmp_path / "sim" / "scene.xml")
 
 
 def _one_line_exit_2(res, words: str, where: Path):
     assert res.code == 2, res
     assert len(res.err.strip().splitlines()) == 1 and words in res.err and "Traceback" not in res.err
-    assert not list(where.glob("*.xml")) and not list(where.glob("*.stl"))
+    assert not list(where.rglob("*.xml")) and not list(where.rglob("*.stl"))
 
 
 def test_bad_input_is_one_line_exit_2_and_no_partial_xml(built, tmp_path, cli):
     out = tmp_path / "out"
     nojoint = tmp_path / "nojoint.json"
     nojoint.write_text(json.dumps({"schema_version": 1, "joints": [], "bodies": [{"name": "base"}]}))
-    _one_line_exit_2(cli("mjcf", nojoint, "--out", out / "f.xml"), "at least one joint", tmp_path)
+    _one_line_exit_2(cli("mjcf", nojoint, "--out", out), "at least one joint", tmp_path)
+    _one_line_exit_2(cli("mjcf", nojoint, "--out", out / "f.xml"), "at least one joint", tmp_path)  # the former form
     lonely = tmp_path / "lonely"
     lonely.mkdir()
     shutil.copy(built["default"] / "finger.json", lonely / "finger.json")
-    _one_line_exit_2(cli("mjcf", lonely / "finger.json", "--out", out / "f.xml"), "mesh file not found", tmp_path)
+    _one_line_exit_2(cli("mjcf", lonely / "finger.json", "--out", out), "mesh file not found", tmp_path)
     other = tmp_path / "other.json"
     other.write_text(
         json.dumps(
@@ -302,16 +489,15 @@ def test_bad_input_is_one_line_exit_2_and_no_partial_xml(built, tmp_path, cli):
         )
     )
     _one_line_exit_2(
-        cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--identified", other),
-        "another design",
-        tmp_path,
+        cli("mjcf", built["default"] / "finger.json", "--out", out, "--identified", other), "another design", tmp_path
     )
     _one_line_exit_2(
-        cli("mjcf", built["default"] / "finger.json", "--out", out / "f.xml", "--gravity", "sideways"),
-        "--gravity",
-        tmp_path,
+        cli("mjcf", built["default"] / "finger.json", "--out", out, "--gravity", "sideways"), "--gravity", tmp_path
     )
     _one_line_exit_2(cli("simulate", "finger", "--engine", "mujoco", "--mu-t", "0.2"), "capstan", tmp_path)
+    _one_line_exit_2(cli("simulate", "finger", "--gravity", "sideways"), "--gravity", tmp_path)
+    xml = built["default"] / "mjcf" / "finger.xml"
+    _one_line_exit_2(cli("simulate", "finger", xml, "--engine", "mujoco", "--gravity", "off"), "its own", tmp_path)
     assert not out.exists()
 
 
@@ -328,12 +514,12 @@ def test_an_identify_result_sets_friction_and_stiffness(built, tmp_path, cli):
             }
         )
     )
-    code, _out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "x.xml", "--identified", ident)
+    code, _out, err = cli("mjcf", built["default"] / "finger.json", "--out", tmp_path / "x", "--identified", ident)
     assert code == 0, err
-    m, _ = _data(tmp_path / "x.xml")
+    m, _ = _data(tmp_path / "x" / "finger.xml")
     np.testing.assert_allclose(m.dof_frictionloss, [0.0, 1.5e-3, 0.0])
     assert m.jnt_stiffness[0] == pytest.approx(4.0e-3)
-    assert "gamma_pos_nmm_per_rad" in (tmp_path / "x.xml").read_text()  # named as left out
+    assert "gamma_pos_nmm_per_rad" in (tmp_path / "x" / "finger.xml").read_text()  # named as left out
 
 
 def test_a_template_finger_in_mujoco_quickly():
@@ -349,3 +535,23 @@ def test_a_template_finger_in_mujoco_quickly():
     mj, rj = run_stroke(model, 25.0, 25), simulate_stroke(m, 25.0, 25)
     assert np.degrees(np.abs(mj.theta - rj.theta)).max() < 1.0
     assert mj.tension[25] == pytest.approx(rj.tension[25], rel=0.01)
+
+
+def test_a_heavy_template_finger_sags_alike_in_both_engines_quickly():
+    """Fast lane: capsule links heavy enough palm down that joint 1 leaves its stop; each body's frame at its joint,
+    the base turned by gravity; both engines' rest poses agree and the note names the sagging joint."""
+    from rjcad.mjcf.sag import sag_note
+    from rjcad.physics.finger import simulate_path
+
+    m = replace(model_from_template(PAPER_FINGER), link_mass=(30.0, 25.0, 20.0), gravity=(0.0, 1.0))
+    model = load(to_xml(spec_from_model(m)))
+    d = mujoco.MjData(model)
+    mujoco.mj_forward(model, d)
+    np.testing.assert_allclose(model.jnt_pos, 0.0)
+    np.testing.assert_allclose(d.xanchor, d.xpos[model.jnt_bodyid], atol=1e-12)
+    np.testing.assert_allclose(d.xmat[model.body("base").id].reshape(3, 3) @ [0, 1, 0], [0, 0, -1], atol=1e-8)
+    rj, mj = simulate_path(m, [0.0]).theta[0], rest_pose(model)
+    assert np.degrees(rj[0]) > 5.0 and np.degrees(np.abs(rj - mj)).max() < 1.0, (np.degrees(rj), np.degrees(mj))
+    note = sag_note(rj, "--gravity horizontal-palm-down", "rjcad's statics")
+    assert note is not None and note.startswith("rjcad: note: ") and f"joint 1 sags {np.degrees(rj[0]):.1f}°" in note
+    assert sag_note(np.radians([0.5, -0.9, 0.0]), "x", "y") is None

@@ -131,6 +131,45 @@ def test_a_directory_in_the_way_of_a_member_changes_nothing(earlier):
     assert snapshot(earlier) == before
 
 
+FOLDER = {"joint.stl": b"new stl", "mjcf/finger.xml": "<mujoco/>", "mjcf/meshes/base.stl": b"stl"}
+
+
+def test_a_folder_of_the_set_replaces_the_earlier_folder_whole(earlier):
+    """Members under a folder (an MJCF's model, scene and meshes/) replace that folder whole; a ``remove`` name
+    ending in "/" removes a folder this run does not write."""
+    (earlier / "mjcf" / "meshes").mkdir(parents=True)
+    (earlier / "mjcf" / "meshes" / "gone.stl").write_bytes(b"old")
+    write_set(earlier, FOLDER)
+    assert sorted(p.relative_to(earlier).as_posix() for p in (earlier / "mjcf").rglob("*")) == [
+        "mjcf/finger.xml",
+        "mjcf/meshes",
+        "mjcf/meshes/base.stl",
+    ]
+    write_set(earlier, NEW, remove=("mjcf/", "joint.png"))
+    assert sorted(p.name for p in earlier.iterdir()) == sorted([*NEW, "notes.txt"])
+    with pytest.raises(ValueError, match="relative path"):
+        write_set(earlier, {"mjcf/../x": b""})
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_a_rename_failing_half_way_puts_an_earlier_folder_back(earlier, monkeypatch, k):
+    (earlier / "mjcf").mkdir()
+    (earlier / "mjcf" / "finger.xml").write_text("old")
+    before = snapshot(earlier)
+    real, calls = os.replace, []
+
+    def flaky(src, dst):
+        calls.append(dst)
+        if len(calls) == k + 1:
+            raise OSError(errno.EIO, os.strerror(errno.EIO))
+        return real(src, dst)
+
+    monkeypatch.setattr(outputs.os, "replace", flaky)
+    with pytest.raises(OutputError, match="cannot write: Input/output error"):
+        write_set(earlier, FOLDER)
+    assert snapshot(earlier) == before
+
+
 def test_output_error_is_a_user_error_and_crosses_processes(tmp_path):
     e = OutputError(tmp_path / "x", "Read-only file system")
     assert isinstance(e, RjcadError) and str(e) == f"{tmp_path / 'x'}: cannot write: Read-only file system"

@@ -29,6 +29,8 @@ if TYPE_CHECKING:
     from rjcad.cad.joint import JointSolids
     from rjcad.design.finger_params import FingerParams
 
+#: The folder of a finger's MJCF in its output directory (``rjcad finger --mjcf``)
+MJCF_DIR = "mjcf"
 #: The joint's body colours (preview and GLB).
 JOINT_COLOURS = {"ground": "#9aa5b1", "moving": "#3b82c4"}
 
@@ -371,7 +373,8 @@ def build_finger_model(fp) -> FingerBuild:
 
 
 def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gravity=None) -> dict[str, bytes | str]:
-    """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, finger.xml and finger_<body>.stl too."""
+    """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, the MJCF folder too (mjcf/finger.xml,
+    mjcf/scene.xml, mjcf/meshes/<body>.stl)."""
     from rjcad.cad import export as ex
     from rjcad.cad import mesh_export as mx
 
@@ -399,7 +402,8 @@ def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gr
     if mjcf:
         from rjcad.mjcf.export import mjcf_files
 
-        files.update(mjcf_files(b.manifest, b.meshes, "finger.xml", "finger.json", gravity=gravity))
+        mj = mjcf_files(b.manifest, b.meshes, "finger.xml", "finger.json", gravity=gravity)
+        files.update({f"{MJCF_DIR}/{name}": data for name, data in mj.items()})
     return files
 
 
@@ -432,8 +436,8 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
 
 
 def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False, gravity=None) -> FingerBuild:
-    """Build the finger and write finger.{stl,3mf,step,glb,png,json} (and with ``mjcf`` finger.xml and one STL per
-    body) into ``out_dir`` (as one set).
+    """Build the finger and write finger.{stl,3mf,step,glb,png,json} (and with ``mjcf`` the MJCF folder ``mjcf/``)
+    into ``out_dir`` (as one set).
 
     ``more(build, files)``, if given, returns further files of the set (``rjcad finger --html``: finger.html);
     without it, a finger.html of an earlier run is removed with the set's other stale files."""
@@ -454,4 +458,6 @@ def write_finger_files(
         raise OutputError(out_dir, str(e)) from e
     if more is not None:
         files.update(more(b, files))
-    return mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html"))
+    # and the MJCF files an earlier rjcad wrote beside the manifest (mesh_sources would read those STLs first)
+    legacy = ("finger.xml", *(f"finger_{body.name}.stl" for body in b.manifest.bodies or []))
+    return mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html", f"{MJCF_DIR}/", *legacy))

@@ -101,7 +101,11 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
     "--material", help="Material profile, instead of the template's: a name or a .toml file (see rjcad profiles)."
 )
 @click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
-@click.option("--mjcf", is_flag=True, help="Also write finger.xml (MuJoCo, SI units) and one STL per body.")
+@click.option(
+    "--mjcf",
+    is_flag=True,
+    help="Also write the MuJoCo model (SI units) into mjcf/: finger.xml, scene.xml and meshes/ (see rjcad mjcf).",
+)
 @click.option(
     "--gravity",
     default="horizontal-palm-down",
@@ -124,17 +128,21 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
         grav = gravity_of(gravity)
     if html:
         vendored_three()  # a missing three.js is said before the build
-    from rjcad.cad.build import write_finger
+    from rjcad.cad.build import MJCF_DIR, write_finger
 
     b = write_finger(fp, out_dir, png=not no_png, more=finger_page if html else None, mjcf=mjcf, gravity=grav)
     m = b.manifest
     click.echo(
         f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "
         f"({fp.n} joints, {len(m['bodies'])} bodies, {m['mesh']['triangles']} triangles)"
-        + (f"; MuJoCo: {out_dir}/finger.xml and finger_<body>.stl" if mjcf else "")
+        + (f"; MuJoCo: {out_dir}/{MJCF_DIR}/finger.xml (open scene.xml beside it)" if mjcf else "")
     )
     echo_profiles(fp.joints[0].printer_spec, fp.joints[0].material_spec)
     print_finger(m)
+    if mjcf:
+        from rjcad.cli.mjcf import echo_sag_of_manifest
+
+        echo_sag_of_manifest(m, gravity)
 
 
 def print_finger(m: Manifest | dict[str, Any]) -> None:

@@ -1,4 +1,4 @@
-"""``rjcad mjcf``: the MJCF of a built finger (one STL per body beside it); helpers for ``--engine mujoco``."""
+"""``rjcad mjcf``: the MJCF folder of a built finger (model, scene, meshes); helpers for ``--engine mujoco``."""
 
 from __future__ import annotations
 
@@ -6,36 +6,46 @@ from pathlib import Path
 
 import click
 
-from rjcad.errors import ParameterError, RjcadError, optional_import
+from rjcad.errors import RjcadError, optional_import
 
 GRAVITY_HELP = (
     "Gravity relative to the finger: horizontal-palm-down (default), horizontal-palm-up, "
     "vertical-tip-down, vertical-tip-up, lying-as-printed, off, or the angle from the finger's axis "
-    "towards the palm [deg]."
+    "towards the palm [deg]. The MJCF turns the finger's base so that this points down."
 )
 
 
 def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str | None, pull: str) -> dict:
-    """The MJCF (named ``xml_name``) and its body STLs for the manifest at ``manifest_path``, in memory."""
+    """The MJCF folder (the model ``xml_name``, scene.xml, meshes/<body>.stl) for the manifest at ``manifest_path``,
+    in memory."""
     from rjcad.io.manifest import Manifest
     from rjcad.io.untrusted import read_json
-    from rjcad.mjcf.export import check_identified, gravity_of, mesh_sources, mjcf_files, read_meshes
+    from rjcad.mjcf.export import check_identified, check_manifest, gravity_of, mesh_sources, mjcf_files, read_meshes
 
     man = Manifest.read(manifest_path)
-    from rjcad.mjcf.export import check_manifest
-
     check_manifest(man, Path(manifest_path).name)
     ident = check_identified(read_json(identified), man, identified) if identified else None
     grav = gravity_of(gravity)
     meshes = read_meshes(mesh_sources(manifest_path, man))
-    files = mjcf_files(man, meshes, xml_name, manifest_path, gravity=grav, identified=ident)
-    if pull == "path":
-        from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON
+    return mjcf_files(man, meshes, xml_name, manifest_path, gravity=grav, identified=ident, pull=pull)
 
-        xml = files[xml_name]
-        assert isinstance(xml, str)  # the model is text; its meshes are bytes
-        files[xml_name] = xml.replace(f'tendon="{GROOVE_TENDON}"', f'tendon="{PATH_TENDON}"')
-    return files
+
+def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str, str | None]:
+    """Where ``rjcad mjcf`` writes: (folder, model file name, a note to print once written). ``--out DIR``; an
+    ``.xml`` file (the former form) names the model in its folder, with a one-line note; default: ``mjcf/`` beside
+    the manifest."""
+    stem = Path(manifest).stem
+    if out_path is None:
+        return Path(manifest).parent / "mjcf", f"{stem}.xml", None
+    out = Path(out_path)
+    if out.suffix.lower() == ".xml":
+        folder = out.parent if str(out.parent) else Path(".")
+        note = (
+            f"rjcad: note: --out takes a folder now; wrote {out} with scene.xml and meshes/ beside it "
+            f"(say --out {folder})"
+        )
+        return folder, out.name, note
+    return out, f"{stem}.xml", None
 
 
 @click.command()
@@ -43,10 +53,10 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
 @click.option(
     "--out",
     "out_path",
-    type=click.Path(dir_okay=False),
-    default="finger.xml",
-    show_default=True,
-    help="The MJCF to write; one STL per body is written beside it (<stem>_<body>.stl).",
+    type=click.Path(),
+    default=None,
+    help="The folder to write: <manifest stem>.xml (the model), scene.xml (the model over a floor, with lights) "
+    "and meshes/<body>.stl. Default: mjcf/ beside the manifest.",
 )
 @click.option(
     "--identified",
@@ -64,22 +74,38 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
 )
 def mjcf(manifest, out_path, identified, gravity, pull):
     """Write the MuJoCo model (MJCF, SI units) of a finger built by `rjcad finger` (its manifest FINGER.json and,
-    beside it, its per-body STLs or its 3MF)."""
-    from rjcad.io.outputs import write_set
+    beside it, its 3MF): a folder with the model, scene.xml and the body meshes."""
+    from rjcad.io.outputs import check_writable, write_set
+    from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON
 
-    out = Path(out_path)
-    if out.suffix.lower() != ".xml":
-        raise ParameterError("--out", out_path, "must name an .xml file")
-    files = build_files(manifest, out.name, gravity, identified, pull)
-    write_set(out.parent if str(out.parent) else ".", files)
+    folder, xml_name, note = out_folder(manifest, out_path)
+    check_writable(folder)
+    files = build_files(manifest, xml_name, gravity, identified, PATH_TENDON if pull == "path" else GROOVE_TENDON)
+    write_set(folder, files)
     n = len([f for f in files if f.endswith(".stl")])
-    click.echo(f"MJCF written to {out} (and {n} body STLs beside it)")
+    click.echo(f"MJCF written to {folder / xml_name} (open {folder / 'scene.xml'}; {n} body meshes in meshes/)")
+    if note:
+        click.echo(note, err=True)
+    echo_sag_of_manifest(manifest, gravity)
 
 
-def mujoco_model(source: str | None, gravity: str | None = None):
+def echo_sag_of_manifest(manifest, gravity: str) -> None:
+    """The one-line note (stderr) when the finger's springs cannot hold it straight against gravity ``gravity``
+    (rjcad's statics on the manifest ``manifest``, a path or a ``Manifest``)."""
+    from rjcad.io.manifest import Manifest
+    from rjcad.mjcf.export import gravity_of
+    from rjcad.mjcf.sag import rjcad_rest_pose, sag_note
+
+    man = manifest if isinstance(manifest, Manifest) else Manifest.read(manifest)
+    note = sag_note(rjcad_rest_pose(man, gravity_of(gravity)), f"--gravity {gravity}", "rjcad's statics")
+    if note:
+        click.echo(note, err=True)
+
+
+def mujoco_model(source: str | None, gravity: tuple[float, float, float] | None = None):
     """A loaded MuJoCo model for ``rjcad simulate finger --engine mujoco``: an MJCF (.xml, as it is), a finger
     manifest (.json: exported in memory from it and its meshes), or a template (.toml; default: the paper's):
-    capsule links, no gravity unless ``gravity`` is given."""
+    capsule links; ``gravity`` [m/s², finger frame] (None: off) for the latter two."""
     from rjcad.mjcf.simulate import load
 
     if source is not None and Path(source).suffix.lower() == ".xml":
@@ -91,13 +117,17 @@ def mujoco_model(source: str | None, gravity: str | None = None):
             return mujoco.MjModel.from_xml_path(source)
         except ValueError as e:
             raise RjcadError(f"{source}: MuJoCo cannot load it: {str(e).splitlines()[0]}") from None
+    grav = gravity if gravity is not None else (0.0, 0.0, 0.0)
     if source is not None and Path(source).suffix.lower() == ".json":
-        files = build_files(source, "finger.xml", gravity or "off", None, "groove")
-        return load(files.pop("finger.xml"), dict(files))
-    from rjcad.mjcf.export import gravity_of
+        from rjcad.io.manifest import Manifest
+        from rjcad.mjcf.export import check_manifest, mesh_sources, mjcf_files, read_meshes
+
+        man = Manifest.read(source)
+        check_manifest(man, Path(source).name)
+        files = mjcf_files(man, read_meshes(mesh_sources(source, man)), "finger.xml", source, gravity=grav)
+        return load(str(files.pop("finger.xml")), {k: v for k, v in files.items() if isinstance(v, bytes)})
     from rjcad.mjcf.model import spec_from_model
     from rjcad.mjcf.spec import to_xml
     from rjcad.physics.finger_sources import load_finger_model
 
-    spec = spec_from_model(load_finger_model(source), gravity=gravity_of(gravity or "off"))
-    return load(to_xml(spec))
+    return load(to_xml(spec_from_model(load_finger_model(source), gravity=grav)))

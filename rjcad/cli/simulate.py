@@ -203,7 +203,13 @@ MAX_MU_T = 2.0
     help="rjcad's solver, or MuJoCo (SOURCE may then also be an MJCF .xml).",
 )
 @click.option("--compare", is_flag=True, help="Run both engines; overlay them in --plot (the JSON is --engine's).")
-def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare):
+@click.option(
+    "--gravity",
+    default=None,
+    help="Gravity relative to the finger, on the links' weights (a manifest's masses), as rjcad mjcf --gravity "
+    "[default: off; an MJCF has its own].",
+)
+def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity):
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
     import numpy as np
 
@@ -211,7 +217,10 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare)
 
     in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
-    runs = {e: _finger_run(e, source, stroke, steps, mu_t) for e in (("rjcad", "mujoco") if compare else (engine,))}
+    grav = _finger_gravity(source, gravity)
+    runs = {
+        e: _finger_run(e, source, stroke, steps, mu_t, grav) for e in (("rjcad", "mujoco") if compare else (engine,))
+    }
     c = runs[engine]
     if plot:
 
@@ -250,10 +259,37 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare)
                 f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
                 f"deg, tension {run.tension[steps]:.2f} N"
             )
+    _echo_sag(runs, source, gravity)
 
 
-def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
-    """The pull/release of ``source`` by one engine (a ``Closure``)."""
+def _finger_gravity(source, gravity: str | None) -> tuple[float, float, float] | None:
+    """``--gravity`` in the finger frame [m/s²] (None: off); refused with an MJCF, which carries its own."""
+    from pathlib import Path
+
+    if gravity is None:
+        return None
+    if source is not None and Path(source).suffix.lower() == ".xml":
+        raise ParameterError("--gravity", gravity, "an MJCF has its own (its base's orientation): leave it out")
+    from rjcad.mjcf.export import gravity_of
+
+    g = gravity_of(gravity)
+    return g if any(g) else None
+
+
+def _echo_sag(runs: dict, source, gravity: str | None) -> None:
+    """The one-line note (stderr) for each engine whose first reading (t_d = 0: the rest pose, the tendon slack)
+    has a joint off its extension stop: the springs cannot hold the finger against its weight."""
+    from rjcad.mjcf.sag import sag_note
+
+    where = f"--gravity {gravity}" if gravity is not None else "the MJCF's orientation"
+    for name, run in runs.items():
+        note = sag_note(run.theta[0], where, "rjcad's statics" if name == "rjcad" else "MuJoCo, settled at ctrl 0")
+        if note:
+            click.echo(note, err=True)
+
+
+def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gravity=None):
+    """The pull/release of ``source`` by one engine (a ``Closure``), under ``gravity`` [m/s², finger frame]."""
     from pathlib import Path
 
     if engine == "mujoco":
@@ -264,13 +300,19 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float):
         from rjcad.cli.mjcf import mujoco_model
         from rjcad.mjcf.simulate import run_stroke
 
-        return run_stroke(mujoco_model(source), stroke, steps)
+        return run_stroke(mujoco_model(source, gravity), stroke, steps)
     if source is not None and Path(source).suffix.lower() == ".xml":
         raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
     from rjcad.physics.finger import simulate_stroke
     from rjcad.physics.finger_sources import load_finger_model
 
     model = load_finger_model(source, mu_t=mu_t)
+    if gravity is not None:
+        from dataclasses import replace
+
+        from rjcad.mjcf.export import G
+
+        model = replace(model, gravity=(gravity[0] / G, gravity[1] / G))
     if mu_t > 0 and not any(model.wrap):
         raise ParameterError(
             "--mu-t",

@@ -68,9 +68,9 @@ def check_writable(out_dir: str | os.PathLike) -> Path:
 def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iterator[Path]:
     """Stage an output set: yield a fresh directory inside ``out_dir`` to write the set's files into.
 
-    On a clean exit every file staged there moves into ``out_dir``, replacing earlier ones (the names in
-    ``remove`` that this set does not write are removed too, so a set never mixes runs); a folder staged there
-    replaces the folder of its name whole, set aside and put back like a file. On any error or
+    On a clean exit every file (or folder) staged there moves into ``out_dir``, replacing earlier ones (a folder
+    replaces the earlier folder whole; the names in ``remove`` that this set does not write are removed too, a name
+    ending in "/" a folder, so a set never mixes runs). On any error or
     interrupt ``out_dir`` is left as it was (and removed if this call made it). Write errors are
     ``OutputError``s naming the file in ``out_dir``, never the stage.
     """
@@ -103,13 +103,13 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
 def write_set(
     out_dir: str | os.PathLike[str], files: Mapping[str, bytes | str], remove: tuple[str, ...] = ()
 ) -> list[Path]:
-    """Write ``files`` (plain name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``).
-    A name may hold a folder (``meshes/base.stl``): that folder is the set's, replaced whole."""
+    """Write ``files`` (name → bytes, or text as UTF-8) into ``out_dir`` as one set (``output_set``). A name is a
+    plain file name or a relative path ("mjcf/meshes/base.stl"): its top folder is then the set's, written whole."""
     out = Path(out_dir)
     for name in files:
         parts = name.split("/")
-        if any(not part or part.startswith(".") or Path(part).name != part for part in parts):
-            raise ValueError(f"output set member {name!r}: must be a plain file name (or folder/name)")
+        if any(not p or p.startswith(".") or Path(p).name != p for p in parts):
+            raise ValueError(f"output set member {name!r}: must be a plain file name or a relative path of them")
     with output_set(out, remove) as stage:
         for name, data in files.items():
             try:
@@ -154,16 +154,19 @@ def _target(path: Path, stage: Path, out: Path) -> Path:
         parts = Path(path).relative_to(stage).parts
     except ValueError:
         return Path(path)
-    parts = parts[1:] if parts[:1] == (_ASIDE,) else parts
+    if parts and parts[0] == _ASIDE:
+        parts = parts[1:]
     return out.joinpath(*parts)
 
 
 def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
-    """Move the staged files into ``out``, each file they replace set aside first; undo all on a failure."""
+    """Move the staged files (and folders) into ``out``, each one they replace set aside first; undo all on a
+    failure. An earlier directory is replaced only by a staged folder or a ``remove`` name ending in "/"."""
     new = sorted(p.name for p in stage.iterdir())
-    old = [n for n in dict.fromkeys([*new, *remove]) if os.path.lexists(out / n)]
+    folders = {n for n in new if (stage / n).is_dir()} | {n.rstrip("/") for n in remove if n.endswith("/")}
+    old = [n for n in dict.fromkeys([*new, *(r.rstrip("/") for r in remove)]) if os.path.lexists(out / n)]
     for n in old:
-        if (out / n).is_dir() and not (out / n).is_symlink() and not (stage / n).is_dir():
+        if (out / n).is_dir() and not (out / n).is_symlink() and n not in folders:
             raise OutputError(out / n, os.strerror(errno.EISDIR))
     aside = stage / _ASIDE
     aside.mkdir()

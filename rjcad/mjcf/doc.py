@@ -12,6 +12,7 @@ import numpy as np
 
 from rjcad.io.outputs import check_writable, write_set
 from rjcad.mjcf.fit import PIN_LOAD_N, analyse
+from rjcad.mjcf.spec import ACTUATOR_KP
 from rjcad.plotting import png_bytes, pyplot
 
 COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
@@ -47,20 +48,35 @@ def plot(res: dict) -> bytes:
 EXPORT = [
     "## Export",
     "",
-    "`rjcad mjcf FINGER.json --out finger.xml` (or `rjcad finger --mjcf`) writes an MJCF in SI units with one body "
-    "and mesh per link (mass from the manifest, centre of mass and inertia from the mesh), one hinge per joint "
-    "(`stiffness` K, `springref` = −preload so that the spring presses the joint on its extension stop with "
-    "K·preload at the straight pose, `range` from the stop to the rotation limit), neighbouring links' contacts "
-    "excluded, and two tendons: `path`, a spatial tendon through sites on the built tendon path (base channel, each "
-    "fork face, each eye's groove as a wrap cylinder, each support slot, the distal anchor), and `tendon`, a "
-    "fixed tendon of length −Σ r_i·q_i, rjcad's model of the groove (a constant moment arm). The `pull` actuator "
-    "acts on `tendon` (`--pull path` moves it to the spatial tendon). At the straight pose both have the "
-    "manifest's moment arms, and `path` its tendon length. With flexion the spatial path's straight runs between "
-    "a fork face and the next support slot cut the corner (a bowstring): its moment arm (MuJoCo's `ten_J` on the "
-    "exported file) grows with the angle, which rjcad's model, and the `tendon` MuJoCo is pulled by, do not have.",
+    "`rjcad mjcf FINGER.json --out DIR` (or `rjcad finger --mjcf`, into `mjcf/` of the finger's folder) writes a "
+    "folder laid out like the models of MuJoCo Menagerie: `finger.xml` (the model, SI units), `scene.xml` (the "
+    "model over a floor, with lights: open this one) and `meshes/<body>.stl`. The model has one body per link, its "
+    "frame at its joint's axis (the hinge at the body's origin), with its mass (the manifest's), centre of mass and "
+    "inertia (from the mesh); `<default>` classes under `rjcad`: `joint` (hinges with stiff limits: `solreflimit` "
+    "at two time steps, so that a spring's preload does not push its joint into the stop: MuJoCo's default "
+    "softness lets it sink degrees in), `visual` (the meshes, group 2, no contact) and `collision` (a box around "
+    "each body's mesh, group 3, touching the world but not the other links); one hinge per joint (`stiffness` K, `springref` "
+    "= −preload so that the spring presses the joint on its extension stop with K·preload at the straight pose, "
+    "`range` from the stop to the rotation limit), neighbouring links' contacts excluded, and two tendons: `path`, "
+    "a spatial tendon through sites on the built tendon path (base channel, each fork face, each eye's groove as a "
+    "wrap cylinder, each support slot, the distal anchor), and `tendon`, a fixed tendon of length −Σ r_i·q_i, "
+    "rjcad's model of the groove (a constant moment arm). The `pull` actuator acts on `tendon` (`--pull path` "
+    "moves it to the spatial tendon): its `ctrl` is the tendon pull in metres (rest length − length, positive "
+    "pulls), `ctrlrange` from 0 to the pull that takes every joint to its rotation limit (Σ r_i·rotation_i; on "
+    "`path` its own, longer travel), a "
+    f"servo of {ACTUATOR_KP * 1e-3:g} N per mm of pull error that never pushes; its force is the tension. "
+    "Sensors: each joint's angle, the pulled tendon's length, the tension; keyframe `home`: straight, ctrl 0. Gravity is MuJoCo's usual "
+    "0 0 −9.81: `--gravity` turns the finger's base instead (palm down by default). When the springs cannot hold "
+    "the finger straight against its weight in that orientation, `rjcad mjcf`, `rjcad finger --mjcf` and "
+    "`rjcad simulate finger --gravity …` (either engine) say by how much, in one line. At the straight pose both "
+    "tendons have the manifest's moment arms, and `path` its tendon length. With flexion the spatial path's "
+    "straight runs between a fork face and the next support slot cut the corner (a bowstring): its moment arm "
+    "(MuJoCo's `ten_J` on the exported file) grows with the angle, which rjcad's model, and the `tendon` MuJoCo "
+    "is pulled by, do not have.",
     "",
     "`rjcad simulate finger FILE --engine mujoco` runs the same quasi-static pull and release in MuJoCo "
-    "(the tendon's length limit ramped slowly, the finger settled at each step; `--compare` overlays rjcad's).",
+    "(the actuator made a stiff spring on the pull and its set point ramped slowly, the finger settled at each "
+    "step; `--compare` overlays rjcad's).",
     "",
 ]
 

@@ -1,11 +1,13 @@
 """The MJCF of a built finger: from its manifest (joints, masses, tendon path) and its body meshes.
 
-Meshes: ``<stem>_<body>.stl`` beside the manifest (written by ``rjcad finger --mjcf``), else the body's named
-part in ``<stem>.3mf``. Mass from the manifest (else mesh volume × the material's density); centre of mass
-and inertia from the mesh, scaled to that mass. Sites: the manifest's ``tendon_path_mm``, each point in the
-body whose span of x (between its joint's axis and the next) holds it. Joint friction, damping and armature:
-an ``rjcad identify`` result when given (its pin friction per joint, and its stiffness and preload if fitted),
-else the stated defaults below.
+Meshes read: ``<stem>_<body>.stl`` beside the manifest (what an earlier ``rjcad finger --mjcf`` wrote), else the
+body's named part in ``<stem>.3mf``. Mass from the manifest (else mesh volume × the material's density); centre of
+mass and inertia from the mesh, scaled to that mass; the collision box: the mesh's bounding box (the body frame's
+axes are the finger frame's). Sites: the manifest's ``tendon_path_mm``, each point in the body whose span of x
+(between its joint's axis and the next) holds it. Joint friction, damping and armature: an ``rjcad identify``
+result when given (its pin friction per joint, and its stiffness and preload if fitted), else the stated defaults
+below. Written: ``<stem>.xml``, ``scene.xml`` and ``meshes/<body>.stl`` (binary STL, mm, in the finger frame: the
+visual geom's ``pos`` puts each in its body's frame).
 """
 
 from __future__ import annotations
@@ -20,7 +22,17 @@ import numpy as np
 from rjcad import DEG
 from rjcad.errors import ParameterError, RjcadError, quote
 from rjcad.io.manifest import Manifest
-from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON, BodySpec, FingerSpec, JointSpec, to_xml, unit
+from rjcad.mjcf.spec import (
+    ACTUATOR,
+    GROOVE_TENDON,
+    PATH_TENDON,
+    BodySpec,
+    FingerSpec,
+    JointSpec,
+    scene_xml,
+    to_xml,
+    unit,
+)
 
 if TYPE_CHECKING:
     import trimesh
@@ -30,7 +42,8 @@ if TYPE_CHECKING:
 #: constant, a guess), no armature (no rotor), no friction loss (the design model is frictionless).
 DAMPING_S, ARMATURE, FRICTIONLOSS = 0.02, 0.0, 0.0
 
-#: --gravity: rjcad's finger orientations (x along the straight finger, y towards the palm, z along the axes)
+#: --gravity: rjcad's finger orientations, as gravity's direction in the finger frame (x along the straight finger,
+#: y towards the palm, z along the axes); the MJCF turns the base so that it points down
 GRAVITY = {
     "horizontal-palm-down": (0.0, 1.0, 0.0),  # gravity helps flexion
     "horizontal-palm-up": (0.0, -1.0, 0.0),  # gravity opposes flexion
@@ -122,6 +135,10 @@ def check_manifest(man: Manifest, source: str) -> None:
                 raise ParameterError(f"{source}: {man.key_path(i, key)}", getattr(j, key), "names no body in bodies")
 
 
+#: Where the meshes go, relative to the model (the compiler's ``meshdir``)
+MESHDIR = "meshes"
+
+
 def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
     """Where each body's mesh is: ``<stem>_<body>.stl`` beside the manifest, else ``<stem>.3mf``."""
     p = Path(manifest_path)
@@ -192,12 +209,11 @@ def _site_owner(man: Manifest, point: np.ndarray) -> str:
 def chain_from_manifest(
     man: Manifest,
     meshes: dict[str, trimesh.Trimesh],
-    stem: str,
     source: str = "manifest",
     identified: dict[str, Any] | None = None,
 ) -> tuple[tuple[BodySpec, ...], tuple[JointSpec, ...]]:
     """The bodies (base first) and hinges (proximal first) of a finger or joint manifest and its body meshes
-    (trimesh, mm), in SI units and the finger frame; mesh files ``<stem>_<body>.stl``. No tendon path needed."""
+    (trimesh, mm), in SI units and the finger frame; mesh files ``<body>.stl``. No tendon path needed."""
     from rjcad.materials import Material, from_manifest
 
     check_manifest(man, source)
@@ -214,7 +230,9 @@ def chain_from_manifest(
         if mass_g is None or mass_g <= 0:
             raise ParameterError(f"{source}: bodies.{b.name}.mass_g", b.mass_g, "is required (or a known material)")
         com, inertia = _mass_properties(mesh, mass_g * 1e-3)
-        bodies.append(BodySpec(b.name, mass_g * 1e-3, com, inertia, mesh_file=f"{stem}_{b.name}.stl"))
+        lo, hi = np.asarray(mesh.bounds, dtype=float) * 1e-3
+        box = (tuple((lo + hi) / 2), tuple((hi - lo) / 2))
+        bodies.append(BodySpec(b.name, mass_g * 1e-3, com, inertia, mesh_file=f"{b.name}.stl", box=box))
     order = [b.name for b in man_bodies]
     bodies.sort(
         key=lambda b: ([j.child for j in man.joints].index(b.name) + 1) if b.name != man.joints[0].parent else 0
@@ -248,19 +266,26 @@ def chain_from_manifest(
 def spec_from_manifest(
     man: Manifest,
     meshes: dict[str, trimesh.Trimesh],
-    stem: str,
     source: str = "manifest",
     gravity: tuple[float, float, float] | None = None,
     identified: dict[str, Any] | None = None,
+    pull: str = GROOVE_TENDON,
 ) -> FingerSpec:
-    """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm); mesh files ``<stem>_<body>.stl``."""
-    bodies, joints = chain_from_manifest(man, meshes, stem, source, identified)
+    """The ``FingerSpec`` of a finger manifest and its body meshes (trimesh, mm; mesh files ``<body>.stl``), its
+    actuator on the tendon ``pull``."""
+    bodies, joints = chain_from_manifest(man, meshes, source, identified)
     pts = _path_points(man, source)
     sites = tuple((_site_owner(man, pt), tuple(pt * 1e-3)) for pt in pts)
     grav = gravity if gravity is not None else gravity_of(DEFAULT_GRAVITY)
-    notes = _notes(man, source, identified, grav)
+    notes = _notes(man, source, identified, grav, pull)
     return FingerSpec(
-        bodies, joints, sites, gravity=grav, notes=notes, model_name=f"rjcad finger ({len(joints)} joints)"
+        bodies,
+        joints,
+        sites,
+        gravity=grav,
+        pull_on=pull,
+        notes=notes,
+        model_name=f"rjcad finger ({len(joints)} joints)",
     )
 
 
@@ -280,28 +305,35 @@ def joint_parameters(man: Manifest, identified: dict[str, Any] | None) -> list[d
 
 
 def _notes(
-    man: Manifest, source: str, identified: dict[str, Any] | None, grav: tuple[float, float, float]
+    man: Manifest, source: str, identified: dict[str, Any] | None, grav: tuple[float, float, float], pull: str
 ) -> tuple[str, ...]:
     fitted = sorted((identified or {}).get("params", {}))
     lost = [k for k in fitted if k.startswith(("gamma", "beta", "mu_alpha"))]
+    g = math.sqrt(sum(x * x for x in grav))
     return (
-        f"written by rjcad mjcf from {Path(source).name}: SI units (m, kg, N·m, rad); finger frame: x along the "
-        "straight finger, y towards the palm (flexion), z along the joint axes",
+        f"written by rjcad mjcf from {Path(source).name}: SI units (m, kg, N·m, rad); each body's frame at its "
+        "joint's axis, axes as the finger frame's: x along the straight finger, y towards the palm (flexion), z "
+        "along the joint axes; open scene.xml (this model over a floor)",
+        f"the base is turned so that gravity (finger frame: {', '.join(f'{x / g:.3f}' for x in grav)}) points down"
+        if g > 0
+        else "no gravity (--gravity off)",
         f"tendon '{PATH_TENDON}': the built tendon path (sites), wrapping each eye's groove; tendon "
-        f"'{GROOVE_TENDON}': rjcad's model, length -sum(r_i q_i) (constant moment arms); actuator 'pull' "
-        "(position, tension only) acts on one of them",
-        "joints: springref = -preload (the spring presses each joint on its extension stop at q = 0); "
+        f"'{GROOVE_TENDON}': rjcad's model, length -sum(r_i q_i) (constant moment arms); actuator '{ACTUATOR}' on "
+        f"'{pull}': ctrl = the tendon pull [m] (rest length - length), 0 to full flexion, force = tension [N]",
+        "joints: springref = -preload (the spring presses each joint on its extension stop at q = 0); stiff limits "
+        "(solreflimit at 2 time steps); "
         + (
             f"stiffness, preload and pin friction (frictionloss) from the identify result: {', '.join(fitted)}"
             if identified
             else f"frictionloss {FRICTIONLOSS} (design model), damping K*{DAMPING_S} s and "
             f"armature {ARMATURE}: stated defaults, not measured"
         ),
+        "collision: a box around each body's mesh (group 3), touching the world, not the other links; visual: the "
+        "meshes (group 2)",
         "MuJoCo cannot represent: a tension that changes along the tendon (capstan), nor pin friction that grows "
         "with the tendon load"
         + (f" (identified, left out: {', '.join(lost)})" if lost else "")
         + "; see docs/mujoco.md",
-        f"gravity {tuple(round(g, 3) for g in grav)} m/s^2 in the finger frame",
     )
 
 
@@ -341,11 +373,12 @@ def mjcf_files(
     source: str,
     gravity: tuple[float, float, float] | None = None,
     identified: dict[str, Any] | None = None,
+    pull: str = GROOVE_TENDON,
 ) -> dict[str, bytes | str]:
-    """The MJCF ``xml_name`` and one binary STL per body beside it (``<stem>_<body>.stl``), in memory."""
-    stem = Path(xml_name).stem
-    spec = spec_from_manifest(man, meshes, stem, source, gravity, identified)
-    # trimesh's export is typed for every format (a dict for some); a binary STL is bytes
-    files: dict[str, bytes | str] = {f"{stem}_{b}.stl": cast(bytes, meshes[b].export(file_type="stl")) for b in meshes}
-    files[xml_name] = to_xml(spec)
+    """The MJCF folder in memory (relative path → content): the model ``xml_name``, ``scene.xml`` (which includes
+    it) and ``meshes/<body>.stl`` (binary STL)."""
+    spec = spec_from_manifest(man, meshes, source, gravity, identified, pull)
+    files: dict[str, bytes | str] = {xml_name: to_xml(spec, MESHDIR), "scene.xml": scene_xml(spec, xml_name)}
+    for b in spec.bodies:  # trimesh's export is typed for every format (a dict for some); a binary STL is bytes
+        files[f"{MESHDIR}/{b.mesh_file}"] = cast(bytes, meshes[b.name].export(file_type="stl"))
     return files

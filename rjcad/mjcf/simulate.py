@@ -1,14 +1,15 @@
 """The quasi-static pull/release of a finger run in MuJoCo, read like rjcad's solver (a ``Closure``).
 
-The tendon is pulled by the file's ``pull`` actuator, made a pulling-only spring of stiffness ``KP`` on its
-tendon (force KP·(ctrl − L), never pushing: a released tendon goes slack, as in rjcad). At tendon displacement
-t_d the set point is L_rest − t_d − T/KP with T the last tension (so that the length comes out at L_rest − t_d);
-it moves there from the previous point in ``RAMP_STEPS`` time steps (``RAMP_CHUNKS`` equal moves: a slow,
-steady pull or pay-out), MuJoCo runs ``SETTLE_STEPS`` more, the set point is corrected by the remaining length
-error (``CORRECTIONS`` times, and once more per ``LONG_STEP_MM`` of the step's displacement: a coarse path settles
-longer; ``SETTLE_STEPS`` each), then qpos and the actuator's force are read. A spring, not a
-hard length limit: moving a hard limit lets the tendon go slack for an instant at each move, and a joint that
-friction should hold then slips. To settle fast without changing the statics, the run (on a copy of the model):
+The tendon is pulled by the file's ``pull`` actuator, made a pulling-only spring of stiffness ``KP`` on the pull
+p = L_rest − L of its tendon (tension KP·(ctrl − p), never pushing: a released tendon goes slack, as in rjcad;
+whatever the file's gear and bias, as the export writes it: ctrl = the pull [m]). At tendon displacement t_d the set
+point is t_d + T/KP with T the last tension (so that the pull comes out at t_d); it moves there from the previous
+point in ``RAMP_STEPS`` time steps (``RAMP_CHUNKS`` equal moves: a slow, steady pull or pay-out), MuJoCo runs
+``SETTLE_STEPS`` more, the set point is corrected by the remaining pull error (``CORRECTIONS`` times, and once more
+per ``LONG_STEP_MM`` of the step's displacement: a coarse path settles longer; ``SETTLE_STEPS`` each), then qpos
+and the tension are read. A spring, not a hard length limit: moving a hard limit lets the tendon go slack for an
+instant at each move, and a joint that friction should hold then slips. To settle fast without changing the
+statics, the run (on a copy of the model):
 
 * scales every body's mass and inertia down by ``MASS_SCALE`` and gravity up by it (the weights are kept);
 * gives each hinge an armature K·``ARMATURE_S``² and a damping K·``SETTLE_S`` (implicit in the integrator):
@@ -16,7 +17,8 @@ friction should hold then slips. To settle fast without changing the statics, th
 * makes joint limits and friction stiff (time constant 2·dt, impedance 0.9999) and turns contacts off
   (self-contact is no part of rjcad's model).
 
-The file's joint ``frictionloss`` and ``stiffness``/``springref``/``range`` are used as they are.
+The file's joint ``frictionloss`` and ``stiffness``/``springref``/``range`` are used as they are. The first reading
+(t_d = 0, the tendon slack if the weight flexes the finger) is the settled rest pose: ``rest_pose``.
 """
 
 from __future__ import annotations
@@ -92,19 +94,26 @@ def hinge_addresses(model) -> np.ndarray:
     )
 
 
-def _actuator(model, t: int) -> int:
-    """The position actuator on tendon ``t``, made a spring of stiffness KP [N/m] pulling only, no damping."""
+def _actuator(model, t: int) -> tuple[int, float]:
+    """The actuator on tendon ``t`` (its index and gear g), made a spring of stiffness KP [N/m] on the pull, pulling
+    only, no damping. Its force F pulls the tendon with T = −g·F over the actuator length g·L; with the pull
+    p = L_rest − L, T = KP·(ctrl − p) is F = −KP/g·ctrl + KP·L_rest/g − KP/g²·(g·L)."""
     mujoco = optional_import("mujoco", "mujoco")
 
     for a in range(model.nu):
         if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON and model.actuator_trnid[a, 0] == t:
-            model.actuator_gainprm[a, :3] = (KP, 0.0, 0.0)
-            model.actuator_biasprm[a, :3] = (0.0, -KP, 0.0)
+            g = float(model.actuator_gear[a, 0])
+            if g == 0.0:
+                break
+            model.actuator_gaintype[a] = mujoco.mjtGain.mjGAIN_FIXED
+            model.actuator_biastype[a] = mujoco.mjtBias.mjBIAS_AFFINE
+            model.actuator_gainprm[a, :3] = (-KP / g, 0.0, 0.0)
+            model.actuator_biasprm[a, :3] = (KP * float(model.tendon_length0[t]) / g, -KP / g**2, 0.0)
             model.actuator_ctrllimited[a] = 0
             model.actuator_forcelimited[a] = 1
-            model.actuator_forcerange[a] = (-1e6, 0.0)
+            model.actuator_forcerange[a] = (0.0, 1e6) if g < 0 else (-1e6, 0.0)
             model.actuator_dyntype[a] = mujoco.mjtDyn.mjDYN_NONE
-            return a
+            return a, g
     from rjcad.errors import RjcadError
 
     raise RjcadError("the MJCF has no actuator on its tendon")
@@ -125,10 +134,10 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     mujoco.mj_setConst(m, d)  # constraint scales for the new masses (it leaves d at the spring pose)
     mujoco.mj_resetData(m, d)
     t = _driven_tendon(m)
-    a = _actuator(m, t)
+    a, gear = _actuator(m, t)
     mujoco.mj_forward(m, d)
-    rest = float(d.ten_length[t])
-    d.ctrl[a] = rest
+    rest = float(m.tendon_length0[t])
+    d.ctrl[a] = 0.0
     td = np.asarray(tendon_mm, dtype=float)
     q = hinge_addresses(m)
     theta = np.zeros((len(td), len(q)))
@@ -136,26 +145,32 @@ def run_path(model, tendon_mm, phase: list[str] | None = None) -> Closure:
     mujoco.mj_step(m, d, nstep=FIRST_SETTLE)
     last = 0.0
     for k, x in enumerate(td):
-        goal = rest - x * 1e-3
-        start, aim = float(d.ctrl[a]), goal + float(d.actuator_force[a]) / KP  # feed-forward: the last tension
+        goal = x * 1e-3
+        start, aim = float(d.ctrl[a]), goal - gear * float(d.actuator_force[a]) / KP  # feed-forward: the last tension
         for s in range(1, RAMP_CHUNKS + 1):
             d.ctrl[a] = start + (aim - start) * s / RAMP_CHUNKS
             mujoco.mj_step(m, d, nstep=RAMP_STEPS // RAMP_CHUNKS)
         mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
         for _ in range(CORRECTIONS + int(abs(x - last) / LONG_STEP_MM)):  # a long step settles longer
-            err = goal - float(d.ten_length[t])
-            if not (d.actuator_force[a] < 0 or err < 0):
-                break  # slack (and not too long): nothing to correct
-            d.ctrl[a] += err  # taut (or too long): the length error moves the set point
+            err = goal - (rest - float(d.ten_length[t]))
+            if not (-gear * d.actuator_force[a] > 0 or err > 0):
+                break  # slack (and pulled as far as asked, or further): nothing to correct
+            d.ctrl[a] += err  # taut (or short of the goal): the pull error moves the set point
             mujoco.mj_step(m, d, nstep=SETTLE_STEPS)
         last = x
         theta[k] = d.qpos[q]
-        tension[k] = -float(d.actuator_force[a])
+        tension[k] = -gear * float(d.actuator_force[a])
     if phase is None:
         phase = ["pull"] + ["pull" if b > a else ("release" if b < a else "hold") for a, b in itertools.pairwise(td)]
     moved = np.diff(theta, axis=0, prepend=theta[:1])
     state = np.sign(np.where(np.abs(moved) > 1e-9, moved, 0.0))
     return Closure(td, list(phase), theta, tension, np.repeat(tension[:, None], len(q), axis=1), state, tension <= 1e-9)
+
+
+def rest_pose(model) -> np.ndarray:
+    """The joint angles [rad] the finger settles at with ctrl 0 (no pull; the weight may flex it, the tendon then
+    slack), quasi-static as ``run_path``'s readings."""
+    return run_path(model, [0.0]).theta[0]
 
 
 def run_stroke(model, stroke: float, steps: int = 500, hold: int = 0) -> Closure:

@@ -188,7 +188,7 @@ def urdf_files(man: Manifest, meshes: dict[str, trimesh.Trimesh], name: str, sou
     from rjcad.mjcf.export import chain_from_manifest
 
     check_names(man, Path(source).name)
-    bodies, joints = chain_from_manifest(man, meshes, name, Path(source).name)
+    bodies, joints = chain_from_manifest(man, meshes, Path(source).name)
     origins = link_origins(bodies, joints)
     files: dict[str, bytes | str] = {}
     for b in bodies:

@@ -226,7 +226,7 @@ NUMERIC = {
             "--rotation",
         ],
     ),
-    "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t"]),
+    "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity"]),
     "design": (
         ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "f.toml"],
         ["--stroke", "--base-stiffness"],
