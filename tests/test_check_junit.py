@@ -174,3 +174,5 @@ def test_an_unwritable_report_is_refused_before_checking(tmp_path, cli, monkeypa
     (tmp_path / "afile").write_text("x")
     code, _, err = cli("check", str(good), "--junit", str(tmp_path / "afile" / "report.xml"))
     assert code == 2 and "not a directory" in err and len(err.splitlines()) == 1
+    code, _, err = cli("check", str(good), "--junit", str(tmp_path))  # a directory: a forgotten file name
+    assert code == 2 and "is a directory" in err and len(err.splitlines()) == 1

@@ -77,6 +77,20 @@ def test_the_documented_workflow_checks_the_default_finger_one_case_per_check(tm
 # ---------------------------------------------------------------- the pre-commit hooks
 
 
+def test_the_hooks_offered_and_the_files_they_take(root):
+    yaml = pytest.importorskip("yaml")
+    hooks = {h["id"]: h for h in yaml.safe_load((root / ".pre-commit-hooks.yaml").read_text())}
+    assert list(hooks) == ["rjcad-check", "rjcad-check-system"]
+    assert [h["language"] for h in hooks.values()] == ["python", "system"]
+    for h in hooks.values():
+        assert h["entry"] == "rjcad check" and h["pass_filenames"] is True and h["require_serial"] is True
+        files = re.compile(h["files"])
+        assert all(files.search(f) for f in ("a.stl", "dir/b.3mf", "C.STL", "d.3MF"))
+        assert not any(files.search(f) for f in ("a.step", "a.stl.json", "stl", "a.glb"))
+    text = (root / "docs" / "ci.md").read_text()
+    assert all(f"`{i}`" in text for i in hooks)
+
+
 def meshes() -> tuple[bytes, bytes]:
     """A mesh that passes every check it gets without a manifest, and one with a 0.2 mm wall (min_feature fails)."""
     from test_check_mutations import part, thin_wall

@@ -109,7 +109,7 @@ def _junit_writable(junit: str, meshes) -> None:
     target = Path(os.path.abspath(junit))
     if any(target == Path(os.path.abspath(m)) for m in meshes):
         raise ParameterError("--junit", junit, "is a mesh to check: name another file")
-    check_writable(target.parent)
+    check_writable(Path(junit).parent)
 
 
 def _output(runs, as_json: bool) -> str:
