@@ -73,13 +73,19 @@ def body_volume(mesh: trimesh.Trimesh) -> float:
     return float(n_x @ t[:, :, 0].sum(axis=1) / 6.0)
 
 
-def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | None]:
-    """Bodies of an STL (connected components) or a 3MF (named parts, else named objects), and the names if any."""
+def mesh_file(path: str | Path) -> Path:
+    """``path`` if it names an existing .stl or .3mf file (before reading it), else BadInput."""
     p = Path(path)
     if not p.exists():
         raise BadInput(f"{p}: file not found")
     if p.suffix.lower() not in (".stl", ".3mf"):
         raise BadInput(f"{p}: not an .stl or .3mf file")
+    return p
+
+
+def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | None]:
+    """Bodies of an STL (connected components) or a 3MF (named parts, else named objects), and the names if any."""
+    p = mesh_file(path)
     is_3mf = p.suffix.lower() == ".3mf"
     try:
         loaded = trimesh.load(str(p), process=not is_3mf, force=None)

@@ -1,8 +1,11 @@
-"""``rjcad check``: check a mesh for printing; the exit code says if every check passed."""
+"""``rjcad check``: check meshes for printing; the exit code says if every check passed."""
 
 from __future__ import annotations
 
 import json
+import os
+import time
+from datetime import datetime
 from pathlib import Path
 
 import click
@@ -16,8 +19,10 @@ ALLOWANCE_MM = (0.0, 0.05)
 
 
 @click.command()
-@click.argument("mesh", type=click.Path(dir_okay=False))
-@click.option("--manifest", type=click.Path(dir_okay=False), help="The builder's JSON manifest (bodies, joints).")
+@click.argument("meshes", metavar="MESH...", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "--manifest", type=click.Path(dir_okay=False), help="The builder's JSON manifest (bodies, joints); one MESH only."
+)
 @click.option(
     "--clearance",
     type=float,
@@ -39,9 +44,18 @@ ALLOWANCE_MM = (0.0, 0.05)
     help="Also slice every body with supports off and read the G-code back (PrusaSlicer 2.5).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_json):
-    """Check a mesh for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
-    from rjcad.check import format_table, required_clearance, run_checks
+@click.option(
+    "--junit",
+    type=click.Path(dir_okay=False),
+    help="Also write JUnit XML for CI (a test suite per mesh, a case per check), whenever the checks ran.",
+)
+def check(meshes, manifest, clearance, allowance, printer, n_bodies, slicer, as_json, junit):
+    """Check meshes for printing: exit 0 all passed, 1 a check failed, 2 bad input."""
+    from rjcad.check import required_clearance, run_checks
+    from rjcad.check.junit import Run, junit_xml
+    from rjcad.check.load import mesh_file
+    from rjcad.errors import BadInput, ParameterError
+    from rjcad.io.config import write_atomic
     from rjcad.io.manifest import ManifestError
     from rjcad.materials import printer_of
     from rjcad.validate import in_range
@@ -49,26 +63,73 @@ def check(mesh, manifest, clearance, allowance, printer, n_bodies, slicer, as_js
     if clearance is not None:
         in_range("--clearance", clearance, *CLEARANCE_MM, unit="mm")
     in_range("--allowance", allowance, *ALLOWANCE_MM, unit="mm")
-    man = _manifest(manifest, mesh)
+    if manifest and len(meshes) > 1:
+        raise ParameterError("--manifest", manifest, f"describes one mesh: give one MESH with it ({len(meshes)} given)")
+    for mesh in meshes:  # every file there before the first is checked
+        mesh_file(mesh)
+    if junit:
+        _junit_writable(junit, meshes)
+    man = _manifest(manifest, meshes[0])
     prn = printer_of(printer, man)
     if clearance is not None:
         prn.check_gap("--clearance", clearance)
     elif man is not None:
         clearance = required_clearance(man, prn)
-    try:
-        rep = run_checks(
-            mesh,
-            manifest=man,
-            clearance=clearance,
-            printer=printer,
-            slicer=slicer,
-            allowance=allowance,
-            bodies=n_bodies,
-        )
-    except ManifestError as e:  # a key a check needs, missing: name the file
-        raise (e.at(manifest) if manifest and e.source == "manifest" else e) from None
-    click.echo(json.dumps(rep.to_dict(), indent=2) if as_json else format_table(rep))
-    return 0 if rep.passed else 1
+    runs = []
+    for mesh in meshes:
+        started, t0 = datetime.now(), time.perf_counter()
+        try:
+            rep = run_checks(
+                mesh,
+                manifest=man,
+                clearance=clearance,
+                printer=printer,
+                slicer=slicer,
+                allowance=allowance,
+                bodies=n_bodies,
+            )
+        except ManifestError as e:  # a key a check needs, missing: name the file
+            raise (e.at(manifest) if manifest and e.source == "manifest" else e) from None
+        except BadInput as e:  # among several meshes, say which
+            if len(meshes) > 1 and not str(e).startswith(str(mesh)):
+                raise BadInput(f"{mesh}: {e}") from None
+            raise
+        runs.append(Run(mesh, rep, time.perf_counter() - t0, started))
+    if junit:
+        write_atomic(junit, junit_xml(runs))
+    click.echo(_output(runs, as_json))
+    return 0 if all(r.report.passed for r in runs) else 1
+
+
+def _junit_writable(junit: str, meshes) -> None:
+    """Refuse, before any check runs, a ``--junit`` file that cannot be written or that is a mesh to check."""
+    from rjcad.errors import ParameterError
+    from rjcad.io.outputs import check_writable
+
+    target = Path(os.path.abspath(junit))
+    if any(target == Path(os.path.abspath(m)) for m in meshes):
+        raise ParameterError("--junit", junit, "is a mesh to check: name another file")
+    check_writable(Path(junit).parent)
+
+
+def _output(runs, as_json: bool) -> str:
+    """The table (or JSON) of one mesh as it always was; of several, each mesh's under its path, then a verdict."""
+    from rjcad.check import format_table
+
+    if len(runs) == 1:
+        rep = runs[0].report
+        return json.dumps(rep.to_dict(), indent=2) if as_json else format_table(rep)
+    failed = [r.mesh for r in runs if not r.report.passed]
+    if as_json:
+        meshes = [{"mesh": r.mesh, **r.report.to_dict()} for r in runs]
+        return json.dumps({"passed": not failed, "meshes": meshes}, indent=2)
+    tables = [f"{r.mesh}\n{format_table(r.report)}" for r in runs]
+    verdict = (
+        f"FAILED: {len(failed)} of {len(runs)} meshes ({', '.join(failed)})"
+        if failed
+        else f"PASSED: all {len(runs)} meshes"
+    )
+    return "\n\n".join([*tables, verdict])
 
 
 def _manifest(path: str | None, mesh: str):

@@ -517,6 +517,7 @@ def writers(sh: Shared) -> dict[str, tuple[list[str], str]]:
         "design": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "{o}/f.toml"], "file"),
         "paperfinger": (["paper-finger", "--out", "{o}"], "dir"),
         "life-plot": (["life", "--plot", "{o}/l.png"], "file"),
+        "check-junit": (["check", str(sh.joint / "joint.stl"), "--junit", "{o}/r.xml"], "file"),
     }
 
 
@@ -535,6 +536,8 @@ def output_cases(sh: Shared) -> list[Case]:
     for name, (argv, _) in writers(sh).items():
         heavy = name in ("joint", "joint-nopng", "finger")
         big = "error" if heavy else "either"  # small outputs may fit in what is left
+        if name == "check-junit":  # written, its verdict is the check's (exit 0 or 1)
+            big = "either-checked"
 
         def mk(place, o, setup, expect="error", name=name, argv=argv, heavy=heavy, **kw):
             cases.append(
