@@ -76,4 +76,4 @@ paper-campaign: $(VENV)/.installed
 
 # docs/identify/: the report that docs/identify.md walks through
 identify-doc: $(VENV)/.installed
-	$(VENV)/bin/rjcad identify examples/paper_campaign/campaign.toml --report docs/identify --json docs/identify/result.json
+	$(VENV)/bin/rjcad identify examples/paper_campaign --report docs/identify --json > docs/identify/result.json

@@ -196,8 +196,13 @@ def test_cli_identify_json_and_summary(tmp_path, capsys, paper):
     with pytest.raises(SystemExit) as e:
         main(["identify", str(paper), "--json", str(out)])
     assert e.value.code == 0
-    text = capsys.readouterr().out
+    text, err = capsys.readouterr()
     assert "found: coulomb_pin, tendon_pin_friction, capstan_path" in text
+    # the former spelling (--json FILE) writes the file as it did, with the one-line note
+    assert err == (
+        "rjcad: note: --json FILE is deprecated; use --json (one JSON object on stdout; > FILE to keep it) "
+        "(the old spelling goes in the next release)\n"
+    )
     js = json.loads(out.read_text())
     for key in ("effects", "params", "param_ci95", "not_identifiable", "steps", "experiments", "gain"):
         assert key in js
@@ -209,11 +214,14 @@ def test_cli_identify_json_and_summary(tmp_path, capsys, paper):
     assert js["gain"] == pytest.approx(math.exp(np.mean(np.log(ratios))), rel=1e-3)
 
 
-def test_cli_identify_json_to_stdout(capsys, paper):
+@pytest.mark.parametrize("argv", [["{c}", "--json"], ["{c}", "--json", "-"], ["--json", "{c}"], ["{d}", "--json"]])
+def test_cli_identify_json_to_stdout(capsys, paper, argv):
+    """``--json`` prints one JSON object (``--json -`` too); the campaign may come after it, or be its folder."""
     with pytest.raises(SystemExit) as e:
-        main(["identify", str(paper), "--json", "-"])
+        main(["identify", *(a.format(c=paper, d=paper.parent) for a in argv)])
     assert e.value.code == 0
-    assert json.loads(capsys.readouterr().out)["effects"][0] == "coulomb_pin"
+    out, err = capsys.readouterr()
+    assert json.loads(out)["effects"][0] == "coulomb_pin" and err == ""
 
 
 def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
@@ -223,11 +231,10 @@ def test_cli_identify_bad_campaign_is_one_line(tmp_path, capsys):
         '[[experiment]]\nfile = "nope.csv"\ndrive = "bar"\n'
     )
     with pytest.raises(SystemExit) as e:
-        main(["identify", str(bad), "--json", str(tmp_path / "o.json")])
+        main(["identify", str(bad), "--json"])
     assert e.value.code == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "nope.csv" in err[0]
-    assert not (tmp_path / "o.json").exists()
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.splitlines()) == 1 and "nope.csv" in err
 
 
 def test_a_parameter_the_data_only_bound_is_not_reported_as_fitted(tmp_path):

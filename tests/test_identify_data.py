@@ -523,7 +523,7 @@ def test_cli_every_bad_data_case_is_one_line_exit_2(tmp_path, capsys, case, expe
     toml = write_campaign(tmp_path, f'[[experiment]]\nfile = "exp1.csv"\ndrive = "{drive}"\n')
     out = tmp_path / "out.json"
     with pytest.raises(SystemExit) as info:
-        rjcad.cli.main(["identify", str(toml), "--json", str(out), "--report", str(tmp_path / "rep")])
+        rjcad.cli.main(["identify", str(toml), "--json", "--report", str(tmp_path / "rep")])
     assert info.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "exp1.csv" in err[0] and expect in err[0], err

@@ -453,9 +453,9 @@ def test_the_former_out_file_still_works_with_a_note(built, tmp_path, cli):
         "mjcf", built["one"] / "finger.json", "--out", tmp_path / "sim" / "one.xml", "--gravity", "off"
     )
     assert code == 0, err
-    assert (
-        err == f"rjcad: note: --out takes a folder now; wrote {tmp_path / 'sim' / 'one.xml'} with scene.xml and "
-        f"meshes/ beside it (say --out {tmp_path / 'sim'})\n"
+    assert err == (
+        "rjcad: note: --out FILE.xml is deprecated; use --out DIR (it writes DIR/finger.xml) "
+        "(the old spelling goes in the next release)\n"
     )
     assert sorted(p.name for p in (tmp_path / "sim").iterdir()) == ["meshes", "one.xml", "scene.xml"]
     assert '<include file="one.xml" />' in (tmp_path / "sim" / "scene.xml").read_text()

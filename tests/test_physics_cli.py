@@ -35,7 +35,7 @@ def test_simulate_joint_flags_change_the_loop(cli_process):
             "--routed",
             "--normal-load",
             "0",
-            "--pulley-radius",
+            "--tendon-moment-arm",
             "8",
         ).stdout
     )
@@ -100,7 +100,6 @@ def test_simulate_finger_bad_input_is_one_line(tmp_path, content, words, cli_pro
 
 
 def test_finger_design_cli_writes_a_template_and_reports(tmp_path, cli_process):
-    out = tmp_path / "my.toml"
     r = cli_process(
         "finger-design",
         "--target",
@@ -110,14 +109,14 @@ def test_finger_design_cli_writes_a_template_and_reports(tmp_path, cli_process):
         "--sequence",
         "proximal-first",
         "--out",
-        str(out),
+        str(tmp_path),
         "--json",
     )
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert max(abs(e) for e in d["end_error_deg"]) < 1.0 and len(d["closure"]["theta_deg"]) == 3
-    assert "[[joint]]" in out.read_text()
-    bad = tmp_path / "bad.toml"
+    assert "[[joint]]" in (tmp_path / "finger.toml").read_text()
+    bad = tmp_path / "bad"
     r = cli_process("finger-design", "--target", "90,20,20", "--stroke", "12", "--out", str(bad))
     assert r.returncode == 2 and "proximal-first" in r.stderr and r.stderr.count("\n") == 1
     assert not bad.exists()
@@ -174,11 +173,16 @@ def test_cli_simulate_finger_and_design(tmp_path, cli_process, root):
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert set(d) >= {"tendon_mm", "phase", "theta_deg", "tension_n"} and len(d["theta_deg"]) == 3
-    out = tmp_path / "my.toml"
+    out = tmp_path / "my.toml"  # the former spelling, a file: written as before, with the note
     r = cli_process(
         "finger-design", "--target", "65,50,50", "--stroke", "25", "--sequence", "proximal-first", "--out", str(out)
     )
-    assert r.returncode == 0, r.stderr and out.exists()
-    r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "90", "--out", str(tmp_path / "x.toml"))
+    assert r.returncode == 0, r.stderr
+    assert out.exists() and r.stdout.startswith(f"wrote {out}\n")
+    assert r.stderr == (
+        "rjcad: note: --out FILE.toml is deprecated; use --out DIR (it writes DIR/finger.toml) "
+        "(the old spelling goes in the next release)\n"
+    )
+    r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "90", "--out", str(tmp_path / "x"))
     assert r.returncode == 2 and "moment arm" in r.stderr and r.stderr.count("\n") == 1
-    assert not (tmp_path / "x.toml").exists()
+    assert not (tmp_path / "x").exists()

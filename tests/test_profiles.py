@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import pytest
 
@@ -283,19 +284,19 @@ def test_import_prusaslicer_writes_a_profile_rjcad_reads_and_says_so(home, tmp_p
         if any("MK3S" in n for n, _ in names)
         else names[0][0]
     )
-    code, out, err = cli("profiles", "import-prusaslicer", name, "--out", tmp_path / "imported.toml")
+    code, out, err = cli("profiles", "import-prusaslicer", name, "--out", tmp_path)
     assert code == 0, err
     assert "printer profile written to" in out and name in out
-    p = get_printer(str(tmp_path / "imported.toml"))
+    (written,) = tmp_path.glob("*.toml")  # named after the printer
+    assert re.fullmatch(r"[a-z0-9]+(-[a-z0-9]+)*\.toml", written.name), written.name
+    p = get_printer(str(written))
     assert p.name == name and 0.1 < p.nozzle_mm <= 1.2 and p.min_wall_mm == 2 * p.nozzle_mm
 
 
 def test_import_prusaslicer_without_its_profiles_is_one_line(home, tmp_path, cli):
-    code, _out, err = cli(
-        "profiles", "import-prusaslicer", "MK3S", "--out", tmp_path / "x.toml", "--profiles-dir", tmp_path
-    )
+    code, _out, err = cli("profiles", "import-prusaslicer", "MK3S", "--out", tmp_path / "x", "--profiles-dir", tmp_path)
     assert code == 2 and err.count("\n") == 1 and "apt-get install prusa-slicer" in err
-    assert not (tmp_path / "x.toml").exists()
+    assert not (tmp_path / "x").exists()
 
 
 def test_a_printer_too_short_for_the_joint_is_refused_before_building(home, tmp_path, cli):

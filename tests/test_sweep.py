@@ -142,18 +142,19 @@ def test_build_mode_failed_design_is_a_row(tmp_path, monkeypatch):
     assert not (tmp_path / "results.partial.jsonl").exists()
 
 
-def test_progress_bar_on_a_terminal_and_lines_otherwise():
-    class Tty(io.StringIO):
-        def isatty(self):
-            return True
-
-    t, p = Tty(), io.StringIO()
-    bar, plain = sw.Progress(4, stream=t), sw.Progress(4, stream=p, every_s=0.0)
+def test_progress_goes_to_a_function_or_as_plain_lines():
+    """The library writes no terminal: each finished design goes to the CLI's progress function (its line on a
+    terminal), or else a plain line to a stream (stdout off a terminal), or nowhere."""
+    told, plain = [], io.StringIO()
+    counted = sw.DesignCounter(4, report=lambda what, done, total: told.append((what, done, total)))
+    lines = sw.DesignCounter(4, stream=plain, every_s=0.0)
+    silent = sw.DesignCounter(4)
+    counted.start("building")
     for _ in range(4):
-        bar.update()
-        plain.update()
-    assert "\r[" in t.getvalue() and "/s" in t.getvalue() and "ETA" in t.getvalue()
-    assert p.getvalue().count("\n") == 4 and "\r" not in p.getvalue()
+        for c in (counted, lines, silent):
+            c.update()
+    assert told == [("building", k, 4) for k in range(5)]
+    assert plain.getvalue().count("\n") == 4 and "\r" not in plain.getvalue() and "/s, ETA" in plain.getvalue()
 
 
 def test_bad_sweep_files(tmp_path, capsys):

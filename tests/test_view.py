@@ -32,10 +32,10 @@ def test_tendon_points_move_with_the_body_they_run_through():
 def test_view_refuses_a_manifest_without_its_glb(cli, tmp_path, root):
     man = tmp_path / "finger.json"
     man.write_text((root / "tests" / "data" / "manifest_v0_finger.json").read_text())
-    r = cli("view", str(man), "--out", str(tmp_path / "f.html"))
+    r = cli("view", str(man), "--out", str(tmp_path / "page"))
     assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("rjcad: error:"), r.err
     assert "finger.glb: not found" in r.err
-    assert not (tmp_path / "f.html").exists()
+    assert not (tmp_path / "page").exists()
 
 
 def test_the_page_takes_the_glbs_frame_from_the_glb():
@@ -74,10 +74,10 @@ def test_view_refuses_a_damaged_glb_in_one_line(cli, tmp_path, root, damage, why
     (tmp_path / "finger.glb").write_bytes(damage(glb_bytes({"base": trimesh.creation.box((10, 10, 10))})))
     with pytest.raises(RjcadError, match=re.escape(why)):  # ViewerError, or the JSON reader's
         glb_frame((tmp_path / "finger.glb").read_bytes())
-    r = cli("view", str(man), "--out", str(tmp_path / "f.html"))
+    r = cli("view", str(man), "--out", str(tmp_path / "page"))
     assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("rjcad: error:"), r.err
     assert f"{tmp_path / 'finger.glb'}: " in r.err and why in r.err
-    assert not (tmp_path / "f.html").exists()
+    assert not (tmp_path / "page").exists()
 
 
 @pytest.mark.parametrize("option, value", [("--stroke", "0"), ("--stroke", "nan"), ("--mu-t", "5")])

@@ -22,6 +22,7 @@ from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 from rjcad.io.manifest import JointEntry, Manifest
 from rjcad.io.outputs import OutputError, TemporaryWriteError, check_writable
 from rjcad.materials import profile_entries
+from rjcad.progress import Progress, report
 
 if TYPE_CHECKING:
     import trimesh
@@ -177,22 +178,27 @@ class JointBuild:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def build(p: JointParams, source=None) -> JointBuild:
+def build(p: JointParams, source=None, progress: Progress | None = None) -> JointBuild:
     """Build, tessellate and measure the joint; nothing is written. ``source``: the joint a
-    ``rjcad.cad.process.CadProcess`` builds (``cad.joint(p)``; default: built in this process)."""
+    ``rjcad.cad.process.CadProcess`` builds (``cad.joint(p)``; default: built in this process). ``progress`` (a
+    ``rjcad.progress.Progress``) is told each stage."""
+    report(progress, "building the solids")
     if source is None:
         from rjcad.cad.measure import LocalJoint  # OCP
 
         source = LocalJoint(p)
     shape = source.shape()
+    report(progress, "meshing")
     t0 = time.perf_counter()
     meshes = {name: mx.mesh_of(v, f) for name, (v, f) in shape.triangles.items()}
     t1 = time.perf_counter()
     from rjcad.check.mesh_checks import to_manifold
 
+    report(progress, "measuring the gap between the bodies")
     man = [to_manifold(m) for m in meshes.values()]
     gap = float(man[0].min_gap(man[1], 2.0))
     t2 = time.perf_counter()
+    report(progress, "measuring the tendon's moment arm and wrap")
     measured = source.measures()
     entry = joint_entry(p, "ground", "moving", shape.axis_point, shape.axis_dir)
     entry.tendon_moment_arm_mm, entry.tendon_wrap_angle_rad = measured.moment_arm, measured.wrap_angle
@@ -248,10 +254,13 @@ def build(p: JointParams, source=None) -> JointBuild:
     return JointBuild(p, source.solids, meshes, manifest, shape.tendon, source.step, timings)
 
 
-def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[str, bytes | str]:
+def render_files(
+    b: JointBuild, name: str = "joint", png: bool = True, progress: Progress | None = None
+) -> dict[str, bytes | str]:
     """Every output file's bytes, in memory (so that an error leaves no partial output). The STEP file is
     asked for last: a CAD process writes it while this one writes the meshes."""
     p = b.params
+    report(progress, "exporting STL, 3MF and GLB")
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         f"{name}.stl": mx.stl_bytes(list(b.meshes.values())),
@@ -261,6 +270,7 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     files[f"{name}.glb"] = mx.glb_bytes(b.meshes, JOINT_COLOURS)
     t2 = time.perf_counter()
     if png:
+        report(progress, "rendering the preview")
         files[f"{name}.png"] = mx.preview_png(
             b.meshes,
             f"rjcad joint: K = {p.spring.joint_stiffness:.2f} N·mm/rad, {math.degrees(p.rotation):g}° rotation, "
@@ -270,6 +280,7 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
             sections=preview_sections(p),
         )
     t3 = time.perf_counter()
+    report(progress, "exporting STEP")
     files[f"{name}.step"] = b.step(name)
     t4 = time.perf_counter()
     b.timings.update({"stl_3mf_s": t1 - t0, "glb_s": t2 - t1, "png_s": t3 - t2, "step_s": t4 - t3})
@@ -278,29 +289,36 @@ def render_files(b: JointBuild, name: str = "joint", png: bool = True) -> dict[s
     return {k: files[k] for k in order if k in files}
 
 
-def write_joint(p: JointParams, out_dir: str | Path, png: bool = True, cad=None) -> JointBuild:
+def write_joint(
+    p: JointParams, out_dir: str | Path, png: bool = True, cad=None, progress: Progress | None = None
+) -> JointBuild:
     """Build the joint and write joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set).
-    ``cad``: a ``rjcad.cad.process.CadProcess`` to build the solids in (default: this process)."""
+    ``cad``: a ``rjcad.cad.process.CadProcess`` to build the solids in (default: this process); ``progress`` (a
+    ``rjcad.progress.Progress``) is told each stage."""
     check_writable(out_dir)
     source = None
     if cad is not None:
         source = cad.joint(p)  # sent now: the CAD process builds as soon as it has imported OCP
+        report(progress, "loading the mesh and preview libraries")
         mx.prepare(png)  # meanwhile
     try:
-        b = build(p, source)
+        b = build(p, source, progress)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
-    write_joint_files(b, out_dir, png=png)
+    write_joint_files(b, out_dir, png=png, progress=progress)
     return b
 
 
-def write_joint_files(b: JointBuild, out_dir: str | Path, png: bool = True) -> list[Path]:
+def write_joint_files(
+    b: JointBuild, out_dir: str | Path, png: bool = True, progress: Progress | None = None
+) -> list[Path]:
     """Write the built joint ``b`` as joint.stl, .3mf, .step, .glb, .png and .json into ``out_dir`` (as one set;
     without ``png``, a joint.png of an earlier run is removed); returns the files written."""
     try:
-        files = render_files(b, "joint", png=png)
+        files = render_files(b, "joint", png=png, progress=progress)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
+    report(progress, "writing the files")
     return mx.write_outputs(out_dir, files, remove=("joint.png",))
 
 
@@ -320,20 +338,26 @@ class FingerBuild:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def build_finger_model(fp) -> FingerBuild:
-    """Build, tessellate and measure the finger; nothing is written."""
+def build_finger_model(fp, progress: Progress | None = None) -> FingerBuild:
+    """Build, tessellate and measure the finger; nothing is written. ``progress`` (a ``rjcad.progress.Progress``)
+    is told each body built and meshed, and each joint measured."""
+    report(progress, "loading the CAD kernel")
     from rjcad.cad import export as ex
     from rjcad.cad.finger import build_finger, tendon_path  # OCP
     from rjcad.cad.measure import body_entries
 
     t0 = time.perf_counter()
-    solids = build_finger(fp)
+    solids = build_finger(fp, progress)
     t1 = time.perf_counter()
-    meshes = {name: ex.to_mesh(s) for name, s in solids.items()}
+    meshes = {}
+    for k, (name, s) in enumerate(solids.items()):
+        report(progress, f"meshing {name}", k, len(solids))
+        meshes[name] = ex.to_mesh(s)
     t2 = time.perf_counter()
     names = fp.body_names
     joints = []
     for i, p in enumerate(fp.joints):
+        report(progress, f"measuring joint {i + 1}'s tendon", i, fp.n)
         entry = joint_entry(p, names[i], names[i + 1], [fp.axis_x[i], 0.0, 0.0], [0.0, 0.0, 1.0])
         entry.tendon_moment_arm_mm = ex.measure_moment_arm(
             solids[names[i + 1]], p.z_mid, p.tendon_line_diameter, axis_point=entry.axis_point_mm
@@ -372,12 +396,15 @@ def build_finger_model(fp) -> FingerBuild:
     )
 
 
-def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gravity=None) -> dict[str, bytes | str]:
+def render_finger_files(
+    b: FingerBuild, png: bool = True, mjcf: bool = False, gravity=None, progress: Progress | None = None
+) -> dict[str, bytes | str]:
     """finger.stl/.3mf/.step/.glb/.png/.json as bytes; with ``mjcf``, the MJCF folder too (mjcf/finger.xml,
     mjcf/scene.xml, mjcf/meshes/<body>.stl)."""
     from rjcad.cad import export as ex
     from rjcad.cad import mesh_export as mx
 
+    report(progress, "exporting STL, 3MF, STEP and GLB")
     t0 = time.perf_counter()
     files: dict[str, bytes | str] = {
         "finger.stl": mx.stl_bytes(list(b.meshes.values())),
@@ -387,6 +414,7 @@ def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gr
     }
     t1 = time.perf_counter()
     if png:
+        report(progress, "rendering the preview")
         fp = b.params
         ks = ", ".join(f"{j.joint_stiffness_nmm_per_rad:.2f}" for j in b.manifest.joints)
         p0 = fp.joints[0]
@@ -402,6 +430,7 @@ def render_finger_files(b: FingerBuild, png: bool = True, mjcf: bool = False, gr
     if mjcf:
         from rjcad.mjcf.export import mjcf_files
 
+        report(progress, "writing the MuJoCo model")
         mj = mjcf_files(b.manifest, b.meshes, "finger.xml", "finger.json", gravity=gravity)
         files.update({f"{MJCF_DIR}/{name}": data for name, data in mj.items()})
     return files
@@ -435,29 +464,45 @@ def finger_sections(fp) -> list[tuple[str, tuple, tuple]]:
     ]
 
 
-def write_finger(fp, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False, gravity=None) -> FingerBuild:
+def write_finger(
+    fp,
+    out_dir: str | Path,
+    png: bool = True,
+    more=None,
+    mjcf: bool = False,
+    gravity=None,
+    progress: Progress | None = None,
+) -> FingerBuild:
     """Build the finger and write finger.{stl,3mf,step,glb,png,json} (and with ``mjcf`` the MJCF folder ``mjcf/``)
-    into ``out_dir`` (as one set).
+    into ``out_dir`` (as one set). ``progress`` (a ``rjcad.progress.Progress``) is told each step.
 
     ``more(build, files)``, if given, returns further files of the set (``rjcad finger --html``: finger.html);
     without it, a finger.html of an earlier run is removed with the set's other stale files."""
     check_writable(out_dir)
-    b = build_finger_model(fp)
-    write_finger_files(b, out_dir, png=png, more=more, mjcf=mjcf, gravity=gravity)
+    b = build_finger_model(fp, progress)
+    write_finger_files(b, out_dir, png=png, more=more, mjcf=mjcf, gravity=gravity, progress=progress)
     return b
 
 
 def write_finger_files(
-    b: FingerBuild, out_dir: str | Path, png: bool = True, more=None, mjcf: bool = False, gravity=None
+    b: FingerBuild,
+    out_dir: str | Path,
+    png: bool = True,
+    more=None,
+    mjcf: bool = False,
+    gravity=None,
+    progress: Progress | None = None,
 ) -> list[Path]:
     """Write the built finger ``b``'s files into ``out_dir`` (as one set), as ``write_finger`` does; returns the
     files written."""
     try:
-        files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity)
+        files = render_finger_files(b, png=png, mjcf=mjcf, gravity=gravity, progress=progress)
     except TemporaryWriteError as e:
         raise OutputError(out_dir, str(e)) from e
     if more is not None:
+        report(progress, "writing the viewer page")
         files.update(more(b, files))
+    report(progress, "writing the files")
     # and the MJCF files an earlier rjcad wrote beside the manifest (mesh_sources would read those STLs first)
     legacy = ("finger.xml", *(f"finger_{body.name}.stl" for body in b.manifest.bodies or []))
     return mx.write_outputs(out_dir, files, remove=("finger.png", "finger.html", f"{MJCF_DIR}/", *legacy))

@@ -31,6 +31,7 @@ from rjcad.cad.parts import CHANNEL_ROOF, tube_path
 from rjcad.design.finger_lengths import CHANNEL_RUNS, channel_shift
 from rjcad.design.finger_params import FingerParams
 from rjcad.design.params import JointParams
+from rjcad.progress import Progress, report
 
 M3_CLEARANCE_DIAMETER = 3.4
 
@@ -131,11 +132,16 @@ def tendon_path(fp: FingerParams) -> list[tuple[float, float, float]]:
     return pts
 
 
-def build_finger(fp: FingerParams) -> dict[str, Shape]:
-    """Every body of the finger, named, in finger coordinates (joint 1's axis at the origin)."""
+def build_finger(fp: FingerParams, progress: Progress | None = None) -> dict[str, Shape]:
+    """Every body of the finger, named, in finger coordinates (joint 1's axis at the origin); ``progress`` (a
+    ``rjcad.progress.Progress``) is told each body."""
     js = fp.joints
+    n = len(js) + 1
+    report(progress, "building base", 0, n)
     bodies = {"base": base_body(fp)}
     for i in range(len(js) - 1):
+        report(progress, f"building link{i + 1}", i + 1, n)
         bodies[f"link{i + 1}"] = occ.translated(link_body(js[i], js[i + 1]), (fp.axis_x[i], 0.0, 0.0))
+    report(progress, "building distal", n - 1, n)
     bodies["distal"] = occ.translated(distal_body(js[-1]), (fp.axis_x[-1], 0.0, 0.0))
     return bodies

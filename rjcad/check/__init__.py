@@ -30,6 +30,7 @@ from rjcad.check.report import BadInput, CheckResult, Report, format_table, skip
 from rjcad.check.slicer import GCODE_CACHE, Slicing, check_slicer, finish_slicer, prusa_config, start_slicer
 from rjcad.io.manifest import Manifest
 from rjcad.materials import Printer, printer_of
+from rjcad.progress import Progress, report
 
 __all__ = [
     "CONE_HALF_ANGLE",
@@ -93,9 +94,12 @@ def run_checks(
     slicer: str | None = None,
     allowance: float = DEFAULT_ALLOWANCE,
     bodies: int | None = None,
+    progress: Progress | None = None,
 ) -> Report:
-    """Run every check on a mesh file, or on a list of trimesh bodies; returns the report."""
+    """Run every check on a mesh file, or on a list of trimesh bodies; returns the report. ``progress`` (a
+    ``rjcad.progress.Progress``) is told each check by name and the slicer's phases."""
     man = load_manifest(manifest)
+    report(progress, "reading the mesh")
     meshes, names, how = _bodies_of(source)
     listed = man is not None and man.bodies is not None
     if names is None:
@@ -109,35 +113,51 @@ def run_checks(
     )
     started = start_slicer(meshes, names, prn, slicer)  # PrusaSlicer slices in the background meanwhile
     try:
-        rep = _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance)
-        rep.checks.append(finish_slicer(started, meshes, names, prn, allowance))
+        rep = _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance, progress)
+        rep.checks.append(finish_slicer(started, meshes, names, prn, allowance, progress))
     finally:
         if isinstance(started, Slicing):
             started.close()
     return rep
 
 
-def _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance) -> Report:
+#: The checks in the report's order (the progress line counts them).
+CHECKS = ("watertight", "manifold", "bodies", "clearance", "motion", "min_feature", "bed", "overhang", "slicer")
+
+
+def _mesh_checks(meshes, names, man, how, expected, clearance, prn, allowance, progress=None) -> Report:
     """Every check but the slicer's, in the report's order."""
+
+    def step(name: str) -> None:
+        report(progress, name, CHECKS.index(name), len(CHECKS))
+
     rep = Report(body_names=names)
+    step("watertight")
     rep.checks.append(check_watertight(meshes, names))
+    step("manifold")
     man_check, mans = check_manifold(meshes, names)
     rep.checks.append(man_check)
+    step("bodies")
     rep.checks.append(check_bodies(meshes, expected))
     rep.checks[-1].detail += f"; {how}: " + ", ".join(
         f"{n} {abs(body_volume(m)):.0f} mm³" for n, m in zip(names, meshes)
     )
     if rep.checks[0].passed and man_check.passed:
+        step("clearance")
         copies = simplified(mans)  # shared by clearance and motion
         rep.checks.append(check_clearance(meshes, names, mans, clearance, allowance, copies))
+        step("motion")
         rep.checks.append(check_motion(meshes, names, mans, man, clearance, prn, copies))
     else:
         rep.checks += [skipped(n, "skipped: needs watertight, manifold bodies") for n in ("clearance", "motion")]
+    step("min_feature")
     rep.checks.append(
         check_min_feature(meshes, names, prn, allowance)
         if rep.checks[0].passed
         else skipped("min_feature", "skipped: needs watertight bodies")
     )
+    step("bed")
     rep.checks.append(check_bed(meshes, prn))
+    step("overhang")
     rep.checks.append(check_overhang(meshes, names, prn))
     return rep

@@ -19,6 +19,7 @@ inside the command functions, so each command imports only what it needs.
 from __future__ import annotations
 
 import importlib
+import os
 import re
 import signal
 import sys
@@ -51,8 +52,33 @@ COMMANDS = {
 }
 
 
+class StdoutClosed(Exception):
+    """The reader of stdout went away (``rjcad spring | head -1``); not an OSError, so that click passes it on."""
+
+
+def _stdout_gone() -> bool:
+    """True if fd 1 is a pipe or socket whose reader has closed it (poll says POLLERR), so that a BrokenPipeError
+    from a helper process's pipe is not taken for it."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(ev & (select.POLLERR | select.POLLHUP) for _, ev in poller.poll(0))
+    except (OSError, AttributeError, ValueError):  # stdout is no file (a test's capture)
+        return False
+
+
 class LazyGroup(click.Group):
     """A click group that imports a command's module on first use (``COMMANDS``)."""
+
+    def invoke(self, ctx: click.Context):
+        try:
+            return super().invoke(ctx)
+        except BrokenPipeError as e:  # click would exit 1 on it; main exits quietly with 0
+            if _stdout_gone():
+                raise StdoutClosed() from e
+            raise
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
@@ -65,9 +91,10 @@ class LazyGroup(click.Group):
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
-@click.option("--debug", is_flag=True, help="Show tracebacks on errors.")
+@click.option("--debug", is_flag=True, help="Show tracebacks (and Python warnings) on errors; accepted anywhere.")
+@click.option("--quiet", is_flag=True, help="No progress line on the terminal; accepted anywhere.")
 @click.version_option(package_name="rjcad")
-def cli(debug: bool) -> None:
+def cli(debug: bool, quiet: bool) -> None:
     """Design, build and check 3D-printable elastic joints for robotic fingers."""
 
 
@@ -99,7 +126,10 @@ def main(argv: list[str] | None = None) -> None:
     """Console entry point: run the CLI, turn user errors into one line and exit 2 (SIGINT 130, SIGTERM 143)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
-    args = [a for a in args if a != "--debug"]  # accepted anywhere on the line
+    from rjcad.cli import progress
+
+    progress.QUIET = "--quiet" in args
+    args = [a for a in args if a not in ("--debug", "--quiet")]  # accepted anywhere on the line
     on_main = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _on_sigterm) if on_main else None
     try:
@@ -121,6 +151,17 @@ def entry() -> None:
     main()
 
 
+def _quiet_stdout() -> None:
+    """The reader of stdout is gone (``rjcad spring | head -1``): point fd 1 at /dev/null, so that nothing more
+    fails on it, not even the interpreter's last flush."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, AttributeError, ValueError):  # stdout is no file (a test's capture)
+        pass
+
+
 def _run(args: list[str], debug: bool) -> None:
     """Run the command line ``args``; exit with its code."""
     try:
@@ -128,6 +169,12 @@ def _run(args: list[str], debug: bool) -> None:
             if not debug:  # a stray library warning is not the user's business; --debug shows it
                 warnings.simplefilter("ignore")
             rv = cli.main(args=args, prog_name="rjcad", standalone_mode=False)
+        sys.stdout.flush()  # here, where a closed pipe can still be told from an error
+    except (StdoutClosed, BrokenPipeError) as e:  # the reader stopped reading (`| head`): it has what it wanted
+        if isinstance(e, BrokenPipeError) and not _stdout_gone():
+            raise
+        _quiet_stdout()
+        sys.exit(0)
     except RjcadError as e:
         if debug:
             traceback.print_exc()

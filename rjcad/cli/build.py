@@ -6,8 +6,9 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from rjcad.cli.options import design_options, echo_profiles, print_table
+from rjcad.cli.options import OutDir, complete_profiles, design_options, echo_profiles, print_table
 from rjcad.fields import JOINT_FIELDS
+from rjcad.progress import report
 
 if TYPE_CHECKING:
     from rjcad.io.manifest import Manifest
@@ -31,14 +32,7 @@ def _bodies(m: Manifest | dict[str, Any]) -> tuple[str, str, str]:
 
 @click.command()
 @design_options(FIELDS, "TOML design (see templates/joint.toml).")
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="out/joint",
-    show_default=True,
-    help="Output directory.",
-)
+@click.option("--out", "out_dir", type=OutDir(), default="out/joint", show_default=True, help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 def joint(config, out_dir, no_png, **options):
     """Build the one-piece joint module: STL, 3MF, STEP, GLB, PNG preview and JSON manifest."""
@@ -46,18 +40,20 @@ def joint(config, out_dir, no_png, **options):
 
     import rjcad.cli
     from rjcad.cad import process
+    from rjcad.cli.progress import progress_line
 
     # the rjcad program builds in a forked process that imports OCP while this one designs the spring
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
-    with cad or contextlib.nullcontext():
+    with cad or contextlib.nullcontext(), progress_line("joint") as progress:  # the line's thread after the fork
         from rjcad.api import joint_params
         from rjcad.io.outputs import check_writable
 
+        report(progress, "designing the spring")
         params = joint_params(config=config, **{f.keyword: options[f.name] for f in FIELDS})
         check_writable(out_dir)  # before this process imports OCP or meshes
         from rjcad.cad.build import write_joint
 
-        b = write_joint(params, out_dir, png=not no_png, cad=cad)
+        b = write_joint(params, out_dir, png=not no_png, cad=cad, progress=progress)
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     echo_profiles(params.printer_spec, params.material_spec)
     print_joint(b.manifest)
@@ -85,20 +81,17 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
 
 @click.command()
 @click.argument("template", required=False, type=click.Path(dir_okay=False))
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(file_okay=False),
-    default="out/finger",
-    show_default=True,
-    help="Output directory.",
-)
+@click.option("--out", "out_dir", type=OutDir(), default="out/finger", show_default=True, help="Output directory.")
 @click.option("--no-png", is_flag=True, help="Skip the preview image.")
 @click.option(
-    "--printer", help="Printer profile, instead of the template's: a name or a .toml file (see rjcad profiles)."
+    "--printer",
+    shell_complete=complete_profiles("printers"),
+    help="Printer profile, instead of the template's: a name or a .toml file (see rjcad profiles).",
 )
 @click.option(
-    "--material", help="Material profile, instead of the template's: a name or a .toml file (see rjcad profiles)."
+    "--material",
+    shell_complete=complete_profiles("materials"),
+    help="Material profile, instead of the template's: a name or a .toml file (see rjcad profiles).",
 )
 @click.option("--html", is_flag=True, help="Also write finger.html, the interactive viewer (see rjcad view).")
 @click.option(
@@ -116,21 +109,25 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     """Build a finger of chained joint modules (default: the paper's joints on a desktop printer,
     templates/finger.toml)."""
     from rjcad.api import finger_params
+    from rjcad.cli.progress import progress_line
     from rjcad.io.outputs import check_writable
     from rjcad.view import finger_page, vendored_three
 
-    fp = finger_params(template or None, printer=printer, material=material)
-    check_writable(out_dir)
-    grav = None
-    if mjcf:
-        from rjcad.mjcf.export import gravity_of
+    with progress_line("finger") as progress:
+        report(progress, "designing the springs")
+        fp = finger_params(template or None, printer=printer, material=material)
+        check_writable(out_dir)
+        grav = None
+        if mjcf:
+            from rjcad.mjcf.export import gravity_of
 
-        grav = gravity_of(gravity)
-    if html:
-        vendored_three()  # a missing three.js is said before the build
-    from rjcad.cad.build import MJCF_DIR, write_finger
+            grav = gravity_of(gravity)
+        if html:
+            vendored_three()  # a missing three.js is said before the build
+        from rjcad.cad.build import MJCF_DIR, write_finger
 
-    b = write_finger(fp, out_dir, png=not no_png, more=finger_page if html else None, mjcf=mjcf, gravity=grav)
+        more = finger_page if html else None
+        b = write_finger(fp, out_dir, png=not no_png, more=more, mjcf=mjcf, gravity=grav, progress=progress)
     m = b.manifest
     click.echo(
         f"finger written to {_outputs(out_dir, 'finger', no_png, html)} "

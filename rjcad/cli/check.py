@@ -10,6 +10,7 @@ from pathlib import Path
 
 import click
 
+from rjcad.cli.options import complete_profiles
 from rjcad.io.manifest import CLEARANCE_MM
 from rjcad.materials import PRINTERS
 
@@ -36,7 +37,12 @@ ALLOWANCE_MM = (0.0, 0.05)
     show_default=True,
     help="Tessellation allowance [mm], in [{:g}, {:g}].".format(*ALLOWANCE_MM),
 )
-@click.option("--printer", type=str, help=f"One of: {', '.join(PRINTERS)} (default: the manifest's, or generic-0.4).")
+@click.option(
+    "--printer",
+    type=str,
+    shell_complete=complete_profiles("printers"),
+    help=f"One of: {', '.join(PRINTERS)} (default: the manifest's, or generic-0.4).",
+)
 @click.option("--bodies", "n_bodies", type=click.IntRange(1, 1000), help="Expected number of bodies.")
 @click.option(
     "--slicer",
@@ -54,6 +60,7 @@ def check(meshes, manifest, clearance, allowance, printer, n_bodies, slicer, as_
     from rjcad.check import required_clearance, run_checks
     from rjcad.check.junit import Run, junit_xml
     from rjcad.check.load import mesh_file
+    from rjcad.cli.progress import progress_line
     from rjcad.errors import BadInput, ParameterError
     from rjcad.io.config import write_atomic
     from rjcad.io.manifest import ManifestError
@@ -78,16 +85,19 @@ def check(meshes, manifest, clearance, allowance, printer, n_bodies, slicer, as_
     runs = []
     for mesh in meshes:
         started, t0 = datetime.now(), time.perf_counter()
+        title = f"check {Path(mesh).name}" if len(meshes) > 1 else "check"
         try:
-            rep = run_checks(
-                mesh,
-                manifest=man,
-                clearance=clearance,
-                printer=printer,
-                slicer=slicer,
-                allowance=allowance,
-                bodies=n_bodies,
-            )
+            with progress_line(title) as progress:
+                rep = run_checks(
+                    mesh,
+                    manifest=man,
+                    clearance=clearance,
+                    printer=printer,
+                    slicer=slicer,
+                    allowance=allowance,
+                    bodies=n_bodies,
+                    progress=progress,
+                )
         except ManifestError as e:  # a key a check needs, missing: name the file
             raise (e.at(manifest) if manifest and e.source == "manifest" else e) from None
         except BadInput as e:  # among several meshes, say which

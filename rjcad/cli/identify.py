@@ -6,8 +6,10 @@ import json
 
 import click
 
+from rjcad.cli.options import OutDir
 from rjcad.errors import quote
 from rjcad.paper import JOINT
+from rjcad.progress import report
 
 
 def _key_values(text: str, option: str) -> dict[str, float]:
@@ -59,7 +61,7 @@ def _key_values(text: str, option: str) -> dict[str, float]:
     help="With --finger: the finger manifest (.json) or template (.toml); default: templates/finger.toml.",
 )
 @click.option("--no-tension", is_flag=True, help="With --finger: no tendon_force_n column (no load cell).")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), required=True, help="Campaign directory.")
+@click.option("--out", "out_dir", type=OutDir(), required=True, help="The campaign folder to write.")
 def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, finger, source, no_tension, out_dir):
     """Write a SYNTHETIC campaign simulated from the joint model (experiments A-E of the paper) or, with
     --finger, from the finger model (pull/release records), with noise."""
@@ -117,8 +119,16 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
 
 
 @click.command()
-@click.argument("campaign", type=click.Path(dir_okay=False))
-@click.option("--json", "json_out", type=click.Path(dir_okay=False), help="Write the result as JSON ('-': stdout).")
+@click.argument("campaign", required=False, type=click.Path())
+@click.option(
+    "--json",
+    "json_out",
+    is_flag=False,
+    flag_value="-",
+    default=None,
+    metavar="",
+    help="Print the result as one JSON object (`--json FILE`, the former form, still writes FILE).",
+)
 @click.option("--report", "report_dir", type=click.Path(file_okay=False), help="Write report.md and PNG plots here.")
 @click.option(
     "--allow-outside",
@@ -126,24 +136,48 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
     help="Read data files outside the campaign file's folder (default: refused, symlinks followed).",
 )
 def identify(campaign, json_out, report_dir, allow_outside):
-    """What the design simulation gets wrong in measured data, which effects cause it, and the gain."""
+    """What the design simulation gets wrong in measured data, which effects cause it, and the gain. CAMPAIGN is
+    a campaign TOML or its folder (its campaign.toml)."""
     from pathlib import Path
 
+    from rjcad.cli.options import deprecated
+    from rjcad.cli.progress import progress_line
     from rjcad.identify.campaign import load_campaign
-    from rjcad.identify.report import write_report
-    from rjcad.identify.result import to_json
-    from rjcad.identify.select import identify as run
     from rjcad.io.config import write_json
     from rjcad.io.outputs import check_writable
 
+    if campaign is None:
+        if json_out in (None, "-"):
+            raise click.MissingParameter(param_type="argument", param_hint="'CAMPAIGN'")
+        campaign, json_out = json_out, "-"  # `identify --json C`: --json took the campaign as its value
+    if json_out not in (None, "-"):
+        deprecated("--json FILE", "--json (one JSON object on stdout; > FILE to keep it)")
     places = ([Path(json_out).parent] if json_out and json_out != "-" else []) + ([report_dir] if report_dir else [])
     for place in places:
         check_writable(place)  # before the fit, not after it
-    camp = load_campaign(campaign, allow_outside=allow_outside)
+    with progress_line("identify") as progress:
+        report(progress, "reading the campaign")
+        camp = load_campaign(campaign, allow_outside=allow_outside)
+        js, written = _identified(camp, report_dir, progress)
+    if json_out and json_out != "-":
+        written.insert(0, str(write_json(json_out, js)))
+    if json_out == "-":
+        click.echo(json.dumps(js, indent=2))
+        return
+    print_identification(js)
+    for path in written:
+        click.echo(f"wrote {path}")
+
+
+def _identified(camp, report_dir: str | None, progress) -> tuple[dict, list[str]]:
+    """The identification's JSON and the report files written (with ``report_dir``), for any kind of campaign."""
+    from pathlib import Path
+
     if getattr(camp, "kind", "joint") == "finger-endpoint":
         from rjcad.identify.finger import endpoint
 
         assert isinstance(camp, endpoint.EndpointCampaign)
+        report(progress, "fitting the endpoint's candidate sets")
         js = endpoint.identify_endpoints(camp)
         written = []
         if report_dir:
@@ -151,30 +185,29 @@ def identify(campaign, json_out, report_dir, allow_outside):
 
             write_set(Path(report_dir), {"report.md": endpoint.render_markdown(js)})
             written = [str(Path(report_dir) / "report.md")]
-    elif getattr(camp, "kind", "joint") == "finger":
+        return js, written
+    if getattr(camp, "kind", "joint") == "finger":
         from rjcad.identify.finger import result as finger_result
         from rjcad.identify.finger.data import FingerCampaign
         from rjcad.identify.finger.problem import identify_finger
 
         assert isinstance(camp, FingerCampaign)
-        ident = identify_finger(camp)
+        ident = identify_finger(camp, progress=progress)
         js = finger_result.to_json(ident)
-        written = [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
-    else:
-        from rjcad.identify.data import Campaign
+        if report_dir:
+            report(progress, "writing the report")
+        return js, [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
+    from rjcad.identify.data import Campaign
+    from rjcad.identify.report import write_report
+    from rjcad.identify.result import to_json
+    from rjcad.identify.select import identify as run
 
-        assert isinstance(camp, Campaign)
-        ident = run(camp)
-        js = to_json(ident)
-        written = [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
-    if json_out and json_out != "-":
-        written.insert(0, str(write_json(json_out, js)))
-    if json_out == "-":
-        click.echo(json.dumps(js, indent=2))
-    else:
-        print_identification(js)
-    for path in written:
-        click.echo(f"wrote {path}")
+    assert isinstance(camp, Campaign)
+    ident = run(camp, progress=progress)
+    js = to_json(ident)
+    if report_dir:
+        report(progress, "writing the report")
+    return js, [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
 
 
 def print_identification(js: dict) -> None:

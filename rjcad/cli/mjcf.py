@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from rjcad.cli.options import OutDir
 from rjcad.errors import RjcadError, optional_import
 
 GRAVITY_HELP = (
@@ -30,22 +31,16 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
     return mjcf_files(man, meshes, xml_name, manifest_path, gravity=grav, identified=ident, pull=pull)
 
 
-def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str, str | None]:
-    """Where ``rjcad mjcf`` writes: (folder, model file name, a note to print once written). ``--out DIR``; an
-    ``.xml`` file (the former form) names the model in its folder, with a one-line note; default: ``mjcf/`` beside
-    the manifest."""
+def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str]:
+    """Where ``rjcad mjcf`` writes: (folder, model file name). ``--out DIR``; an ``.xml`` file (the former form)
+    names the model in its folder, with the deprecation note; default: ``mjcf/`` beside the manifest."""
+    from rjcad.cli.options import out_file
+
     stem = Path(manifest).stem
     if out_path is None:
-        return Path(manifest).parent / "mjcf", f"{stem}.xml", None
-    out = Path(out_path)
-    if out.suffix.lower() == ".xml":
-        folder = out.parent if str(out.parent) else Path(".")
-        note = (
-            f"rjcad: note: --out takes a folder now; wrote {out} with scene.xml and meshes/ beside it "
-            f"(say --out {folder})"
-        )
-        return folder, out.name, note
-    return out, f"{stem}.xml", None
+        return Path(manifest).parent / "mjcf", f"{stem}.xml"
+    folder, name = out_file(out_path, (".xml",), f"{stem}.xml")
+    return Path(folder), name
 
 
 @click.command()
@@ -53,7 +48,7 @@ def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str, str | No
 @click.option(
     "--out",
     "out_path",
-    type=click.Path(),
+    type=OutDir(legacy=(".xml",)),
     default=None,
     help="The folder to write: <manifest stem>.xml (the model), scene.xml (the model over a floor, with lights) "
     "and meshes/<body>.stl. Default: mjcf/ beside the manifest.",
@@ -78,14 +73,12 @@ def mjcf(manifest, out_path, identified, gravity, pull):
     from rjcad.io.outputs import check_writable, write_set
     from rjcad.mjcf.spec import GROOVE_TENDON, PATH_TENDON
 
-    folder, xml_name, note = out_folder(manifest, out_path)
+    folder, xml_name = out_folder(manifest, out_path)
     check_writable(folder)
     files = build_files(manifest, xml_name, gravity, identified, PATH_TENDON if pull == "path" else GROOVE_TENDON)
     write_set(folder, files)
     n = len([f for f in files if f.endswith(".stl")])
     click.echo(f"MJCF written to {folder / xml_name} (open {folder / 'scene.xml'}; {n} body meshes in meshes/)")
-    if note:
-        click.echo(note, err=True)
     echo_sag_of_manifest(manifest, gravity)
 
 

@@ -1,4 +1,5 @@
-"""What several commands share: design options as click options, the table printer.
+"""What several commands share: design options as click options, the table printer, the grammar's helpers
+(``OutDir``, the deprecation note, completion of profile names); docs/cli.md is the grammar.
 
 The design options themselves (``Field``: flag, TOML key, API keyword, type, help, angle or not), the tables of
 ``rjcad spring`` and ``rjcad joint`` and ``--config`` merging live in ``rjcad.fields``, which the Python API
@@ -11,7 +12,98 @@ import click
 
 from rjcad.fields import REQUIREMENT, Field, merge_config, requirement
 
-__all__ = ["REQUIREMENT", "Field", "design_options", "echo_profiles", "merge_config", "print_table", "requirement"]
+__all__ = [
+    "REQUIREMENT",
+    "Field",
+    "OutDir",
+    "complete_profiles",
+    "deprecated",
+    "design_options",
+    "echo_profiles",
+    "merge_config",
+    "print_table",
+    "renamed",
+    "requirement",
+]
+
+#: Options whose values are profile names, completed from the profiles rjcad sees (``rjcad profiles``).
+PROFILE_OPTIONS = {"material": "materials", "printer": "printers"}
+
+
+def deprecated(old: str, new: str) -> None:
+    """The one-line note on stderr for an old spelling that still works this release."""
+    click.echo(f"rjcad: note: {old} is deprecated; use {new} (the old spelling goes in the next release)", err=True)
+
+
+def complete_profiles(kind: str):
+    """A click ``shell_complete`` callback: the names of the ``kind`` profiles ("materials" or "printers") that
+    start with what was typed, each with its title; a path (a ``/`` or ``.toml`` typed) completes as a file."""
+
+    def complete(ctx: click.Context, param: click.Parameter, incomplete: str):
+        from click.shell_completion import CompletionItem
+
+        if "/" in incomplete or incomplete.endswith(".toml"):
+            return [CompletionItem(incomplete, type="file")]
+        from rjcad.materials import everything
+
+        try:
+            profiles = everything(kind)
+        except Exception:  # a broken profile of the user's must not break the shell's completion
+            return []
+        return [CompletionItem(p.key, help=p.name) for p in profiles if p.key.startswith(incomplete)]
+
+    return complete
+
+
+class OutDir(click.Path):
+    """``--out``: a folder, always (created if missing; an existing file is refused in one line). ``legacy``:
+    file suffixes of the former form (``--out page.html``), passed through unchecked for the command to accept
+    with a deprecation note."""
+
+    name = "directory"
+
+    def __init__(self, legacy: tuple[str, ...] = ()) -> None:
+        super().__init__(file_okay=False, dir_okay=True)
+        self.legacy = tuple(s.lower() for s in legacy)
+
+    def is_legacy(self, value: str) -> bool:
+        """True for the former form: a name with a legacy suffix that is not an existing folder."""
+        import os
+
+        return bool(self.legacy) and str(value).lower().endswith(self.legacy) and not os.path.isdir(value)
+
+    def convert(self, value, param, ctx):
+        if self.is_legacy(value):
+            return value
+        return super().convert(value, param, ctx)
+
+
+def out_file(value: str, legacy: tuple[str, ...], name: str) -> tuple[str, str]:
+    """``--out``'s (folder, file name in it) for a command that writes one file, ``name`` in the folder: the
+    former form ``--out FILE`` (a legacy suffix) keeps its file, with the deprecation note."""
+    import os
+
+    if OutDir(legacy).is_legacy(value):
+        deprecated(f"--out FILE{legacy[0]}", f"--out DIR (it writes DIR/{name})")
+        return os.path.dirname(value) or ".", os.path.basename(value)
+    return value, name
+
+
+def renamed(old: str, new: str, **kw):
+    """Decorator: the hidden option ``old``, the former name of ``new`` (same type), taken with the deprecation
+    note; the command reads it as ``<old's name>`` and calls ``either`` to merge."""
+    kw.setdefault("type", float)
+    return click.option(old, old.lstrip("-").replace("-", "_"), hidden=True, default=None, **kw)
+
+
+def either(new_value, old_value, new: str, old: str):
+    """The value of an option given by its new name or its former one (noted); both given is a usage error."""
+    if old_value is None:
+        return new_value
+    if new_value is not None:
+        raise click.UsageError(f"give {new} only ({old} is its former name)")
+    deprecated(old, new)
+    return old_value
 
 
 def design_options(fields: tuple[Field, ...], config_help: str):
@@ -20,7 +112,9 @@ def design_options(fields: tuple[Field, ...], config_help: str):
     def decorate(f):
         f = click.option("--config", type=click.Path(dir_okay=False), help=config_help)(f)
         for field in reversed(fields):
-            f = click.option(field.flag, type=field.type, help=field.help)(f)
+            kind = PROFILE_OPTIONS.get(field.name)
+            complete = complete_profiles(kind) if kind else None
+            f = click.option(field.flag, type=field.type, help=field.help, shell_complete=complete)(f)
         return f
 
     return decorate

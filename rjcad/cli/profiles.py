@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import click
+
+from rjcad.cli.options import OutDir
 
 
 @click.group(invoke_without_command=True)
@@ -65,26 +68,32 @@ def profiles(ctx: click.Context, as_json: bool) -> None:
 @click.argument("printer_name")
 @click.option(
     "--out",
-    "out",
-    type=click.Path(dir_okay=False),
+    "out_dir",
+    type=OutDir(legacy=(".toml",)),
     required=True,
-    help="The printer profile to write (.toml); put it in your profile folder to use it by name.",
+    help="The folder to write the printer profile into, as <printer name>.toml in lower case, words joined by "
+    "'-' (your profile folder's printers/ makes it usable by that name).",
 )
 @click.option(
     "--profiles-dir",
     type=click.Path(file_okay=False),
     help="PrusaSlicer's vendor profiles folder (default: the installed PrusaSlicer's).",
 )
-def import_prusaslicer(printer_name: str, out: str, profiles_dir: str | None) -> None:
+def import_prusaslicer(printer_name: str, out_dir: str, profiles_dir: str | None) -> None:
     """Write a printer profile from one of PrusaSlicer's bundled printers (its nozzle, bed, height, layers)."""
     from pathlib import Path
 
+    from rjcad.cli.options import out_file
     from rjcad.io.config import write_atomic
     from rjcad.io.prusaslicer import printer_toml, read_printer
     from rjcad.io.untrusted import parse_toml
     from rjcad.materials import Printer, normalise
 
+    folder, name = out_file(out_dir, (".toml",), "<printer name>.toml")
     printer = read_printer(printer_name, profiles_dir)
+    if name == "<printer name>.toml":
+        name = profile_file_name(printer["name"])
+    out = str(Path(folder) / name)
     key = normalise(Path(out).stem)
     text = printer_toml(printer, key)
     Printer.from_profile(parse_toml(text, out), key, file=out)  # the profile rjcad will read: checked now
@@ -93,3 +102,9 @@ def import_prusaslicer(printer_name: str, out: str, profiles_dir: str | None) ->
         f"printer profile written to {out}: {printer['name']} ({printer['nozzle_mm']:g} mm nozzle, "
         f"{printer['layer_mm']:g} mm layers, bed {' × '.join(f'{v:g}' for v in printer['bed_mm'])} mm)"
     )
+
+
+def profile_file_name(printer_name: str) -> str:
+    """The file ``import-prusaslicer --out DIR`` writes: the printer's name in lower case, every run of other
+    characters than letters and digits one '-' ("Original Prusa MK4 0.4 nozzle" → original-prusa-mk4-0-4-nozzle.toml)."""
+    return (re.sub(r"[^a-z0-9]+", "-", printer_name.lower()).strip("-") or "printer") + ".toml"

@@ -11,9 +11,11 @@ import math
 import click
 
 from rjcad import DEG
+from rjcad.cli.options import OutDir, complete_profiles, either, out_file, renamed
 from rjcad.errors import ParameterError, quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
+from rjcad.progress import report
 
 
 @click.group()
@@ -42,7 +44,7 @@ JOINT_LIMITS = {
     "gamma_neg": (-1e4, 1e4, "N·mm/rad"),
     "beta_pos": (1.0, 100.0, ""),
     "beta_neg": (0.01, 1.0, ""),
-    "pulley_radius": (0.01, 100.0, "mm"),
+    "tendon_moment_arm": (0.01, 100.0, "mm"),
 }
 
 
@@ -60,8 +62,12 @@ JOINT_LIMITS = {
 @click.option("--beta-pos", type=float, default=JOINT.beta_pos, show_default=True, help="β⁺ (pulling, ≥ 1).")
 @click.option("--beta-neg", type=float, default=JOINT.beta_neg, show_default=True, help="β⁻ (releasing, ≤ 1).")
 @click.option(
-    "--pulley-radius", type=float, default=JOINT.pulley_radius, show_default=True, help="Tendon moment arm r [mm]."
+    "--tendon-moment-arm",
+    type=float,
+    default=None,
+    help=f"Tendon moment arm r about the joint's axis [mm] (the paper's pulley radius; default {JOINT.pulley_radius:g}).",
 )
+@renamed("--pulley-radius", "--tendon-moment-arm")
 @click.option("--rotation", type=float, required=True, help="Cycle 0 → rotation → 0 [deg].")
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--plot", type=click.Path(dir_okay=False), help="Write the loop as a PNG.")
@@ -76,6 +82,7 @@ def simulate_joint(
     gamma_neg,
     beta_pos,
     beta_neg,
+    tendon_moment_arm,
     pulley_radius,
     rotation,
     as_json,
@@ -88,6 +95,9 @@ def simulate_joint(
     from rjcad.physics.joint import simulate as run
     from rjcad.validate import in_range
 
+    arm_flag = "--pulley-radius" if pulley_radius is not None else "--tendon-moment-arm"
+    arm = either(tendon_moment_arm, pulley_radius, "--tendon-moment-arm", "--pulley-radius")
+    arm = JOINT.pulley_radius if arm is None else arm
     if not 0 < rotation <= 360:
         raise click.BadParameter("must be in (0, 360] deg", param_hint="--rotation")
     given = dict(
@@ -99,10 +109,12 @@ def simulate_joint(
         gamma_neg=gamma_neg,
         beta_pos=beta_pos,
         beta_neg=beta_neg,
-        pulley_radius=pulley_radius,
+        tendon_moment_arm=arm,
     )
     for name, (lo, hi, unit) in JOINT_LIMITS.items():
-        in_range("--" + name.replace("_", "-"), given[name], lo, hi, unit=unit)
+        in_range(
+            arm_flag if name == "tendon_moment_arm" else "--" + name.replace("_", "-"), given[name], lo, hi, unit=unit
+        )
     m = JointModel(
         stiffness=stiffness,
         preload=preload * DEG,
@@ -111,7 +123,7 @@ def simulate_joint(
         gamma_neg=gamma_neg,
         beta_pos=beta_pos,
         beta_neg=beta_neg,
-        pulley_radius=pulley_radius,
+        pulley_radius=arm,
     )
     setup = Setup(drive, normal_load, routed)
     th, d = cycle(rotation * DEG)
@@ -213,43 +225,24 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare,
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
     import numpy as np
 
+    from rjcad.cli.progress import progress_line
     from rjcad.validate import in_range
 
     in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
     grav = _finger_gravity(source, gravity)
-    runs = {
-        e: _finger_run(e, source, stroke, steps, mu_t, grav) for e in (("rjcad", "mujoco") if compare else (engine,))
-    }
+    runs = {}
+    with progress_line("simulate finger") as progress:
+        for e in ("rjcad", "mujoco") if compare else (engine,):
+            what = (
+                "MuJoCo: loading the model and running" if e == "mujoco" else "rjcad's solver (compiled on first use)"
+            )
+            report(progress, f"pull and release, {what}")
+            runs[e] = _finger_run(e, source, stroke, steps, mu_t, grav)
+        if plot:
+            report(progress, "plotting")
+            _plot_closure(plot, runs, compare)
     c = runs[engine]
-    if plot:
-
-        def draw(ax):
-            for k, (name, run) in enumerate(runs.items()):
-                pull = np.array([p == "pull" for p in run.phase])
-                for i in range(run.theta.shape[1]):
-                    tag = f"{name} " if compare else ""
-                    ax.plot(
-                        run.tendon_mm[pull],
-                        np.degrees(run.theta[pull, i]),
-                        color=f"C{i}",
-                        lw=1.6 - 0.7 * k,
-                        ls="-" if k == 0 else ":",
-                        label=f"{tag}θ{i + 1} pull",
-                    )
-                    ax.plot(
-                        run.tendon_mm[~pull],
-                        np.degrees(run.theta[~pull, i]),
-                        color=f"C{i}",
-                        lw=1.6 - 0.7 * k,
-                        ls="--" if k == 0 else "-.",
-                        label=f"{tag}θ{i + 1} release",
-                    )
-            ax.set_xlabel("tendon displacement t_d [mm]")
-            ax.set_ylabel("joint angle [deg]")
-            ax.legend(fontsize=7, ncol=2 if compare else 1)
-
-        _plot(plot, draw)
     if as_json:
         click.echo(json.dumps(c.to_dict()))
     else:
@@ -260,6 +253,38 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare,
                 f"deg, tension {run.tension[steps]:.2f} N"
             )
     _echo_sag(runs, source, gravity)
+
+
+def _plot_closure(plot: str, runs: dict, compare: bool) -> None:
+    """``simulate finger --plot``: each joint's angle against the tendon, pull and release, per engine."""
+    import numpy as np
+
+    def draw(ax):
+        for k, (name, run) in enumerate(runs.items()):
+            pull = np.array([p == "pull" for p in run.phase])
+            for i in range(run.theta.shape[1]):
+                tag = f"{name} " if compare else ""
+                ax.plot(
+                    run.tendon_mm[pull],
+                    np.degrees(run.theta[pull, i]),
+                    color=f"C{i}",
+                    lw=1.6 - 0.7 * k,
+                    ls="-" if k == 0 else ":",
+                    label=f"{tag}θ{i + 1} pull",
+                )
+                ax.plot(
+                    run.tendon_mm[~pull],
+                    np.degrees(run.theta[~pull, i]),
+                    color=f"C{i}",
+                    lw=1.6 - 0.7 * k,
+                    ls="--" if k == 0 else "-.",
+                    label=f"{tag}θ{i + 1} release",
+                )
+        ax.set_xlabel("tendon displacement t_d [mm]")
+        ax.set_ylabel("joint angle [deg]")
+        ax.legend(fontsize=7, ncol=2 if compare else 1)
+
+    _plot(plot, draw)
 
 
 def _finger_gravity(source, gravity: str | None) -> tuple[float, float, float] | None:
@@ -324,6 +349,10 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
     return simulate_stroke(model, stroke, steps=steps)
 
 
+#: The template ``finger-design --out DIR`` writes into DIR.
+TEMPLATE = "finger.toml"
+
+
 @click.command("finger-design")
 @click.option("--target", required=True, help="End angles per joint [deg], e.g. 65,50,50.")
 @click.option("--stroke", type=float, required=True, help="Tendon displacement at the end [mm].")
@@ -337,14 +366,37 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
     help=f"Softest joint [N·mm/rad]; default {FINGER.designed_stiffness[0]:g}, "
     "rescaled if a spring would not be printable.",
 )
-@click.option("--material", default=DEFAULT_MATERIAL, show_default=True)
-@click.option("--printer", default=DEFAULT_PRINTER, show_default=True)
-@click.option("--out", "out_path", type=click.Path(dir_okay=False), required=True, help="Finger template to write.")
-@click.option("--json", "as_json", is_flag=True)
-def finger_design(target, stroke, sequence, base_stiffness, material, printer, out_path, as_json):
+@click.option(
+    "--material",
+    default=DEFAULT_MATERIAL,
+    show_default=True,
+    shell_complete=complete_profiles("materials"),
+    help="A material profile: a name or a .toml file (see rjcad profiles).",
+)
+@click.option(
+    "--printer",
+    default=DEFAULT_PRINTER,
+    show_default=True,
+    shell_complete=complete_profiles("printers"),
+    help="A printer profile: a name or a .toml file (see rjcad profiles).",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    type=OutDir(legacy=(".toml",)),
+    required=True,
+    help=f"The folder to write the finger template {TEMPLATE} into (rjcad finger DIR/{TEMPLATE} builds it).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the design's report).")
+def finger_design(target, stroke, sequence, base_stiffness, material, printer, out_dir, as_json):
     """Choose stiffnesses, preloads and moment arms for a desired free closure; write a finger template."""
+    from pathlib import Path
+
     from rjcad.io.config import write_atomic
     from rjcad.physics.inverse import design_finger
+
+    folder, name = out_file(out_dir, (".toml",), TEMPLATE)
+    out_path = str(Path(folder) / name)
 
     try:
         angles = [float(v) for v in target.split(",")]
@@ -375,7 +427,9 @@ def print_finger_design(rep: dict, out_path: str) -> None:
 
 
 @click.command("paper-finger")
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="docs", show_default=True)
+@click.option(
+    "--out", "out_dir", type=OutDir(), default="docs", show_default=True, help="The folder to write the page into."
+)
 @click.option(
     "--manifest",
     type=click.Path(dir_okay=False),

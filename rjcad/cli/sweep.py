@@ -4,10 +4,19 @@ from __future__ import annotations
 
 import click
 
+from rjcad.cli.options import OutDir
+
 
 @click.command()
 @click.argument("sweep_file", type=click.Path(dir_okay=False))
-@click.option("--out", "out_dir", type=click.Path(file_okay=False), default="out/sweep", show_default=True)
+@click.option(
+    "--out",
+    "out_dir",
+    type=OutDir(),
+    default="out/sweep",
+    show_default=True,
+    help="The folder to write the results into.",
+)
 @click.option(
     "--workers",
     type=click.IntRange(0, 256),
@@ -24,13 +33,27 @@ import click
 )
 def sweep(sweep_file, out_dir, workers, scheduler, build, keep_meshes, resume):
     """Sweep design parameters (analytic by default; --build for CAD + checks)."""
+    import sys
+
+    from rjcad.cli import progress as line
     from rjcad.sweep import SweepSpec, run_sweep
 
     spec = SweepSpec.from_toml(sweep_file)
+    # on a terminal the progress line; otherwise a plain line on stdout every few seconds (none with --quiet)
+    stream = None if line.QUIET else sys.stdout
     try:
-        res = run_sweep(
-            spec, out_dir, build=build, workers=workers, scheduler=scheduler, resume=resume, keep_meshes=keep_meshes
-        )
+        with line.progress_line("sweep", rated=True) as progress:
+            res = run_sweep(
+                spec,
+                out_dir,
+                build=build,
+                workers=workers,
+                scheduler=scheduler,
+                resume=resume,
+                keep_meshes=keep_meshes,
+                stream=stream,
+                progress=progress,
+            )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the earlier outputs are untouched
         if build:
             click.echo(

@@ -6,13 +6,15 @@ from pathlib import Path
 
 import click
 
+from rjcad.cli.options import OutDir
+
 
 @click.command()
 @click.argument("manifest", type=click.Path(dir_okay=False))
 @click.option(
     "--out",
     "out_dir",
-    type=click.Path(file_okay=False),
+    type=OutDir(),
     default="urdf",
     show_default=True,
     help="Directory to write <manifest stem>.urdf and meshes/<body>.stl into (its meshes/ is replaced whole).",

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import click
 
+from rjcad.cli.options import OutDir, out_file
 from rjcad.paper import FINGER
 from rjcad.view import DEFAULT_STEPS
 
 #: Tendon stroke the viewer accepts [mm] and the tendon friction coefficient (as ``rjcad simulate finger``).
 MAX_STROKE_MM = 1000.0
 MAX_MU_T = 2.0
+#: ``--out``'s former form: the page's own file name (``--out page.html``).
+HTML = (".html", ".htm")
 
 
 def check_view_options(stroke: float, mu_t: float) -> None:
@@ -24,10 +27,10 @@ def check_view_options(stroke: float, mu_t: float) -> None:
 @click.argument("manifest", type=click.Path(dir_okay=False))
 @click.option(
     "--out",
-    "out_path",
-    type=click.Path(dir_okay=False),
+    "out_dir",
+    type=OutDir(legacy=HTML),
     default=None,
-    help="HTML file to write (default: the manifest's name with .html).",
+    help="The folder to write <manifest stem>.html into (default: the manifest's folder).",
 )
 @click.option(
     "--stroke", type=float, default=FINGER.stroke, show_default=True, help="Tendon stroke the slider runs over [mm]."
@@ -40,14 +43,16 @@ def check_view_options(stroke: float, mu_t: float) -> None:
     help="Samples of the closure over the stroke.",
 )
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
-def view(manifest, out_path, stroke, steps, mu_t):
+def view(manifest, out_dir, stroke, steps, mu_t):
     """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over
     the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`."""
     from pathlib import Path
 
     from rjcad.view import write_viewer
 
+    name = Path(manifest).with_suffix(".html").name
+    folder, name = out_file(out_dir, HTML, name) if out_dir is not None else (str(Path(manifest).parent), name)
     check_view_options(stroke, mu_t)
-    out = Path(out_path) if out_path else Path(manifest).with_suffix(".html")
+    out = Path(folder) / name
     write_viewer(manifest, out, stroke, steps, mu_t)
     click.echo(f"viewer written to {out} (open it in a browser; no network needed)")

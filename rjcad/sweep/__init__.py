@@ -19,9 +19,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rjcad.io.outputs import cannot_write, check_writable, output_set
+from rjcad.progress import Progress
+from rjcad.progress import report as tell  # rjcad.sweep.report is a module
 from rjcad.sweep.analytic import analytic_rows
 from rjcad.sweep.build import build_task
-from rjcad.sweep.execute import Progress, run_tasks
+from rjcad.sweep.execute import DesignCounter, run_tasks
 from rjcad.sweep.report import pareto_front, read_results, write_report, write_results
 from rjcad.sweep.resume import Earlier, read_earlier
 from rjcad.sweep.spec import DESIGN_KEYS, INPUTS, SweepSpec, point_id
@@ -29,7 +31,7 @@ from rjcad.sweep.spec import DESIGN_KEYS, INPUTS, SweepSpec, point_id
 __all__ = [
     "DESIGN_KEYS",
     "INPUTS",
-    "Progress",
+    "DesignCounter",
     "SweepResult",
     "SweepSpec",
     "analytic_rows",
@@ -67,10 +69,13 @@ def run_sweep(
     resume: bool = False,
     keep_meshes: bool = False,
     stream=None,
+    progress: Progress | None = None,
 ) -> SweepResult:
     """Run a sweep and write results.csv (+ .parquet), pareto.png and summary.md into ``out_dir`` (one set).
 
     ``resume``: keep the intact rows of an earlier run (``rjcad.sweep.resume``) and compute the other designs.
+    Progress: ``progress`` (a ``rjcad.progress.Progress``) is told each finished design; without it, a plain line
+    goes to ``stream`` (a text file) every few seconds, if given.
     Interrupted (Ctrl-C; SIGTERM through the CLI) or failing, it leaves the earlier output set as it was;
     the rows a build-mode run finished are in ``results.partial.jsonl``, for ``--resume``.
     """
@@ -82,15 +87,20 @@ def run_sweep(
     done = {r["id"] for r in earlier.rows}
     todo = _todo(points, done)
     t0 = time.perf_counter()
-    progress = Progress(len(todo), stream=stream)
+    counter = DesignCounter(len(todo), stream=stream, report=progress)
     new_rows: list[dict] = []
     if build:
-        _build_rows(todo, out, log_path, workers, scheduler, keep_meshes, progress, new_rows)
+        n = 0 if scheduler else ((os.cpu_count() or 1) if workers is None else workers)
+        where = "on the cluster" if scheduler else (f"{n} worker{'s' if n > 1 else ''}" if n else "no workers")
+        counter.start(f"building and checking ({where})")
+        _build_rows(todo, out, log_path, workers, scheduler, keep_meshes, counter, new_rows)
     else:
+        counter.start("designing (analytic)")
         for k in range(0, len(todo), 100_000):
             part = analytic_rows(todo[k : k + 100_000])
             new_rows.extend(part)
-            progress.update(len(part))
+            counter.update(len(part))
+    tell(progress, "writing results.csv, pareto.png and summary.md")
     rows = _finish(out, points, earlier.rows + new_rows, build, notes, log_path)
     return SweepResult(rows, len(new_rows), len(earlier.rows), time.perf_counter() - t0, notes)
 
@@ -122,7 +132,7 @@ def _build_rows(
     workers: int | None,
     scheduler: str | None,
     keep_meshes: bool,
-    progress: Progress,
+    progress: DesignCounter,
     new_rows: list[dict],
 ) -> None:
     """Build mode: run the tasks, each row appended to the log ``log_path`` as it comes (kept by an

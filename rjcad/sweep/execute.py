@@ -5,39 +5,39 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-import sys
 import threading
 import time
 from collections.abc import Callable
 
 
-class Progress:
-    """A progress bar with rate and ETA on a terminal (stderr); plain periodic lines otherwise, on stdout, so
-    that stderr carries only an error line."""
+class DesignCounter:
+    """Counts the finished designs and tells them on: to ``report`` (a ``rjcad.progress.Progress``: the CLI's
+    progress line on a terminal) each one, or else as a plain line on ``stream`` at most every ``every_s``
+    seconds and at the end; with neither, to no one. The library itself writes to no terminal."""
 
-    def __init__(self, total: int, stream=None, every_s: float = 5.0):
+    def __init__(self, total: int, stream=None, every_s: float = 5.0, report=None, what: str = "designs"):
         self.total, self.done, self.t0 = total, 0, time.perf_counter()
-        self.stream = stream or (sys.stderr if sys.stderr.isatty() else sys.stdout)
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.stream, self.report, self.what = stream, report, what
         self.every_s, self.last = every_s, 0.0
+
+    def start(self, what: str) -> None:
+        """Name what runs now (the count so far stays)."""
+        self.what = what
+        if self.report is not None:
+            self.report(what, self.done, self.total)
 
     def update(self, n: int = 1) -> None:
         self.done += n
+        if self.report is not None:
+            self.report(self.what, self.done, self.total)
+            return
         now = time.perf_counter()
-        if self.tty or now - self.last >= self.every_s or self.done == self.total:
+        if self.stream is not None and (now - self.last >= self.every_s or self.done == self.total):
             self.last = now
             el = now - self.t0
             rate = self.done / el if el > 0 else 0.0
             eta = (self.total - self.done) / rate if rate > 0 else float("inf")
-            msg = f"{self.done}/{self.total} designs, {rate:.1f}/s, ETA {eta:.0f} s"
-            if self.tty:
-                w = 30
-                fill = int(w * self.done / max(self.total, 1))
-                self.stream.write(f"\r[{'#' * fill}{'.' * (w - fill)}] {msg}")
-                if self.done == self.total:
-                    self.stream.write("\n")
-            else:
-                self.stream.write(f"sweep: {msg}\n")
+            self.stream.write(f"sweep: {self.done}/{self.total} designs, {rate:.1f}/s, ETA {eta:.0f} s\n")
             self.stream.flush()
 
 
@@ -46,7 +46,7 @@ def run_tasks(
     points: list[dict],
     workers: int,
     scheduler: str | None,
-    progress: Progress,
+    progress: DesignCounter,
     on_row: Callable[[dict], None],
     **kw,
 ) -> None:
@@ -71,7 +71,7 @@ def run_tasks(
 
 
 def _pool_tasks(
-    fn: Callable, points: list[dict], workers: int, progress: Progress, on_row: Callable[[dict], None], **kw
+    fn: Callable, points: list[dict], workers: int, progress: DesignCounter, on_row: Callable[[dict], None], **kw
 ) -> None:
     """Run the tasks on a local process pool whose workers never outlive this process.
 

@@ -16,7 +16,8 @@ tests/test_fuzz_corpus.py):
 Classes (the ``id`` prefix): ``num`` option values; ``toml``/``json`` damaged input files for every
 command that reads one (printer and material profiles included); ``out`` output places that cannot be written; ``mesh``/``manifest`` for
 ``rjcad check``; ``sweep`` sweep files and bad designs; ``resume`` damaged results.csv; ``ident``
-campaigns that name files outside their folder or give radians; ``long`` huge values.
+campaigns that name files outside their folder or give radians; ``long`` huge values; ``grammar`` the inputs
+of docs/cli.md's grammar (a campaign's folder, ``--out`` on a file, the former spellings and their note line).
 """
 
 from __future__ import annotations
@@ -222,23 +223,23 @@ NUMERIC = {
             "--gamma-neg",
             "--beta-pos",
             "--beta-neg",
-            "--pulley-radius",
+            "--tendon-moment-arm",
             "--rotation",
         ],
     ),
     "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity"]),
     "design": (
-        ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "f.toml"],
+        ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "d"],
         ["--stroke", "--base-stiffness"],
     ),
     "bench": (["bench", "--out", "c", "--samples", "200"], ["--rotation"]),
-    "view": (["view", "{joint}/joint.json", "--out", "v.html"], ["--stroke", "--mu-t"]),
+    "view": (["view", "{joint}/joint.json", "--out", "v"], ["--stroke", "--mu-t"]),
 }
 INTEGER = {
     "spring": (["spring", "--stiffness", "5.2"], ["--springs"]),
     "check": (["check", "{joint}/joint.stl"], ["--bodies"]),
     "simfinger": (["simulate", "finger"], ["--steps"]),
-    "view": (["view", "{joint}/joint.json", "--out", "v.html"], ["--steps"]),
+    "view": (["view", "{joint}/joint.json", "--out", "v"], ["--steps"]),
     "bench": (["bench", "--out", "c"], ["--samples", "--seed"]),
     "life": (["life"], ["--sims"]),
     "sweep": (["sweep", "{sweep_file}", "--out", "o"], ["--workers"]),
@@ -274,7 +275,7 @@ def option_cases(sh: Shared) -> list[Case]:
         cases.append(
             Case(
                 f"num-design--target-{i}",
-                ["finger-design", f"--target={t}", "--stroke", "25", "--out", "f.toml"],
+                ["finger-design", f"--target={t}", "--stroke", "25", "--out", "d"],
                 mention=("target",),
             )
         )
@@ -324,9 +325,7 @@ def toml_users(sh: Shared) -> list[TomlUser]:
         TomlUser("finger", ("finger", "{f}", "--out", "o", "--no-png"), finger, "preload_deg = 90"),
         TomlUser("simfinger", ("simulate", "finger", "{f}", "--json"), finger, "preload_deg = 90"),
         TomlUser("sweep", ("sweep", "{f}", "--out", "o", "--workers", "0"), SWEEP_TOML, "preload_deg = 90"),
-        TomlUser(
-            "identify", ("identify", "camp/campaign.toml", "--json", "r.json"), campaign, "stiffness_nmm_per_rad = 5.2"
-        ),
+        TomlUser("identify", ("identify", "camp/campaign.toml", "--json"), campaign, "stiffness_nmm_per_rad = 5.2"),
         TomlUser("printer", ("spring", "--stiffness", "5.2", "--printer", "{f}"), PRINTER_PROFILE, "nozzle_mm = 0.6"),
         TomlUser("material", ("spring", "--stiffness", "5.2", "--material", "{f}"), MATERIAL_PROFILE, "yield_mpa = 40"),
     ]
@@ -514,7 +513,9 @@ def writers(sh: Shared) -> dict[str, tuple[list[str], str]]:
         "spring-plot": (["spring", "--stiffness", "5.2", "--plot", "{o}/s.png"], "file"),
         "simjoint-plot": (["simulate", "joint", "--rotation", "90", "--plot", "{o}/j.png"], "file"),
         "simfinger-plot": (["simulate", "finger", "--plot", "{o}/f.png"], "file"),
-        "design": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "{o}/f.toml"], "file"),
+        "design": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "{o}"], "dir"),
+        "design-file": (["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "{o}/f.toml"], "file"),
+        "view": (["view", str(sh.joint / "joint.json"), "--out", "{o}"], "dir"),
         "paperfinger": (["paper-finger", "--out", "{o}"], "dir"),
         "life-plot": (["life", "--plot", "{o}/l.png"], "file"),
         "check-junit": (["check", str(sh.joint / "joint.stl"), "--junit", "{o}/r.xml"], "file"),
@@ -522,12 +523,14 @@ def writers(sh: Shared) -> dict[str, tuple[list[str], str]]:
 
 
 SLOW_WRITERS = ("joint-nopng", "finger", "paperfinger", "identify-report")
+#: Writers given in a former spelling (docs/cli.md): a note line on stderr before the usual.
+FORMER_WRITERS = ("identify-json", "design-file")
 
 
 def _earlier_run(d: Path) -> None:
     """An earlier run's files (the joint's) in ``d``."""
     d.mkdir(parents=True, exist_ok=True)
-    for name in ("joint.stl", "joint.json", "results.csv", "r.json", "report.md", "f.toml", "s.png"):
+    for name in ("joint.stl", "joint.json", "results.csv", "r.json", "report.md", "f.toml", "finger.toml", "s.png"):
         write(d / name, f"earlier run: {name}\n")
 
 
@@ -539,7 +542,9 @@ def output_cases(sh: Shared) -> list[Case]:
         if name == "check-junit":  # written, its verdict is the check's (exit 0 or 1)
             big = "either-checked"
 
-        def mk(place, o, setup, expect="error", name=name, argv=argv, heavy=heavy, **kw):
+        former = name in FORMER_WRITERS  # a former spelling: its note line comes first
+
+        def mk(place, o, setup, expect="error", name=name, argv=argv, heavy=heavy, former=former, **kw):
             cases.append(
                 Case(
                     f"out-{name}-{place}",
@@ -548,6 +553,7 @@ def output_cases(sh: Shared) -> list[Case]:
                     setup,
                     mention=(o.split("/")[0],),
                     timeout=180 if heavy else 90,
+                    tags={"note": "allowed"} if former else {},
                     **kw,
                 )
             )
@@ -854,7 +860,7 @@ def identify_cases(sh: Shared) -> list[Case]:
         cases.append(
             Case(
                 f"ident-{kind}",
-                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                ["identify", "camp/campaign.toml", "--json"],
                 setup=setup,
                 mention=("campaign.toml", "allow-outside", "outside"),
                 forbid=("root:", "PATH="),
@@ -870,7 +876,7 @@ def identify_cases(sh: Shared) -> list[Case]:
     cases.append(
         Case(
             "ident-symlink-out",
-            ["identify", "camp/campaign.toml", "--json", "r.json"],
+            ["identify", "camp/campaign.toml", "--json"],
             setup=symlink_out,
             mention=(first, "allow-outside", "outside"),
             forbid=("root:",),
@@ -891,7 +897,7 @@ def identify_cases(sh: Shared) -> list[Case]:
     cases.append(
         Case(
             "ident-radians",
-            ["identify", "camp/campaign.toml", "--json", "r.json"],
+            ["identify", "camp/campaign.toml", "--json"],
             setup=radians,
             mention=("theta_deg", "radian"),
         )
@@ -913,7 +919,7 @@ def identify_cases(sh: Shared) -> list[Case]:
         cases.append(
             Case(
                 f"ident-csv-{kind}",
-                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                ["identify", "camp/campaign.toml", "--json"],
                 setup=lambda d, data=data: campaign(d, files={first: data}),
                 mention=(first,),
             )
@@ -928,7 +934,7 @@ def identify_cases(sh: Shared) -> list[Case]:
         cases.append(
             Case(
                 f"ident-toml-{kind}",
-                ["identify", "camp/campaign.toml", "--json", "r.json"],
+                ["identify", "camp/campaign.toml", "--json"],
                 setup=lambda d, edit=edit: campaign(d, edit),
                 mention=("campaign.toml", "nope.csv", "experiment", "drive", "file"),
             )
@@ -968,6 +974,124 @@ def long_cases(sh: Shared) -> list[Case]:
     ]
 
 
+# ------------------------------------------------------------------------ 9. the grammar (docs/cli.md)
+
+
+def grammar_cases(sh: Shared) -> list[Case]:
+    """The input kinds the grammar added: a campaign named by its folder, ``--out`` on an existing file (the
+    former ``--out FILE`` commands), and every former spelling, which still works with its note line."""
+    cases = []
+    design = ["finger-design", "--target", "65,50,50", "--stroke", "25"]
+    view = ["view", str(sh.joint / "joint.json")]
+
+    def folder(d: Path, toml: bytes | str | None) -> None:
+        copy_tree(sh.campaign, d / "camp")
+        (d / "camp" / "campaign.toml").unlink()
+        if toml is not None:
+            write(d / "camp" / "campaign.toml", toml)
+
+    for kind, toml in {
+        "missing": None,
+        "garbage": garbage(2048, 9),
+        "empty": "",
+        "utf16": (sh.campaign / "campaign.toml").read_text().encode("utf-16"),
+        "syntax": "[[experiment]\nfile = \n",
+        "no-experiments": "[design]\nstiffness_nmm_per_rad = 5.2\n",
+    }.items():
+        cases.append(
+            Case(
+                f"grammar-ident-dir-{kind}",
+                ["identify", "camp", "--json"],
+                setup=lambda d, toml=toml: folder(d, toml),
+                mention=("camp", "campaign.toml"),
+            )
+        )
+    cases.append(
+        Case(
+            "grammar-ident-dir-toml-is-dir",
+            ["identify", "camp", "--json"],
+            setup=lambda d: (folder(d, None), (d / "camp" / "campaign.toml").mkdir()),
+            mention=("camp", "campaign.toml"),
+        )
+    )
+    cases.append(Case("grammar-ident-dir-ok", ["identify", str(sh.campaign), "--json"], "ok", timeout=120))
+    cases.append(
+        Case("grammar-ident-json-before-campaign", ["identify", "--json", str(sh.campaign)], "ok", timeout=120)
+    )
+    for name, argv in (("view", view), ("design", design)):
+        cases.append(
+            Case(
+                f"grammar-out-{name}-existing-file",
+                [*argv, "--out", "afile"],
+                setup=lambda d: write(d / "afile", "a file the user keeps\n"),
+                mention=("afile",),
+            )
+        )
+        cases.append(
+            Case(
+                f"grammar-out-{name}-existing-file-in-path",
+                [*argv, "--out", "afile/sub"],
+                setup=lambda d: write(d / "afile", "a file the user keeps\n"),
+                mention=("afile",),
+            )
+        )
+    cases.append(  # the manifest itself as --out (a typo the former file form would have overwritten)
+        Case(
+            "grammar-out-view-is-the-manifest",
+            ["view", "m.json", "--out", "m.json"],
+            setup=lambda d: shutil.copyfile(sh.joint / "joint.json", d / "m.json"),
+            mention=("m.json",),
+        )
+    )
+    cases.append(  # a folder named like a page: a folder, the page inside
+        Case(
+            "grammar-out-view-folder-named-html",
+            [*view, "--out", "page.html"],
+            "ok",
+            setup=lambda d: (d / "page.html").mkdir(),
+            post=lambda d, code: _exists(d / "page.html" / "joint.html"),
+        )
+    )
+    former = [  # (id, argv, what it writes)
+        ("simjoint-pulley-radius", ["simulate", "joint", "--rotation", "90", "--pulley-radius", "5"], None),
+        ("view-out-file", [*view, "--out", "page.html"], "page.html"),
+        ("design-out-file", [*design, "--out", "f.toml"], "f.toml"),
+        ("identify-json-file", ["identify", str(sh.campaign), "--json", "r.json"], "r.json"),
+    ]
+    for kind, argv, made in former:
+        cases.append(
+            Case(
+                f"grammar-former-{kind}",
+                argv,
+                "ok",
+                tags={"note": "required"},
+                post=(lambda d, code, made=made: _exists(d / made)) if made else None,
+                timeout=120,
+            )
+        )
+    for i, v in enumerate(STRICT):  # a bad value by the former name: named by it
+        cases.append(
+            Case(
+                f"grammar-former-pulley-radius-{i}",
+                ["simulate", "joint", "--rotation", "90", f"--pulley-radius={v}"],
+                mention=("pulley-radius",),
+                tags={"note": "allowed"},
+            )
+        )
+    cases.append(
+        Case(
+            "grammar-former-and-new-together",
+            ["simulate", "joint", "--rotation", "90", "--pulley-radius", "5", "--tendon-moment-arm", "5"],
+            mention=("pulley-radius", "tendon-moment-arm"),
+        )
+    )
+    return cases
+
+
+def _exists(path: Path) -> None:
+    assert path.is_file(), f"{path.name} was not written"
+
+
 PARSE_CLASSES = ("num", "int")
 
 
@@ -995,6 +1119,7 @@ def all_cases(sh: Shared) -> list[Case]:
         + resume_cases(sh)
         + identify_cases(sh)
         + long_cases(sh)
+        + grammar_cases(sh)
     )
     ids = [c.id for c in cases]
     dup = {i for i in ids if ids.count(i) > 1}

@@ -211,9 +211,12 @@ class FingerSelector(Selector):
         return self.sim.channel(values, p)
 
 
-def identify_finger(campaign: FingerCampaign):
-    """Find what the finger's design model gets wrong, which effects explain it, and the gain."""
+def identify_finger(campaign: FingerCampaign, progress=None):
+    """Find what the finger's design model gets wrong, which effects explain it, and the gain; ``progress`` (a
+    ``rjcad.progress.Progress``) is told each step."""
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return FingerSelector(campaign).run()
+        selector = FingerSelector(campaign)
+        selector.progress = progress
+        return selector.run()
