@@ -167,6 +167,34 @@ PINNED = [
         "extra": [0.0, 0.0],
         "base_extra": None,
     },
+    # a desktop finger whose middle link is wider (moment arm 14.8 mm) than the distal joint's: the link block
+    # is as wide as the wider joint, and the distal joint's moving corner went into it at 98.5° of 100°; each
+    # joint's blocks now clear at the widths they are built with (FingerParams: ground/moving_half_width)
+    {
+        "template": {
+            "printer": "dimension-elite",
+            "layout": "desktop",
+            "material": "ultem-9085",
+            "end": "clamped",
+            "joint": [
+                {"stiffness_nmm_per_rad": 1.0, "rotation_deg": 64.53481012563333, "preload_deg": 45.83145377416007},
+                {
+                    "stiffness_nmm_per_rad": 0.4347161684350366,
+                    "rotation_deg": 49.318266857336724,
+                    "preload_deg": 90.0,
+                    "tendon_moment_arm_mm": 14.821038254125574,
+                },
+                {
+                    "stiffness_nmm_per_rad": 1.0,
+                    "rotation_deg": 100.0,
+                    "preload_deg": 108.12775319190102,
+                    "tendon_moment_arm_mm": 12.097293209899659,
+                },
+            ],
+        },
+        "extra": [5.982606765000772, 3.5525347739389628, 10.206095154620105],
+        "base_extra": None,
+    },
 ]
 
 #: The fingers the random test built in this run (FingerParams), in order.

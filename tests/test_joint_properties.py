@@ -92,7 +92,25 @@ def check_joint(p: JointParams) -> dict:
 PINNED = [
     # a desktop joint whose moment arm puts the band near the cup: its stop lugs had a negative length (the
     # builder raised Standard_DomainError) and the hub's flare reached into the cup's wall; the cup now grows
-    dict(rotation=30.9 * DEG, tendon_moment_arm=11.29)
+    dict(rotation=30.9 * DEG, tendon_moment_arm=11.29),
+    # a stacked pinned joint turned 105.5°: the moving block's corner (x_m, W/2) passed the ground block's face
+    # and went 0.1 mm³ into it at the end of the range; x_m now keeps the corner above the block
+    # (rjcad.design.layout_desktop.clear_of_ground_block)
+    dict(
+        printer="dimension-elite",
+        layout="stacked",
+        material="pa12",
+        end="pinned",
+        stiffness=1.0,
+        rotation=1.840747969664904,
+        preload=1.3768136876480255,
+        clearance=0.30499351255144863,
+        link_length=85.53082133598582,
+        tendon_diameter=1.3446053215111347,
+        tendon_moment_arm=13.89814806111029,
+        pin_radius=2.0,
+        safety_factor=1.9,
+    ),
 ]
 
 #: The designs the random test built in this run (JointParams), in order, and their keywords.

@@ -117,6 +117,14 @@ class FingerParams:
         # desktop: each joint's tendon plane is raised to the highest one's (its band and arm grow)
         z_top = max(p.z_mid for p in built)
         built = [replace(p, tendon_lift=z_top - p.z_mid) if p.layout == "desktop" else p for p in built]
+        # a link block is as wide as the wider of the joints it joins (rjcad.cad.finger.link_body): each joint's
+        # moving block must clear the ground block it turns against at those widths
+        half = [p.link_width / 2 for p in built]
+        for i, p in enumerate(built):
+            wg = max(half[i], half[i - 1]) if i > 0 else half[i]
+            wm = max(half[i], half[i + 1]) if i + 1 < len(built) else half[i]
+            if (wg, wm) != (half[i], half[i]):
+                built[i] = replace(p, ground_half_width=wg, moving_half_width=wm)
         return built, requested
 
     @classmethod

@@ -35,6 +35,18 @@ from typing import Any, Protocol
 CONE_ANGLE = math.radians(50.0)
 T = math.tan(CONE_ANGLE)
 SEC = 1.0 / math.cos(CONE_ANGLE)
+
+
+def clear_of_ground_block(x_m: float, x_g: float, wg: float, wm: float, theta: float, c: float) -> float:
+    """The moving block's start x_m [mm], raised if needed so that its corner (x_m, wm), turned by up to ``theta``
+    [rad], never enters the ground block (x <= -x_g, |y| <= wg) within c + 0.5 mm: once the corner is past the
+    block's face (x_m·cos θ − wm·sin θ < −x_g + c + 0.5) it must stay above it, x_m·sin θ + wm·cos θ ≥ wg + c + 0.5."""
+    margin = c + 0.5
+    if math.sin(theta) > 1e-9 and x_m * math.cos(theta) - wm * math.sin(theta) < -x_g + margin:
+        return max(x_m, (wg + margin - wm * math.cos(theta)) / math.sin(theta))
+    return x_m
+
+
 #: Roof thickness, normal to the cone, at least [mm]; thicker on a printer whose walls must be (``roof``).
 ROOF_NORMAL = 1.2
 #: The roof is at least this much thicker than the printer's thinnest wall, so that its faceted cone still
@@ -97,6 +109,10 @@ class JointLike(Protocol):
     def gap_z(self) -> float: ...
     @property
     def link_width(self) -> float: ...
+    @property
+    def ground_block_half_width(self) -> float: ...
+    @property
+    def moving_block_half_width(self) -> float: ...
     @property
     def rotation(self) -> float: ...
 
@@ -169,7 +185,9 @@ class DesktopLayout:
         W = p.link_width
         theta_m = p.rotation + math.radians(5.0)
         X_g = R_co + 1.0
-        X_m = max(R_co + c + 0.6, -X_g * math.cos(theta_m) + W / 2 * math.sin(theta_m) + c + 0.5)
+        wg, wm = p.ground_block_half_width, p.moving_block_half_width
+        X_m = max(R_co + c + 0.6, -X_g * math.cos(theta_m) + wg * math.sin(theta_m) + c + 0.5)
+        X_m = clear_of_ground_block(X_m, X_g, wg, wm, theta_m, c)
         # the web ends in the plane x = −(R_ci + 0.3), inside the wall at its corners, and stays clear of
         # the tendon (y = r): no knife edge, no channel through it
         w_web = min(W / 2, math.sqrt((R_co - 0.4) ** 2 - (R_ci + 0.3) ** 2), p.moment_arm - p.tendon_diameter / 2 - 0.6)

@@ -26,7 +26,7 @@ from functools import cached_property
 
 from rjcad import DEG
 from rjcad.design.envelope import WoundEnvelope, wound_envelope
-from rjcad.design.layout_desktop import DesktopLayout
+from rjcad.design.layout_desktop import DesktopLayout, clear_of_ground_block
 from rjcad.errors import ParameterError
 from rjcad.materials import (
     DEFAULT_MATERIAL,
@@ -127,6 +127,10 @@ class JointParams:
     #: a joint module printed on its own (two links long, checked against the bed here); False for a joint of a
     #: finger, whose whole length FingerParams checks
     standalone: bool = field(default=True, repr=False)
+    #: a finger's link blocks are as wide as the wider of the two joints they join: the half-widths of the
+    #: ground (parent) and moving (child) link blocks at this joint [mm]; None: this joint's own (link_width/2)
+    ground_half_width: float | None = field(default=None, repr=False)
+    moving_half_width: float | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.layout is None:
@@ -527,12 +531,30 @@ class JointParams:
             return self.desktop.X_m
         corner = (
             -self.ground_block_start * math.cos(self.rotation)
-            + self.link_width / 2 * math.sin(self.rotation)
+            + self.ground_block_half_width * math.sin(self.rotation)
             + self.clearance_mm
             + 0.5
         )
         wound = self.wound.moving_x_max + self.spring.thickness / 2 + WOUND_MARGIN + self.gap_internal
-        return max(self.hook_outer_radius + self.clearance_mm + 0.3, corner, wound)
+        x_m = max(self.hook_outer_radius + self.clearance_mm + 0.3, corner, wound)
+        return clear_of_ground_block(
+            x_m,
+            self.ground_block_start,
+            self.ground_block_half_width,
+            self.moving_block_half_width,
+            self.rotation,
+            self.clearance_mm,
+        )
+
+    @property
+    def ground_block_half_width(self) -> float:
+        """Half-width of the ground (parent) link block at this joint [mm]."""
+        return self.link_width / 2 if self.ground_half_width is None else self.ground_half_width
+
+    @property
+    def moving_block_half_width(self) -> float:
+        """Half-width of the moving (child) link block at this joint [mm]."""
+        return self.link_width / 2 if self.moving_half_width is None else self.moving_half_width
 
     @property
     def link_width(self) -> float:
