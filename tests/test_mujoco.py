@@ -12,6 +12,7 @@ import json
 import shutil
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -473,7 +474,11 @@ def test_bad_input_is_one_line_exit_2_and_no_partial_xml(built, tmp_path, cli):
     nojoint = tmp_path / "nojoint.json"
     nojoint.write_text(json.dumps({"schema_version": 1, "joints": [], "bodies": [{"name": "base"}]}))
     _one_line_exit_2(cli("mjcf", nojoint, "--out", out), "at least one joint", tmp_path)
-    _one_line_exit_2(cli("mjcf", nojoint, "--out", out / "f.xml"), "at least one joint", tmp_path)  # the former form
+    # the former form: its deprecation note first (rjcad.cli: before the command runs), then the one error line
+    code, _, err = cli("mjcf", nojoint, "--out", out / "f.xml")
+    note, *rest = err.strip().splitlines()
+    assert note.startswith("rjcad: note: --out FILE.xml is deprecated")
+    _one_line_exit_2(SimpleNamespace(code=code, err="\n".join(rest) + "\n"), "at least one joint", tmp_path)
     lonely = tmp_path / "lonely"
     lonely.mkdir()
     shutil.copy(built["default"] / "finger.json", lonely / "finger.json")

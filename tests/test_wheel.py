@@ -89,7 +89,9 @@ def test_an_installed_wheel_writes_a_viewer_page_that_renders(wheel, tmp_path):
     assert r.returncode == 0, r.stderr[-2000:]
     work = tmp_path / "work"
     work.mkdir()
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}
+    # the finger's closure for the page in plain Python: the same numbers (numba only compiles the same code), and
+    # no cold compile of the kernels for this new install (~20-40 s): the test is about the package, not numba
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)} | {"NUMBA_DISABLE_JIT": "1"}
     where = subprocess.run(
         [py, "-c", "import rjcad, json; print(json.dumps(rjcad.__file__))"],
         capture_output=True,
