@@ -269,8 +269,6 @@ LONGEST = {
     # pre-commit builds rjcad's own environment; the documented CI workflow builds and slices the default finger
     "tests/test_ci_check.py::test_the_python_hook_installs_rjcad_and_runs": 74,
     "tests/test_ci_check.py::test_the_documented_workflow_checks_the_default_finger_one_case_per_check": 62,
-    # a wheel built and installed in a fresh venv, a finger built there and shown in Chromium (fresh CI: 38 s)
-    "tests/test_wheel.py::test_an_installed_wheel_writes_a_viewer_page_that_renders": 38,
 }
 
 
