@@ -71,11 +71,8 @@ def test_a_full_disk_while_staging_leaves_the_earlier_run_exactly(earlier, monke
     assert snapshot(earlier) == before
 
 
-@pytest.mark.parametrize("k", range(6))
-def test_a_rename_failing_half_way_puts_the_earlier_files_back(earlier, monkeypatch, k):
-    """The commit sets aside the files it replaces (2 + joint.png removed), then renames the 3 new ones in."""
-    before = snapshot(earlier)
-    inodes = {p.name: p.stat().st_ino for p in earlier.iterdir()}
+def fail_rename(monkeypatch, k: int) -> None:
+    """Make the (k+1)-th ``os.replace`` of rjcad.io.outputs fail with EIO; the others go through."""
     real, calls = os.replace, []
 
     def flaky(src, dst):
@@ -85,6 +82,14 @@ def test_a_rename_failing_half_way_puts_the_earlier_files_back(earlier, monkeypa
         return real(src, dst)
 
     monkeypatch.setattr(outputs.os, "replace", flaky)
+
+
+@pytest.mark.parametrize("k", range(6))
+def test_a_rename_failing_half_way_puts_the_earlier_files_back(earlier, monkeypatch, k):
+    """The commit sets aside the files it replaces (2 + joint.png removed), then renames the 3 new ones in."""
+    before = snapshot(earlier)
+    inodes = {p.name: p.stat().st_ino for p in earlier.iterdir()}
+    fail_rename(monkeypatch, k)
     with pytest.raises(OutputError, match="cannot write: Input/output error"):
         write_set(earlier, NEW, remove=("joint.png",))
     assert snapshot(earlier) == before
@@ -156,15 +161,7 @@ def test_a_rename_failing_half_way_puts_an_earlier_folder_back(earlier, monkeypa
     (earlier / "mjcf").mkdir()
     (earlier / "mjcf" / "finger.xml").write_text("old")
     before = snapshot(earlier)
-    real, calls = os.replace, []
-
-    def flaky(src, dst):
-        calls.append(dst)
-        if len(calls) == k + 1:
-            raise OSError(errno.EIO, os.strerror(errno.EIO))
-        return real(src, dst)
-
-    monkeypatch.setattr(outputs.os, "replace", flaky)
+    fail_rename(monkeypatch, k)
     with pytest.raises(OutputError, match="cannot write: Input/output error"):
         write_set(earlier, FOLDER)
     assert snapshot(earlier) == before
@@ -372,15 +369,7 @@ def test_a_folder_member_is_replaced_whole(earlier_folder):
 def test_a_rename_failing_half_way_puts_the_earlier_folder_back(earlier_folder, monkeypatch, k):
     """The commit sets aside m.urdf and meshes/, then renames the new ones in; a failure puts the old ones back."""
     before = snapshot(earlier_folder)
-    real, calls = os.replace, []
-
-    def flaky(src, dst):
-        calls.append(dst)
-        if len(calls) == k + 1:
-            raise OSError(errno.EIO, os.strerror(errno.EIO))
-        return real(src, dst)
-
-    monkeypatch.setattr(outputs.os, "replace", flaky)
+    fail_rename(monkeypatch, k)
     with pytest.raises(OutputError, match="cannot write: Input/output error"):
         write_set(earlier_folder, FOLDER_NEW)
     assert snapshot(earlier_folder) == before

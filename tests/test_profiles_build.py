@@ -12,23 +12,10 @@ import shutil
 
 import numpy as np
 import pytest
+from test_profiles import MATERIAL_SOFT, PRINTER_06
 
 from rjcad.spring import rod
 
-PRINTER_06 = """\
-name = "Test printer, 0.6 mm nozzle"
-nozzle_mm = 0.6
-layer_mm = 0.3
-first_layer_mm = 0.3
-bed_mm = [180, 180, 180]
-soluble_support = false
-"""
-MATERIAL_SOFT = """\
-name = "Soft test filament"
-youngs_modulus_mpa = 1900
-yield_mpa = 40
-density_g_cm3 = 1.2
-"""
 FINGER = """\
 printer = "p06.toml"
 material = "soft.toml"
