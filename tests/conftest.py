@@ -264,7 +264,6 @@ LONGEST = {
     "tests/test_benchmarks.py::test_benchmark_reports_its_keys_and_targets[check]": 38,
     # the full run of #33 under load average 9 (-n 2): 124-160 s each, started late they were the run's tail
     "tests/test_sweep_resume.py::test_a_stopped_build_sweep_leaves_no_process_and_resumes_each_design_once": 140,
-    "tests/test_physics_inverse.py::test_unprintable_stiffness_message_is_true": 124,
     "tests/test_sweep.py::test_dask_cluster_gives_the_same_results_as_the_local_run": 116,
     # pre-commit builds rjcad's own environment; the documented CI workflow builds and slices the default finger
     "tests/test_ci_check.py::test_the_python_hook_installs_rjcad_and_runs": 74,

@@ -93,6 +93,32 @@ def test_preferred_stiffness_is_rescaled_to_the_nearest_printable_one():
     assert not all(buildable(k * 1.05 * qi, p, r, 8.68) for qi, p, r in zip(q, th0, rot))  # the nearest one
 
 
+@pytest.mark.parametrize("span", [(0, 89), (0, 83), (5, 89), (17, 18), (40, 40), (9, 10), (3, 70), None])
+def test_the_printable_span_is_the_one_every_grid_point_gives(monkeypatch, span):
+    """printable_stiffness tries a coarse grid and bisects the span's edges: on a builder that accepts exactly the
+    grid points ``span`` (inclusive; None: none), it gives what trying every grid point gives, in fewer tries."""
+    from rjcad.physics import inverse
+
+    ks = np.geomspace(*inverse.STIFFNESS_RANGE, 90)
+    tried = []
+
+    def fake(k, *args):
+        i = int(np.argmin(np.abs(np.log(ks / k))))
+        tried.append(i)
+        return None if span is not None and span[0] <= i <= span[1] else RjcadError("no")
+
+    monkeypatch.setattr(inverse, "_buildable", fake)
+    inverse.printable_stiffness.cache_clear()
+    try:
+        got_ks, ok = inverse.printable_stiffness(1.0, 1.5, 8.0, "m", "p")
+    finally:
+        inverse.printable_stiffness.cache_clear()
+    want = np.array([span is not None and span[0] <= i <= span[1] for i in range(90)])
+    assert np.array_equal(got_ks, ks) and np.array_equal(ok, want)
+    hit_coarse = span is not None and any(span[0] <= i <= span[1] for i in [*range(0, 90, inverse.COARSE), 89])
+    assert len(tried) <= (25 if hit_coarse else 90 + 13)
+
+
 def test_arm_limits_come_from_the_builder():
     lo, hi = arm_range("absplus-p430", "generic-0.4")
     assert buildable(5.2, 90 * DEG, 90 * DEG, lo + 1e-6) and not buildable(5.2, 90 * DEG, 90 * DEG, lo - 0.01)

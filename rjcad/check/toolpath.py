@@ -123,7 +123,7 @@ def _supported(cur: _Layer, prev: _Layer | None, h: float, enclosed: bool = True
     if prev is None:
         return np.zeros(len(cur.x), dtype=bool)
     pts = np.stack([cur.x, cur.y], axis=1)
-    d, i = prev.tree.query(pts, distance_upper_bound=h + prev.w_max / 2 + TOL_MM, workers=-1)
+    d, i = prev.tree.query(pts, distance_upper_bound=h + prev.w_max / 2 + TOL_MM)
     found = np.isfinite(d)
     allow = h + (prev.w[np.minimum(i, len(prev.w) - 1)] - cur.w) / 2 + TOL_MM
     ok = found & (d <= allow)

@@ -121,14 +121,39 @@ def _buildable(k: float, preload: float, rotation: float, arm: float, material: 
     return None
 
 
+#: Every COARSE-th point of the stiffness grid is tried first; the edges of the printable span are then found
+#: by bisection between grid points.
+COARSE = 8
+
+
 @lru_cache(maxsize=256)
 def printable_stiffness(
     preload: float, rotation: float, arm: float, material: str, printer: str, samples: int = 90
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Joint stiffnesses on a log grid over the builder's range, and which of them it can build."""
+    """Joint stiffnesses on a log grid over the builder's range, and which of them it can build.
+
+    The printable ones form one span (thin springs are limited by the wall and the envelope, stiff ones by stress):
+    every COARSE-th grid point is tried, then each edge of the span is bisected to the grid point, about 20 spring
+    designs instead of ``samples``. Where no coarse point is printable, every grid point is tried."""
     ks = np.geomspace(*STIFFNESS_RANGE, samples)
-    ok = np.array([_buildable(k, preload, rotation, arm, material, printer) is None for k in ks])
-    return ks, ok
+
+    def good(i: int) -> bool:
+        return _buildable(float(ks[i]), preload, rotation, arm, material, printer) is None
+
+    coarse = sorted({*range(0, samples, COARSE), samples - 1})
+    hits = [i for i in coarse if good(i)]
+    if not hits:
+        return ks, np.array([good(i) for i in range(samples)])
+    lo_bad = max((i for i in coarse if i < hits[0]), default=-1)  # the span starts in (lo_bad, hits[0]]
+    hi_bad = min((i for i in coarse if i > hits[-1]), default=samples)  # and ends in [hits[-1], hi_bad)
+    lo, hi = hits[0], hits[-1]
+    while lo - lo_bad > 1:
+        mid = (lo + lo_bad) // 2
+        lo, lo_bad = (mid, lo_bad) if good(mid) else (lo, mid)
+    while hi_bad - hi > 1:
+        mid = (hi + hi_bad) // 2
+        hi, hi_bad = (mid, hi_bad) if good(mid) else (hi, mid)
+    return ks, (np.arange(samples) >= lo) & (np.arange(samples) <= hi)
 
 
 @lru_cache(maxsize=16)
