@@ -380,3 +380,34 @@ def test_a_member_name_must_stay_in_its_set(tmp_path, name):
     with pytest.raises(ValueError, match="plain file name"):
         write_set(tmp_path / "out", {name: b"x"})
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["joint", "--out", "{f}/out"],
+        ["spring", "--stiffness", "5.2", "--plot", "{f}/s.png"],
+        ["life", "--plot", "{f}/l.png"],
+        ["simulate", "joint", "--plot", "{f}/j.png"],
+        ["check", "{mesh}", "--junit", "{f}/r.xml"],
+    ],
+)
+def test_an_output_place_under_a_file_is_refused_before_any_work(args, cli, tmp_path, monkeypatch):
+    """--out and the output files (--plot, --junit) are refused as the option is read, naming the option and its
+    value: the command's work (a CAD build, a spring design, a check) is never started."""
+    import rjcad.cad.build
+    import rjcad.check
+
+    def never(*a, **k):
+        raise AssertionError("the command started its work")
+
+    for module, name in ((rjcad.cad.build, "write_joint"), (rjcad.check, "run_checks")):
+        monkeypatch.setattr(module, name, never)
+    (tmp_path / "f").write_text("x")
+    mesh = tmp_path / "m.stl"
+    mesh.write_text("solid x\nendsolid x\n")
+    argv = [a.format(f=tmp_path / "f", mesh=mesh) for a in args]
+    code, _out, err = cli(argv)
+    option = next(a for a in argv if a.startswith("--") and "{f}" in args[argv.index(a) + 1])
+    assert code == 2 and err.count("\n") == 1, err
+    assert err.startswith(f"rjcad: error: {option} {tmp_path / 'f'}/") and "not a directory" in err, err

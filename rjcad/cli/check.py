@@ -10,7 +10,7 @@ from pathlib import Path
 
 import click
 
-from rjcad.cli.options import complete_profiles
+from rjcad.cli.options import OutFile, complete_profiles
 from rjcad.io.manifest import CLEARANCE_MM
 from rjcad.materials import PRINTERS
 
@@ -52,7 +52,7 @@ ALLOWANCE_MM = (0.0, 0.05)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option(
     "--junit",
-    type=click.Path(dir_okay=False),
+    type=OutFile(),
     help="Also write JUnit XML for CI (a test suite per mesh, a case per check), whenever the checks ran.",
 )
 def check(meshes, manifest, clearance, allowance, printer, n_bodies, slicer, as_json, junit):

@@ -129,7 +129,7 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
     metavar="",
     help="Print the result as one JSON object (`--json FILE`, the former form, still writes FILE).",
 )
-@click.option("--report", "report_dir", type=click.Path(file_okay=False), help="Write report.md and PNG plots here.")
+@click.option("--report", "report_dir", type=OutDir(), help="Write report.md and PNG plots here.")
 @click.option(
     "--allow-outside",
     is_flag=True,

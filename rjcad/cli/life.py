@@ -6,17 +6,14 @@ import json
 
 import click
 
-from rjcad.cli.options import print_table
+from rjcad.cli.options import OutDir, OutFile, print_table
 
 
 @click.command()
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
-@click.option("--plot", type=click.Path(dir_okay=False), help="Write the models against the data as a PNG.")
+@click.option("--plot", type=OutFile(), help="Write the models against the data as a PNG.")
 @click.option(
-    "--doc",
-    "doc_dir",
-    type=click.Path(file_okay=False),
-    help="Regenerate DOC_DIR/life.md and life.png (every number computed).",
+    "--doc", "doc_dir", type=OutDir(), help="Regenerate DOC_DIR/life.md and life.png (every number computed)."
 )
 @click.option(
     "--sims",

@@ -16,6 +16,7 @@ __all__ = [
     "REQUIREMENT",
     "Field",
     "OutDir",
+    "OutFile",
     "complete_profiles",
     "deprecated",
     "design_options",
@@ -73,9 +74,38 @@ class OutDir(click.Path):
         return bool(self.legacy) and str(value).lower().endswith(self.legacy) and not os.path.isdir(value)
 
     def convert(self, value, param, ctx):
-        if self.is_legacy(value):
+        if self.is_legacy(value):  # checked by the command, after its deprecation note
             return value
-        return super().convert(value, param, ctx)
+        out = str(super().convert(value, param, ctx))
+        writable(param, out, out)  # refused now, not after the computation
+        return out
+
+
+def writable(param, value: str, folder: str) -> None:
+    """Refuse, as the option is read, an output ``folder`` that cannot be made or written (OutputError naming
+    the option and its value)."""
+    from rjcad.io.outputs import OutputError, check_writable
+
+    try:
+        check_writable(folder)
+    except OutputError as e:
+        name = param.opts[0] if param is not None and param.opts else None
+        raise OutputError(f"{name} {value}" if name else value, str(e.reason)) from None
+
+
+class OutFile(click.Path):
+    """An output file option (``--plot``, ``--junit``): a file, its folder made if missing; a folder that cannot
+    be made or written is refused when the option is read, before the command computes anything."""
+
+    def __init__(self) -> None:
+        super().__init__(dir_okay=False)
+
+    def convert(self, value, param, ctx):
+        import os
+
+        out = str(super().convert(value, param, ctx))
+        writable(param, out, os.path.dirname(out) or ".")
+        return out
 
 
 def out_file(value: str, legacy: tuple[str, ...], name: str) -> tuple[str, str]:

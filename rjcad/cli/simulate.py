@@ -11,7 +11,7 @@ import math
 import click
 
 from rjcad import DEG
-from rjcad.cli.options import OutDir, complete_profiles, either, out_file, renamed
+from rjcad.cli.options import OutDir, OutFile, complete_profiles, either, out_file, renamed
 from rjcad.errors import ParameterError, quote
 from rjcad.materials import DEFAULT_MATERIAL, DEFAULT_PRINTER
 from rjcad.paper import FINGER, JOINT
@@ -70,7 +70,7 @@ JOINT_LIMITS = {
 @renamed("--pulley-radius", "--tendon-moment-arm")
 @click.option("--rotation", type=float, required=True, help="Cycle 0 → rotation → 0 [deg].")
 @click.option("--json", "as_json", is_flag=True)
-@click.option("--plot", type=click.Path(dir_okay=False), help="Write the loop as a PNG.")
+@click.option("--plot", type=OutFile(), help="Write the loop as a PNG.")
 def simulate_joint(
     drive,
     routed,
@@ -206,7 +206,7 @@ MAX_MU_T = 2.0
 @click.option("--steps", type=click.IntRange(10, 100000), default=500, show_default=True)
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
 @click.option("--json", "as_json", is_flag=True)
-@click.option("--plot", type=click.Path(dir_okay=False), help="Write θ_i(t_d) as a PNG.")
+@click.option("--plot", type=OutFile(), help="Write θ_i(t_d) as a PNG.")
 @click.option(
     "--engine",
     type=click.Choice(["rjcad", "mujoco"]),

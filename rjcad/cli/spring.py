@@ -6,7 +6,7 @@ import json
 
 import click
 
-from rjcad.cli.options import design_options, echo_profiles, merge_config, print_table
+from rjcad.cli.options import OutFile, design_options, echo_profiles, merge_config, print_table
 from rjcad.errors import RjcadError
 from rjcad.fields import SPRING_FIELDS, spring_kwargs
 from rjcad.spring import SpringDesign, SpringRequirement
@@ -30,7 +30,7 @@ def spring_requirement(options: dict, config: str | None) -> SpringRequirement:
 @click.option(
     "--plot",
     "plot",
-    type=click.Path(dir_okay=False),
+    type=OutFile(),
     help="Write a PNG: torque against wind-up (rod model vs formula) and the wound shape with its tightest gap.",
 )
 def spring(config, as_json, plot, **options):
