@@ -182,6 +182,15 @@ def _along_finger(js: range) -> tuple[FingerEffect, ...]:
     )
 
 
+#: Parameters the finger's simulation does not read: ``actuator_tension`` applies them to its tension afterwards.
+AFTER_SIMULATION = frozenset({"beta_pos", "beta_neg"})
+
+
+def acting_gravity(values: dict[str, float], gravity):
+    """The gravity direction ``model_of`` gives the model: ``gravity``, or None when the links weigh nothing."""
+    return gravity if float(values.get("link_mass_g_per_mm", 0.0)) > 0 else None
+
+
 def model_of(values: dict[str, float], design: FingerModel, gravity) -> FingerModel:
     """The finger model with ``values`` (JSON names, every catalogue parameter) under ``gravity`` (or None)."""
     n = design.n
@@ -204,7 +213,7 @@ def model_of(values: dict[str, float], design: FingerModel, gravity) -> FingerMo
         mu_t=mu,
         tendon_stiffness=math.inf if comp <= 0 else 1.0 / comp,
         link_mass=tuple(lam * L for L in design.link_length) if lam > 0 else (0.0,) * n,
-        gravity=gravity if lam > 0 else None,
+        gravity=acting_gravity(values, gravity),
         damping=per("viscous_nmm_s_per_rad", [0.0] * n),
         cubic=per("cubic_nmm_per_rad3", [0.0] * n),
         relax_stiffness=tuple(float(values.get("relaxation_ratio", 0.0)) * k for k in K),

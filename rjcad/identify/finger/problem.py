@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import os
 import threading
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from rjcad import DEG
-from rjcad.identify.finger.catalogue import actuator_tension, catalogue, model_of
+from rjcad.identify.finger.catalogue import AFTER_SIMULATION, acting_gravity, actuator_tension, catalogue, model_of
 from rjcad.identify.finger.data import FingerCampaign, FingerExperiment
 from rjcad.identify.fit import Problem
 from rjcad.identify.select import Selector
@@ -114,6 +114,19 @@ def prepare_finger(campaign: FingerCampaign, n_folds: int = 2) -> list[Channel]:
     return out
 
 
+#: Value sets whose simulations each thread remembers: a Jacobian's β columns (``AFTER_SIMULATION``) reuse the
+#: simulation of the point itself, a few evaluations back.
+RECENT = 4
+
+
+@dataclass
+class _Runs:
+    """The simulations of one value set: the models (by gravity direction) and each experiment's θ and T."""
+
+    models: dict = field(default_factory=dict)
+    out: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+
 class Simulator:
     """The finger model's channels for a set of parameter values, one simulation per experiment (cached)."""
 
@@ -121,20 +134,30 @@ class Simulator:
         self.design = campaign.design.model
         self._local = threading.local()  # one cache per thread: candidate fits run side by side
 
+    def _runs(self, values: dict[str, float]) -> _Runs:
+        """This thread's simulations with ``values`` (the parameters the simulation reads), the RECENT last kept."""
+        key = tuple(sorted(kv for kv in values.items() if kv[0] not in AFTER_SIMULATION))
+        recent = self._local.__dict__.setdefault("recent", {})
+        runs = recent.pop(key, None) or _Runs()
+        recent[key] = runs  # the most recent last
+        if len(recent) > RECENT:
+            del recent[next(iter(recent))]
+        return runs
+
     def channel(self, values: dict[str, float], ch: Channel) -> np.ndarray:
-        key = tuple(sorted(values.items()))
-        cache = self._local
-        if getattr(cache, "key", None) != key:
-            cache.key, cache.out = key, {}
-        if ch.exp_index not in cache.out:
-            m = model_of(values, self.design, ch.exp.gravity)
+        runs = self._runs(values)
+        if ch.exp_index not in runs.out:
+            g = acting_gravity(values, ch.exp.gravity)
+            if g not in runs.models:  # the experiments without weight share one model
+                runs.models[g] = model_of(values, self.design, g)
+            m = runs.models[g]
             if m.gravity is not None or m.rate_dependent:  # on every sample (see FIT_SAMPLES)
                 assert ch.full_path is not None and ch.kept is not None  # prepare_finger sets both
                 theta, T = simulate_angles(m, ch.full_path, ch.exp.t if m.rate_dependent else None)
-                cache.out[ch.exp_index] = theta[ch.kept], T[ch.kept]
+                runs.out[ch.exp_index] = theta[ch.kept], T[ch.kept]
             else:
-                cache.out[ch.exp_index] = simulate_angles(m, ch.path)
-        theta, T = cache.out[ch.exp_index]
+                runs.out[ch.exp_index] = simulate_angles(m, ch.path)
+        theta, T = runs.out[ch.exp_index]
         if ch.index < theta.shape[1]:
             return theta[:, ch.index] / DEG
         return actuator_tension(values, T, ch.pulling)
