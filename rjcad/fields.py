@@ -137,6 +137,13 @@ JOINT_FIELDS = requirement(
             "cones, no support) or stacked (the paper's, two springs; default on dimension-elite).",
         ),
         Field(
+            "--arms",
+            "arms",
+            int,
+            "Spring arms, desktop layout: 1 (default) or 2 interleaved arms 180° apart, each with its own key and "
+            "socket (their forces on the hub cancel; the arms need a far larger spring for the same wind-up).",
+        ),
+        Field(
             "--link-length",
             "link_length_mm",
             float,
