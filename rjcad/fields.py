@@ -96,6 +96,13 @@ SPRING_FIELDS = requirement() + (
         "paper's) or 1 (the desktop layout's one spring on the bed).",
     ),
     Field(
+        "--arms",
+        "arms",
+        int,
+        "Arms of each spring: 1 (default) or 2 interleaved arms 180° apart, each half the torque (length, pitch "
+        "and turns per arm; the net force on the hub is reported).",
+    ),
+    Field(
         "--min-gap",
         "min_gap_mm",
         float,

@@ -4,6 +4,7 @@ and the optimiser's two-arm design verified by the rod model."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -155,3 +156,14 @@ def test_one_arm_designs_do_not_change():
 def test_arms_validated(bad):
     with pytest.raises(ParameterError, match="arms"):
         dataclasses.replace(_requirement(), arms=bad)
+
+
+def test_cli_spring_arms_2(cli):
+    r = cli("spring", "--stiffness", "5.2", "--springs", "1", "--arms", "2", "--rotation", "45", "--preload", "35")
+    assert r.code == 0, r.err
+    assert "hub force, net" in r.out and "key gap" in r.out
+    r = cli(
+        "spring", "--stiffness", "5.2", "--springs", "1", "--arms", "2", "--rotation", "45", "--preload", "35", "--json"
+    )
+    d = json.loads(r.out)
+    assert d["arms"] == 2 and d["hub_force_ratio"] <= MAX_HUB_FORCE_RATIO and d["min_key_gap_mm"] >= d["min_gap_mm"]
