@@ -96,6 +96,13 @@ SPRING_FIELDS = requirement() + (
         "paper's) or 1 (the desktop layout's one spring on the bed).",
     ),
     Field(
+        "--arms",
+        "arms",
+        int,
+        "Arms of each spring: 1 (default) or 2 interleaved arms 180° apart, each half the torque (length, pitch "
+        "and turns per arm; the net force on the hub is reported).",
+    ),
+    Field(
         "--min-gap",
         "min_gap_mm",
         float,
@@ -135,6 +142,13 @@ JOINT_FIELDS = requirement(
             str,
             "desktop (default without soluble support: one spring on the bed under nested 50° "
             "cones, no support) or stacked (the paper's, two springs; default on dimension-elite).",
+        ),
+        Field(
+            "--arms",
+            "arms",
+            int,
+            "Spring arms, desktop layout: 1 (default) or 2 interleaved arms 180° apart, each with its own key and "
+            "socket (their forces on the hub cancel; the arms need a far larger spring for the same wind-up).",
         ),
         Field(
             "--link-length",

@@ -167,7 +167,8 @@ def test_two_arm_pair():
     clamped = rod.spiral_windup(**pair, end="clamped", arms=2, theta_max=10 * DEG, steps=2)
     assert pinned.gap[-1] < 0 and pinned.first_contact < 10 * DEG
     assert clamped.gap[-1] == pytest.approx(0.142, abs=0.025)
-    assert pinned.hub_force[-1] == 0.0 and pinned.pin_force[-1] > 0
+    assert pinned.arm_force is not None and pinned.arm_force[-1] > 0 and pinned.pin_force[-1] > 0
+    assert pinned.hub_force[-1] <= 1e-9 * pinned.arm_force[-1]  # the arms balance (their own solves)
     assert pinned.centreline.shape[0] == 2
     np.testing.assert_allclose(pinned.centreline[1], -pinned.centreline[0])
 

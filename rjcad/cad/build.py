@@ -61,6 +61,7 @@ def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float]
             "spring_end": end_fitting_entry(p),
             "layout": p.desktop.summary() if p.layout == "desktop" else {"layout": "stacked"},
             "springs": p.springs,
+            **({} if p.arms == 1 else {"arms": p.arms}),
         },
     )
 
@@ -82,6 +83,7 @@ def end_fitting_entry(p: JointParams) -> dict:
         a = math.degrees(p.socket_tilt)
         return {
             **common,
+            **_keys_entry(p),
             "fitting": "key in a socket: a rigid key on the strip's outer end (clockwise of its ray) between "
             "two tines and against a base on the moving link, holding the end's position and angle",
             "key_width_mm": p.key_width,
@@ -108,12 +110,31 @@ def end_fitting_entry(p: JointParams) -> dict:
     }
 
 
+def _keys_entry(p: JointParams) -> dict:
+    """Two arms: each arm's key (its socket's ray and the ray it is printed on, about +Z, and the rod model's
+    smallest gap from the other arm to it); one arm: nothing (its manifest is unchanged)."""
+    if p.arms == 1:
+        return {}
+    from rjcad.design.layout_desktop import SOCKET_RAY
+
+    pre = math.degrees(p.preload)
+    rays = [math.degrees(SOCKET_RAY) + 180.0 * i for i in range(p.arms)]
+    return {
+        "keys": [
+            {"arm": i + 1, "socket_ray_deg": r % 360.0, "printed_ray_deg": (r + pre) % 360.0}
+            for i, r in enumerate(rays)
+        ],
+        "min_gap_arm_to_other_key_mm": p.key_gap,
+    }
+
+
 def seating_text(p: JointParams) -> str:
     """What the user does after printing, one sentence."""
     if p.layout == "desktop":
         lift = p.seat_height + p.clearance_mm
+        which = "the spring's key" if p.arms == 1 else "each of the two keys in turn"
         return (
-            f"lift the spring's key out of the bed plane (into the cup) by {lift:.1f} mm, "
+            f"lift {which} out of the bed plane (into the cup) by {lift:.1f} mm, "
             f"turn it {math.degrees(p.preload):g} deg clockwise (seen from +Z: this unwinds the spiral) and let it "
             "drop between the tines of its socket on the cup"
         )
@@ -133,12 +154,13 @@ def preview_sections(p: JointParams) -> list[tuple[str, tuple, tuple]]:
     deg = math.degrees(p.preload)
     if p.layout == "desktop":
         z = p.desktop.seat + 0.5 * (p.spring.width - p.desktop.seat)
+        keys = (
+            f"key printed {deg:g}° ccw of its socket (at -X)"
+            if p.arms == 1
+            else f"two arms, each key printed {deg:g}° ccw of its socket (at -X and +X)"
+        )
         return [
-            (
-                f"z = {z:.2f}: spring on the bed (ccw out), key printed {deg:g}° ccw of its socket (at -X)",
-                (0, 0, z),
-                (0, 0, 1),
-            ),
+            (f"z = {z:.2f}: spring on the bed (ccw out), {keys}", (0, 0, z), (0, 0, 1)),
             ("section through the tendon: band, groove, arm, support pin, channels", (0, 0, p.z_mid), (0, 0, 1)),
             ("section y = 0: spring, cup and 50° roof, hub with flare, band and arm", (0, 0, 0), (0, 1, 0)),
         ]

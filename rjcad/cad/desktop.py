@@ -31,17 +31,22 @@ def _turned(shapes: Sequence[Shape]) -> list[Shape]:
     return [occ.rotated(occ.mirrored(s, (0.0, 1.0, 0.0)), math.degrees(SOCKET_RAY)) for s in shapes]
 
 
+def _both_arms(shapes: list[Shape], p: JointParams) -> list[Shape]:
+    """``shapes``, and with two arms their copies turned by 180° about the axis (the second arm's)."""
+    return shapes if p.arms == 1 else shapes + [occ.rotated(s, 180.0) for s in shapes]
+
+
 def spring_parts(p: JointParams) -> list[Shape]:
-    """The spring on the bed: strip, inner tab (into the hub) and key, counter-clockwise outwards."""
+    """The spring on the bed: strip, inner tab (into the hub) and key, counter-clockwise outwards (each arm's)."""
     strip, extras = spring_solids(p, 0.0)
-    return _turned([strip, *extras])
+    return _both_arms(_turned([strip, *extras]), p)
 
 
 def socket_parts(p: JointParams) -> list[Shape]:
     """The key's socket on the cup's inside: the stacked layout's tines and base, from the bed to the seat height,
-    the base ending in the cup's wall; mirrored and turned like the spring."""
+    the base ending in the cup's wall; mirrored and turned like the spring (each arm's)."""
     L = p.desktop
-    return _turned(socket_solids(p, 0.0, L.seat, base_end=L.R_co - 0.3))
+    return _both_arms(_turned(socket_solids(p, 0.0, L.seat, base_end=L.R_co - 0.3)), p)
 
 
 def cup_profile(p: JointParams) -> list[tuple[float, float]]:

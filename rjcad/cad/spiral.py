@@ -39,9 +39,18 @@ def spiral_side(
     hand: int = CLOCKWISE,
     a_start: float = 0.0,
     a_end: float | None = None,
+    normal: bool = False,
 ) -> list[TopoDS_Edge]:
-    """Arcs through r(a) + offset at φ0 + hand·a, for a from ``a_start`` to ``a_end`` (2πn), or back [rad]."""
+    """Arcs through r(a) + offset at φ0 + hand·a, for a from ``a_start`` to ``a_end`` (2πn), or back [rad].
+
+    ``normal``: the offset is along the spiral's normal, not the radius: r(a) + offset·√(r² + k²)/r, k = p/2π
+    (a radial offset leaves a strip t·r/√(r² + k²) thick: 0.92·t near the hub of a coarse two-arm spiral)."""
     k = pitch / (2 * math.pi)
+
+    def _pt_at(a: float) -> Vec:
+        r = r_in + k * a
+        return _pt(r + offset * (math.hypot(r, k) / r if normal else 1.0), phi0 + hand * a)
+
     a_end = 2 * math.pi * turns if a_end is None else a_end
     span = a_end - a_start
     n_arcs = max(2, math.ceil(span / (2 * math.pi) * arcs_per_turn))
@@ -52,13 +61,7 @@ def spiral_side(
         if backwards:
             a, b = b, a
         m = 0.5 * (a + b)
-        edges.append(
-            occ.arc(
-                _pt(r_in + k * a + offset, phi0 + hand * a),
-                _pt(r_in + k * m + offset, phi0 + hand * m),
-                _pt(r_in + k * b + offset, phi0 + hand * b),
-            )
-        )
+        edges.append(occ.arc(_pt_at(a), _pt_at(m), _pt_at(b)))
     return edges
 
 
@@ -67,19 +70,22 @@ def strip_solid(
 ) -> Shape:
     """The spiral strip alone (no tab, no key), extruded over z ∈ [z0, z0 + b].
 
-    ``extend`` [mm] prolongs the strip past both end rays (arc length ≈ extend at each end).
+    ``extend`` [mm] prolongs the strip past both end rays (arc length ≈ extend at each end). A two-arm spring's
+    coarse spiral has its sides offset along the normal (``spiral_side``), so that the strip is t thick.
     """
-    r_in, p, n, t = design.inner_radius, design.pitch, design.turns, design.thickness
+    r_in, p, n, t = design.inner_radius, design.arm_pitch, design.turns, design.thickness
     r_out = r_in + p * n
     a0, a1 = -extend / r_in, 2 * math.pi * n + extend / r_out
-    kw: dict[str, Any] = dict(arcs_per_turn=arcs_per_turn, hand=hand, a_start=a0, a_end=a1)
+    normal = design.arms == 2
+    kw: dict[str, Any] = dict(arcs_per_turn=arcs_per_turn, hand=hand, a_start=a0, a_end=a1, normal=normal)
     outer = spiral_side(r_in, p, n, phi0, +t / 2, **kw)
     inner_back = spiral_side(r_in, p, n, phi0, -t / 2, backwards=True, **kw)
     k = p / (2 * math.pi)
     r0, r1 = r_in + k * a0, r_in + k * a1
+    h0, h1 = (math.hypot(r0, k) / r0, math.hypot(r1, k) / r1) if normal else (1.0, 1.0)
     phi_s, phi_e = phi0 + hand * a0, phi0 + hand * a1
-    end_cap = occ.line(_pt(r1 + t / 2, phi_e), _pt(r1 - t / 2, phi_e))
-    start_cap = occ.line(_pt(r0 - t / 2, phi_s), _pt(r0 + t / 2, phi_s))
+    end_cap = occ.line(_pt(r1 + h1 * t / 2, phi_e), _pt(r1 - h1 * t / 2, phi_e))
+    start_cap = occ.line(_pt(r0 - h0 * t / 2, phi_s), _pt(r0 + h0 * t / 2, phi_s))
     face = occ.planar_face(occ.wire(outer + [end_cap] + inner_back + [start_cap]))
     return occ.translated(occ.prism(face, (0.0, 0.0, design.width)), (0.0, 0.0, z0))
 

@@ -10,6 +10,7 @@ from rjcad.cli.options import OutFile, design_options, echo_profiles, merge_conf
 from rjcad.errors import RjcadError
 from rjcad.fields import SPRING_FIELDS, spring_kwargs
 from rjcad.spring import SpringDesign, SpringRequirement
+from rjcad.spring.design import NOMINAL_KEY_REACH
 from rjcad.spring.optimise import design_spring
 
 #: ``rjcad spring``'s options: the requirement, then the optimiser's bounds and the life constraint.
@@ -60,6 +61,21 @@ def _contact(d: dict) -> tuple[str, str]:
     return f"{d['first_contact_deg']:.1f}", "° of wind-up"
 
 
+def _arm_rows(d: dict) -> list[tuple[str, str, str]]:
+    """Two arms: the rows of the balance and the key gap (none for one arm)."""
+    if d.get("arms", 1) == 1:
+        return []
+    return [
+        ("arms", f"{d['arms']}", f"interleaved, 180° apart; each arm's pitch {d['arm_pitch_mm']:.3f} mm"),
+        ("hub force, net", f"{d['hub_force_n']:.2e}", f"N (both arms; one arm's reaction {d['arm_force_n']:.3f} N)"),
+        (
+            "key gap",
+            f"{d['min_key_gap_mm']:.3f}",
+            f"mm (an arm to the other's key, {NOMINAL_KEY_REACH:g} mm long; rod model, over the wind-up)",
+        ),
+    ]
+
+
 def print_design(design: SpringDesign) -> None:
     """The design as a heading line and a table (degrees, mm, MPa, N·mm); physics from the rod model."""
     d = design.to_dict()
@@ -102,6 +118,7 @@ def print_design(design: SpringDesign) -> None:
             ("coil gap, printed", f"{d['print_coil_gap_mm']:.3f}", "mm"),
             ("first contact", *_contact(d)),
             ("pin force", f"{d['pin_force_n']:.3f}", "N (largest reaction on the outer end's post, one spring)"),
+            *_arm_rows(d),
             ("preload torque", f"{d['preload_torque_nmm']:.2f}", "N·mm (joint)"),
             ("max torque", f"{d['max_torque_nmm']:.2f}", "N·mm (joint)"),
             (

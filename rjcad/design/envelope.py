@@ -82,10 +82,15 @@ def _densify(P: np.ndarray, k: int = 4) -> np.ndarray:
 
 @lru_cache(maxsize=1024)
 def wound_envelope(
-    r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float, end: str
+    r_in: float, pitch: float, turns: float, t: float, preload: float, rotation: float, end: str, arms: int = 1
 ) -> WoundEnvelope:
-    """:class:`WoundEnvelope` of a spring (independent of E and b: the ends' motion is prescribed)."""
+    """:class:`WoundEnvelope` of a spring (independent of E and b: the ends' motion is prescribed).
+
+    ``arms`` 2: two arms 180° apart (``pitch`` each arm's); the second is the first turned by 180° (each arm is
+    its own rod on the fixed hub), and the envelope covers both."""
     theta, states = wound_states(r_in, pitch, turns, t, preload, rotation, end)
+    if arms == 2:
+        states = [np.vstack([P, -P]) for P in states]
     profile = np.zeros(round(2 * math.pi / BIN))
     r_max, x_min, x_max = 0.0, math.inf, -math.inf
     for th, P in zip(theta, states):

@@ -90,6 +90,7 @@ class FingerParams:
                 preload=float(merged.get("preload_deg", 90)) * DEG,
                 link_length=float(merged.get("link_length_mm", 40)),
                 tendon_moment_arm=(float(merged["tendon_moment_arm_mm"]) if "tendon_moment_arm_mm" in merged else None),
+                arms=int(merged.get("arms", 1)),
             )
             try:
                 built.append(JointParams(**kw, **common, standalone=False))

@@ -131,6 +131,9 @@ class JointParams:
     #: ground (parent) and moving (child) link blocks at this joint [mm]; None: this joint's own (link_width/2)
     ground_half_width: float | None = field(default=None, repr=False)
     moving_half_width: float | None = field(default=None, repr=False)
+    #: desktop: the spring's arms, 1 or 2 interleaved arms 180° apart (each half the torque, each with its own key
+    #: and socket, the second turned by 180° about the axis: their forces on the hub cancel)
+    arms: int = 1
 
     def __post_init__(self) -> None:
         if self.layout is None:
@@ -139,6 +142,10 @@ class JointParams:
             raise ParameterError("layout", self.layout, f"known layouts: {', '.join(LAYOUTS)}")
         if self.clearance is None:
             object.__setattr__(self, "clearance", default_clearance(self.material, self.printer, self.layout))
+        if self.arms not in (1, 2) or isinstance(self.arms, bool):
+            raise ParameterError("arms", self.arms, "must be 1 or 2 spring arms")
+        if self.arms == 2 and self.layout != "desktop":
+            raise ParameterError("arms", self.arms, "two spring arms are built in the desktop layout only")
         if self.layout == "desktop" and self.end != "clamped":
             raise ParameterError(
                 "end",
@@ -193,6 +200,47 @@ class JointParams:
             limit=f"must be >= {math.degrees(self.min_preload):.1f} deg for this spring: its printed outer "
             "end must clear its socket (or post) by the clearance",
         )
+        if self.arms == 2:
+            self._check_key_gap()
+
+    def _check_key_gap(self) -> None:
+        """Two arms: each arm keeps the coil gap to the other arm's key (this layout's key) over the wind-up, by the
+        rod model; else ParameterError naming ``arms``."""
+        d = self.spring
+        gap = self.key_gap
+        if gap < d.requirement.gap_min - 1e-9:
+            raise ParameterError(
+                "arms",
+                self.arms,
+                f"the other arm comes {gap:.3f} mm from a key (< {d.requirement.gap_min:g} mm) over the wind-up: "
+                "use one arm",
+            )
+
+    @property
+    def key_gap(self) -> float:
+        """Two arms: the smallest gap between an arm and the other arm's key over 0..preload + rotation, by the
+        rod model with this layout's key (root 0.25·t inside the end, tip at ``key_tip_radius``) [mm]."""
+        from rjcad.spring.verify import rod_check
+
+        d, req = self.spring, self.spring.requirement
+        key = (-0.25 * d.thickness, self.key_tip_radius - d.centreline_outer_radius, self.key_width)
+        check = rod_check(
+            d.inner_radius,
+            d.pitch,
+            d.turns,
+            d.width,
+            d.thickness,
+            d.youngs_modulus,
+            d.end,
+            d.sense,
+            req.preload,
+            req.rotation,
+            req.pin_radius,
+            arms=2,
+            key=key,
+        )
+        assert check.min_key_gap is not None
+        return check.min_key_gap
 
     # --- printer, spring -------------------------------------------------------
     @property
@@ -257,6 +305,7 @@ class JointParams:
             inner_radius_max=max(10.0, r_min),
             springs=self.springs,
             min_gap=self.coil_gap_min,
+            arms=self.arms,
         )
         d = design_spring(req)
         if d.inner_radius - d.thickness / 2 - self.pin_radius < self.gap_internal - 1e-9:
@@ -338,8 +387,12 @@ class JointParams:
     def wound(self) -> WoundEnvelope:
         """The strip's centreline over the wind-up 0..preload + rotation, ground and moving frames (rod model)."""
         d = self.spring
+        if self.arms == 1:
+            return wound_envelope(
+                d.inner_radius, d.pitch, d.turns, d.thickness, self.preload, self.rotation, self.end_condition
+            )
         return wound_envelope(
-            d.inner_radius, d.pitch, d.turns, d.thickness, self.preload, self.rotation, self.end_condition
+            d.inner_radius, d.arm_pitch, d.turns, d.thickness, self.preload, self.rotation, self.end_condition, 2
         )
 
     @property

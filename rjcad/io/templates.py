@@ -22,6 +22,7 @@ FINGER_JOINT_KEYS: dict[str, type | tuple[type, ...]] = {
     "rotation_deg": (int, float),
     "link_length_mm": (int, float),
     "tendon_moment_arm_mm": (int, float),
+    "arms": int,
 }
 
 #: The paper's finger (Sec. V, rjcad.paper.FINGER) as the paper printed it: 40 mm links on the Dimension

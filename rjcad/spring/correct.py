@@ -79,15 +79,16 @@ def _adjusted(d: SpringDesign, prev):
     if abs(k_ratio - 1.0) > RETUNE:
         L = _retuned_length(L, k_ratio, prev if b == d.width else None)
     g = req.gap_min
-    if d.min_coil_gap < g:
-        p += 1.5 * (g - d.min_coil_gap) + 1e-3
+    gap = d.min_coil_gap if d.min_key_gap is None else min(d.min_coil_gap, d.min_key_gap)
+    if gap < g:
+        p += 1.5 * (g - gap) + 1e-3
     if d.min_pin_gap is not None and d.min_pin_gap < g:
         r_in += 1.5 * (g - d.min_pin_gap) + 1e-3
     if (b, L, p, r_in) == (d.width, d.length, d.pitch, d.inner_radius):
         return None
     same = (b, p, r_in) == (d.width, d.pitch, d.inner_radius)
     return (
-        replace(d, width=b, length=L, pitch=p, inner_radius=r_in, turns=float(turns_for_length(L, r_in, p))),
+        replace(d, width=b, length=L, pitch=p, inner_radius=r_in, turns=float(turns_for_length(L, r_in, d.arms * p))),
         (d.length, k_ratio) if same else None,
     )
 

@@ -32,6 +32,11 @@ MIN_RADIUS_TO_THICKNESS = 3.0
 MIN_WIDTH_TO_THICKNESS = 2.0
 #: Stiffness tolerance the optimiser guarantees (relative).
 STIFFNESS_TOLERANCE = 0.005
+#: Largest net force of a two-arm spring on its hub, over one arm's reaction.
+MAX_HUB_FORCE_RATIO = 0.05
+#: The key a two-arm spring is verified with when the layout does not say: radially from 0.25·t inside the end's
+#: centreline to this far outside it [mm] (the desktop layout's is shorter; it checks its own).
+NOMINAL_KEY_REACH = 6.0
 #: What the life keys of :meth:`SpringDesign.to_dict` rest on.
 LIFE_NOTE = (
     "rjcad.life: Table I (ABSplus-P430, b = 4.8 mm, Dimension Elite), 90 % interval; "
@@ -84,6 +89,8 @@ class SpringRequirement:
     springs: int = 2
     #: Smallest gap the coils keep over the whole wind-up [mm]; None: the printer's minimum gap.
     min_gap: float | None = None
+    #: Arms of each spring: 1, or 2 interleaved arms 180° apart, each carrying half the spring's torque.
+    arms: int = 1
 
     def __post_init__(self) -> None:
         # lower bounds far below any printable spring (a 1 m strip of 0.4 × 1 mm ABS is 0.01 N·mm/rad), but
@@ -116,6 +123,8 @@ class SpringRequirement:
             in_range("pin_radius", self.pin_radius, 0, 100, lo_open=True, limit="must be > 0 and <= 100 mm")
         if self.springs not in (1, 2):
             raise ParameterError("springs", self.springs, "must be 1 or 2 springs per joint")
+        if self.arms not in (1, 2) or isinstance(self.arms, bool):
+            raise ParameterError("arms", self.arms, "must be 1 or 2 spring arms")
         if self.min_gap is not None:
             in_range("min_gap", self.min_gap, 0.05, 2.0, limit="must be >= 0.05 and <= 2 mm")
         check_end(self.end)
@@ -182,14 +191,30 @@ class SpringDesign:
         return self.requirement.material_spec.youngs_modulus_mpa
 
     @property
+    def arms(self) -> int:
+        """Interleaved arms of the spring (1 or 2); ``length`` and ``turns`` are one arm's."""
+        return self.requirement.arms
+
+    @property
+    def arm_pitch(self) -> float:
+        """Pitch of one arm, arms × the coil-to-coil ``pitch`` [mm]."""
+        return self.arms * self.pitch
+
+    @property
+    def nominal_key(self) -> tuple[float, float, float]:
+        """(u0, u1, w) of the key a two-arm spring is verified with [mm] (rjcad.spring.rod.key_box)."""
+        w = 2.0 * max(self.thickness, self.requirement.printer_spec.min_wall_mm)
+        return (-0.25 * self.thickness, NOMINAL_KEY_REACH, w)
+
+    @property
     def rod(self) -> RodCheck:
         """The rod model wound over 0..preload + rotation (cached by geometry)."""
         return check_design(self)
 
     @property
     def centreline_outer_radius(self) -> float:
-        """r_in + p·n [mm]."""
-        return float(outer_radius(self.inner_radius, self.pitch, self.turns))
+        """r_in + arms·p·n [mm]."""
+        return float(outer_radius(self.inner_radius, self.arm_pitch, self.turns))
 
     @property
     def outer_radius(self) -> float:
@@ -198,8 +223,8 @@ class SpringDesign:
 
     @property
     def formula_stiffness(self) -> float:
-        """Closed form of one spring, c_end·E·b·t³/(12L) (c_end 1 clamped, 0.8 pinned) [N·mm/rad]."""
-        return float(stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end))
+        """Closed form of one spring, arms·c_end·E·b·t³/(12L) (c_end 1 clamped, 0.8 pinned) [N·mm/rad]."""
+        return self.arms * float(stiffness(self.youngs_modulus, self.width, self.thickness, self.length, self.end))
 
     @property
     def spring_stiffness(self) -> float:
@@ -233,6 +258,11 @@ class SpringDesign:
     def min_pin_gap(self) -> float | None:
         """Smallest gap between the strip and the pin (with a pin radius), rod model [mm]."""
         return None if self.rod.pin_gap is None else float(self.rod.pin_gap.min())
+
+    @property
+    def min_key_gap(self) -> float | None:
+        """Two arms: smallest gap between an arm and the other arm's (nominal) key, rod model [mm]; else None."""
+        return self.rod.min_key_gap
 
     @property
     def first_contact(self) -> float | None:
@@ -271,6 +301,12 @@ class SpringDesign:
         if req.min_cycles is not None:
             lo = self.predicted_life()[1]
             extra["life_lower_cycles"] = (lo, req.min_cycles, lo >= req.min_cycles * (1 - 1e-6))
+        if self.arms == 2:
+            kg = self.min_key_gap
+            assert kg is not None
+            extra["key_gap_mm"] = (kg, req.gap_min, kg >= req.gap_min - tol)
+            ratio = self.rod.hub_force_ratio
+            extra["hub_force_ratio"] = (ratio, MAX_HUB_FORCE_RATIO, ratio <= MAX_HUB_FORCE_RATIO)
         if self.min_pin_gap is not None:
             extra["pin_gap_mm"] = (self.min_pin_gap, req.gap_min, self.min_pin_gap >= req.gap_min - tol)
         b_min = max(req.width_min, MIN_WIDTH_TO_THICKNESS * self.thickness)
@@ -343,6 +379,21 @@ class SpringDesign:
             "backlash_mm": req.backlash,
             "min_cycles": req.min_cycles,
             **self._life_keys(),
+            **self._arm_keys(),
+        }
+
+    def _arm_keys(self) -> dict[str, Any]:
+        """Two arms only (one arm's keys are unchanged): the arms, each arm's pitch and the balance."""
+        if self.arms == 1:
+            return {}
+        rod = self.rod
+        return {
+            "arms": self.arms,
+            "arm_pitch_mm": self.arm_pitch,
+            "hub_force_n": rod.hub_force,
+            "arm_force_n": rod.arm_force,
+            "hub_force_ratio": rod.hub_force_ratio,
+            "min_key_gap_mm": self.min_key_gap,
         }
 
     def _life_keys(self) -> dict[str, Any]:

@@ -33,6 +33,8 @@ REPORT_NAMES = {
     "life_lower_cycles": "life",
     "min_wall_mm": "width",
     "thickness_steps": "width",
+    "key_gap_mm": "coil_gap",
+    "hub_force_ratio": "balance",
 }
 
 #: One line per binding constraint: its value and limit at thickness t, width b, and what to change.
@@ -53,6 +55,8 @@ _INFEASIBLE = {
     "--width-max {limit:g} mm: raise --width-max",
     "pin_gap": "pin gap {value:.3f} mm < {limit:g} mm printer minimum at t = {t:g} mm: the strip nears the pin "
     "under wind-up; raise --inner-radius-min",
+    "balance": "net hub force {value:.1%} of one arm's reaction > {limit:.0%} (two arms, rod model) at t = {t:g} mm "
+    "(b = {b:g} mm): the arms do not balance; use one arm (--arms 1)",
     "stiffness": "stiffness error {value:.2%} > {limit:.1%} (rod model) at t = {t:g} mm (b = {b:g} mm): the "
     "spring is at the edge of what the model's table resolves; change the stiffness or the bounds a "
     "little",
@@ -141,7 +145,7 @@ def row_message(res: dict, k: int, backlash: float, end: str) -> str:
     )
 
 
-def contact_angles(res: dict, code: int, g_min: float, end: str, sense: str, step_deg: float = 0.5):
+def contact_angles(res: dict, code: int, g_min: float, end: str, sense: str, step_deg: float = 0.5, arms: int = 1):
     """(contact, low) [deg] per row whose binding code is ``code``: the first wind-up at which the surrogate's
     coil gap closes / falls below ``g_min`` at the row's geometry (NaN elsewhere or never)."""
     contact = np.full(len(res["binding"]), np.nan)
@@ -153,7 +157,7 @@ def contact_angles(res: dict, code: int, g_min: float, end: str, sense: str, ste
     frac = np.linspace(0.0, 1.0, int(math.degrees(float(top.max())) / step_deg) + 2)
     theta = top[:, None] * frac[None, :]
     col = {k: res[k][rows][:, None] for k in ("inner_radius", "pitch", "turns", "thickness")}
-    gap = fx.coil_gap(theta, col["inner_radius"], col["pitch"], col["turns"], col["thickness"], end, sense)
+    gap = fx.coil_gap(theta, col["inner_radius"], col["pitch"], col["turns"], col["thickness"], end, sense, arms)
     for out, lim in ((contact, 0.0), (low, g_min)):
         below = np.nan_to_num(gap, nan=np.inf) < lim
         hit = below.any(axis=1)

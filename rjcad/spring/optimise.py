@@ -47,6 +47,10 @@ SCAN, BISECT = 8, 12
 WIDTH_FACTORS = np.linspace(0.0, 1.0, 9)
 #: Searches again, with the rod model's coil-gap shortfall as a margin, before a refusal.
 RESEARCH = 2
+#: Hub radii a two-arm spring is searched at, from inner_radius_min (0) to inner_radius_max (1), log-spaced: each
+#: arm's end force shifts its coil pack the opposite way to the other's, and only a few coarse turns round a
+#: larger hub stay apart (one arm keeps r_in at its lower bound).
+HUB_FACTORS = np.linspace(0.0, 1.0, 7)
 
 
 def thickness_candidates(printer: Printer, t_max: float = MAX_THICKNESS) -> np.ndarray:
@@ -76,27 +80,29 @@ def _rows(x, shape):
     return np.broadcast_to(np.atleast_1d(np.asarray(x, dtype=float))[:, None], shape)
 
 
-def _gap_at(p, L, r_in, t, theta, end, sense):
-    """Rod-model (surrogate) coil gap over 0..θ of the spiral of length L at pitch p [mm]; NaN: off the table."""
-    return fx.coil_gap(theta, r_in, p, turns_for_length(L, r_in, p), t, end, sense)
+def _gap_at(p, L, r_in, t, theta, end, sense, arms=fx.ARMS):
+    """Rod-model (surrogate) coil gap over 0..θ of the spiral of length L at arm pitch p [mm]; NaN: off the table."""
+    return fx.coil_gap(theta, r_in, p, turns_for_length(L, r_in, p), t, end, sense, arms)
 
 
-def _pitch(L, r_in, t, theta, g_min, end, sense, holes_ok=False, guess=None):
-    """Smallest pitch whose rod-model coil gap stays ≥ g_min over 0..θ, for 1-D arrays of cells.
+def _pitch(L, r_in, t, theta, g_min, end, sense, holes_ok=False, guess=None, arms=fx.ARMS):
+    """Smallest arm pitch whose rod-model coil gap stays ≥ g_min over 0..θ, for 1-D arrays of cells.
 
-    Searched between t + g_min and the table's coarsest pitch r_in/0.707: a log scan, then bisection;
+    Searched between arms·(t + g_min) and the table's coarsest arms·r_in/0.707: a log scan, then bisection;
     or, from a ``guess`` (the last round's pitch), bisection within ±3 % of it when that brackets the
     answer. ``holes_ok``: a pitch where the table has no value (NaN, θ ≤ 2π) counts as good (the rod
     model then decides). Returns (p, found): where none is found, p is the coarsest pitch.
     """
-    p_lo = t + g_min
-    p_hi = np.maximum(r_in / fx.RHO_RANGE[0] * (1 - 1e-9), p_lo)
+    p_lo = t + g_min if arms == 1 else arms * (t + g_min)
+    p_hi = np.maximum(
+        r_in / fx.RHO_RANGE[0] * (1 - 1e-9) if arms == 1 else arms * r_in / fx.RHO_RANGE[0] * (1 - 1e-9), p_lo
+    )
     hole = np.where(holes_ok & (theta <= fx.THETA_MAX + 1e-9), np.inf, -np.inf)  # the gap a NaN stands for
     cells = (L, r_in, t, theta, hole)
 
     def ok(p, sel, axis=False):
         args = [x[sel][:, None] if axis else x[sel] for x in cells]
-        gap = _gap_at(p, args[0], args[1], args[2], args[3], end, sense)
+        gap = _gap_at(p, args[0], args[1], args[2], args[3], end, sense, arms)
         return np.where(np.isnan(gap), args[4], gap) >= g_min - 1e-12
 
     def bisect(lo, hi, sel, steps):
@@ -148,25 +154,25 @@ def _widths(K, theta, s_allow, t, r_in, p, stiff, m_peak, b_life, wf, *, E, laye
     return np.minimum(_snap_up(b_lo * (b_hi / b_lo) ** wf, layer), b_hi), b_need
 
 
-def _rod_factors(r_in, p, n, pre, rot, end, sense):
+def _rod_factors(r_in, p, n, pre, rot, end, sense, arms=fx.ARMS):
     """(c·g, m·τ_max/g, m): stiffness factor on E·b·t³/12L, peak-stress factor on 6·K_eff·θ/(b·t²), m.
 
     Table holes filled as in ``fx.cycle_stresses(fill=True)`` (τ = 1, m = FALLBACK_M): the search needs
     numbers; the final evaluation judges the holes.
     """
     theta = pre + rot
-    c = fx.stiffness_ratio(r_in, p, n, end)
-    tau_max = np.nan_to_num(fx.torque_ratio(theta, r_in, p, n, end, sense), nan=1.0)
-    tau_pre = np.nan_to_num(fx.torque_ratio(pre, r_in, p, n, end, sense), nan=1.0)
-    m = np.nan_to_num(fx.stress_factor(theta, r_in, p, n, end, sense), nan=fx.FALLBACK_M[end])
+    c = fx.stiffness_ratio(r_in, p, n, end, arms)
+    tau_max = np.nan_to_num(fx.torque_ratio(theta, r_in, p, n, end, sense, arms), nan=1.0)
+    tau_pre = np.nan_to_num(fx.torque_ratio(pre, r_in, p, n, end, sense, arms), nan=1.0)
+    m = np.nan_to_num(fx.stress_factor(theta, r_in, p, n, end, sense, arms), nan=fx.FALLBACK_M[end])
     g = (theta * tau_max - pre * tau_pre) / rot
     return c * g, m * tau_max / g, m
 
 
-def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min, life_amp, bounds, holes_ok):
+def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min, life_amp, bounds, holes_ok, arms):
     """Fixed point of width → length → pitch → rod factors per cell; (b, b_need, L, p, n, found).
 
-    Cells (requirement × thickness × width factor ``wf``) are solved as flat arrays; a cell leaves the
+    K, L, p and n are one arm's (``arms`` of them in the spring). Cells (requirement × thickness × width factor ``wf``) are solved as flat arrays; a cell leaves the
     loop once its length stops changing.
     """
     shape = np.broadcast_shapes(K.shape, t.shape, wf.shape)
@@ -176,7 +182,7 @@ def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min
     layer = printer.layer_height_mm
     k_end, m_end = end_factors(end)
     stiff, m_peak, m = np.full(K.size, k_end), np.full(K.size, m_end), np.full(K.size, m_end)
-    p, b, b_need, L, n = t + g_min, np.zeros(K.size), np.zeros(K.size), np.zeros(K.size), np.zeros(K.size)
+    p, b, b_need, L, n = arms * (t + g_min), np.zeros(K.size), np.zeros(K.size), np.zeros(K.size), np.zeros(K.size)
     found = np.zeros(K.size, bool)
     act = np.arange(K.size)
     for k in range(ROUNDS):
@@ -200,10 +206,10 @@ def _solve(K, theta, rot, s_allow, t, r_in, wf, *, E, end, sense, printer, g_min
         )
         b[i] = b_new if k < ROUNDS - 3 else np.maximum(b[i], b_new)  # the last rounds settle a layer flip-flop up
         L_old, L[i] = L[i], stiff[i] * E * b[i] * t[i] ** 3 / (12.0 * K[i])
-        p[i], found[i] = _pitch(L[i], r_in[i], t[i], theta[i], g_min, end, sense, holes_ok, p[i] if k else None)
+        p[i], found[i] = _pitch(L[i], r_in[i], t[i], theta[i], g_min, end, sense, holes_ok, p[i] if k else None, arms)
         for _ in range(POLISH):  # the length that gives K at this pitch (c and τ move with the turns)
             n[i] = turns_for_length(L[i], r_in[i], p[i])
-            stiff[i], m_peak[i], m[i] = _rod_factors(r_in[i], p[i], n[i], theta[i] - rot[i], rot[i], end, sense)
+            stiff[i], m_peak[i], m[i] = _rod_factors(r_in[i], p[i], n[i], theta[i] - rot[i], rot[i], end, sense, arms)
             L[i] = stiff[i] * E * b[i] * t[i] ** 3 / (12.0 * K[i])
         n[i] = turns_for_length(L[i], r_in[i], p[i])
         act = i[np.abs(L[i] - L_old) > 1e-10 * L[i]]
@@ -307,6 +313,7 @@ def optimise_arrays(
     holes_ok: bool = False,
     gap_margin: float = 0.0,
     min_gap: float | None = None,
+    arms: int = fx.ARMS,
 ) -> dict[str, np.ndarray]:
     """Vectorised optimiser over D requirements; smallest outer radius per row (rod-model surrogate).
 
@@ -325,11 +332,14 @@ def optimise_arrays(
     NaN within θ ≤ 2π) the cell is refused as ``coil_gap`` with a NaN value, unless ``holes_ok``:
     then the hole counts as met, with fallback factors, for the full rod model to judge. ``gap_margin``
     [mm] is added to the minimum gap (design_spring's retry when the rod model found less); ``min_gap`` [mm]
-    replaces the printer's minimum gap when given.
+    replaces the printer's minimum gap when given. ``arms=2``: two interleaved arms (rjcad.spring.rod), each
+    carrying half of ``spring_stiffness``; length, pitch and turns are then one arm's (pitch: the arm's, twice
+    the coil-to-coil pitch), spring_stiffness the whole spring's.
     """
     check_end(end)
     E, g_min = material.youngs_modulus_mpa, (printer.min_gap_mm if min_gap is None else min_gap) + gap_margin
-    K, theta, s_allow, t, wf = _grid(spring_stiffness, max_windup, allowed_stress, printer)
+    per_arm = spring_stiffness if arms == 1 else np.asarray(spring_stiffness, dtype=float) / arms
+    K, theta, s_allow, t, wf = _grid(per_arm, max_windup, allowed_stress, printer)
     shape = K.shape
     rot = _rows(max_windup if rotation is None else rotation, shape)
     r_in = np.maximum(inner_radius_min, MIN_RADIUS_TO_THICKNESS * t)
@@ -340,15 +350,17 @@ def optimise_arrays(
         else np.full(shape, np.inf)
     )
     bounds = dict(width_min=width_min, width_max=width_max, min_turns=min_turns)
-    opts = dict(E=E, end=end, sense=sense, printer=printer, g_min=g_min, life_amp=life_amp, bounds=bounds)
+    opts = dict(E=E, end=end, sense=sense, printer=printer, g_min=g_min, life_amp=life_amp, bounds=bounds, arms=arms)
     b, b_need, L, p, n, found = _solve(K, theta, rot, s_allow, t, r_in, wf, holes_ok=holes_ok, **opts)
     r_out = outer_radius(r_in, p, n) + t / 2.0
-    K_eff, sigma, amp = fx.cycle_stresses(E, b, t, L, r_in, p, n, theta - rot, rot, end, sense, fill=holes_ok)
-    gap = fx.coil_gap(theta, r_in, p, n, t, end, sense)
+    K_eff, sigma, amp = fx.cycle_stresses(
+        E, b, t, L, r_in, p, n, theta - rot, rot, end, sense, fill=holes_ok, arms=arms
+    )
+    gap = fx.coil_gap(theta, r_in, p, n, t, end, sense, arms)
     hole = np.isnan(gap) | np.isnan(sigma) | np.isnan(K_eff)
     unknown = (theta > fx.THETA_MAX + 1e-9) | (hole & (not holes_ok))
     gap = np.where(unknown, np.nan, np.where(np.isnan(gap), np.inf, gap))  # a hole passed over: met
-    pin = None if pin_radius is None else fx.pin_gap(theta, r_in, p, n, t, pin_radius, end, sense)
+    pin = None if pin_radius is None else fx.pin_gap(theta, r_in, p, n, t, pin_radius, end, sense, arms)
     life_lo = predict_cycles(amp.ravel(), t.ravel(), backlash)[1].reshape(shape) if life else np.full(shape, np.inf)
     k_err = np.abs(K_eff / K - 1.0)
     caps = dict(
@@ -363,11 +375,27 @@ def optimise_arrays(
     viol = np.nan_to_num(viol, nan=-1.0)  # a value off the table is judged by the coil-gap row:
     viol[CONSTRAINTS.index("coil_gap")][~found | unknown] = np.inf
     columns = dict(width=b, thickness=t, length=L, inner_radius=r_in, pitch=p, turns=n, outer_radius=r_out)
-    columns |= dict(spring_stiffness=K_eff, max_stress=sigma, min_coil_gap=gap, stress_amplitude=amp, windup=theta)
+    columns |= dict(
+        spring_stiffness=K_eff * arms if arms != 1 else K_eff,
+        max_stress=sigma,
+        min_coil_gap=gap,
+        stress_amplitude=amp,
+        windup=theta,
+    )
     out = _pick(viol, values, limits, r_out, columns)
-    out["contact_deg"], out["gap_low_deg"] = contact_angles(out, CONSTRAINTS.index("coil_gap"), g_min, end, sense)
+    out["contact_deg"], out["gap_low_deg"] = contact_angles(
+        out, CONSTRAINTS.index("coil_gap"), g_min, end, sense, arms=arms
+    )
     out["windup_deg"] = np.degrees(out.pop("windup"))
     return out
+
+
+def _smallest(results: list[dict[str, np.ndarray]]) -> dict[str, np.ndarray]:
+    """Per row, the feasible result with the smallest outer radius, else the first (its refusal names the constraint)."""
+    r_out = np.stack([np.where(r["feasible"], r["outer_radius"], np.inf) for r in results])
+    best = np.where(np.isfinite(r_out).any(axis=0), np.argmin(r_out, axis=0), 0)
+    rows = np.arange(r_out.shape[1])
+    return {k: np.stack([r[k] for r in results])[best, rows] for k in results[0]}
 
 
 def design_spring(req: SpringRequirement) -> SpringDesign:
@@ -381,6 +409,15 @@ def design_spring(req: SpringRequirement) -> SpringDesign:
 
 
 def _optimise_one(req: SpringRequirement, holes_ok: bool = False, gap_margin: float = 0.0) -> dict:
+    """:func:`optimise_arrays` of one requirement; two arms: at each of HUB_FACTORS' hub radii, the smallest."""
+    if req.arms == 1 or req.inner_radius_max <= req.inner_radius_min:
+        return _optimise_at(req, req.inner_radius_min, req.inner_radius_max, holes_ok, gap_margin)
+    hubs = req.inner_radius_min * (req.inner_radius_max / req.inner_radius_min) ** HUB_FACTORS
+    with np.errstate(invalid="ignore"):  # a coarse pitch round a small hub has no length for some cells
+        return _smallest([_optimise_at(req, r, r, holes_ok, gap_margin) for r in hubs])
+
+
+def _optimise_at(req: SpringRequirement, r_min: float, r_max: float, holes_ok: bool, gap_margin: float) -> dict:
     return optimise_arrays(
         req.spring_stiffness,
         req.max_windup,
@@ -390,8 +427,8 @@ def _optimise_one(req: SpringRequirement, holes_ok: bool = False, gap_margin: fl
         end=req.end,
         width_min=req.width_min,
         width_max=req.width_max,
-        inner_radius_min=req.inner_radius_min,
-        inner_radius_max=req.inner_radius_max,
+        inner_radius_min=r_min,
+        inner_radius_max=r_max,
         outer_radius_max=req.outer_radius_max,
         min_turns=req.min_turns,
         rotation=req.rotation,
@@ -401,6 +438,7 @@ def _optimise_one(req: SpringRequirement, holes_ok: bool = False, gap_margin: fl
         holes_ok=holes_ok,
         gap_margin=gap_margin,
         min_gap=req.min_gap,
+        arms=req.arms,
     )
 
 
@@ -423,17 +461,29 @@ def _searched(req: SpringRequirement, gap_margin: float = 0.0) -> SpringDesign:
             else f"rod-model check (the coils came {gap_margin:.3f} mm closer than the table "
             "said; searched again with that margin): "
         )
-        raise InfeasibleDesign(name, why + row_message(res, 0, req.backlash, req.end))
+        raise InfeasibleDesign(name, why + row_message(res, 0, req.backlash, req.end) + _pair_note(req, name))
     return SpringDesign(
         width=float(res["width"][0]),
         thickness=float(res["thickness"][0]),
         length=float(res["length"][0]),
         inner_radius=float(res["inner_radius"][0]),
-        pitch=float(res["pitch"][0]),
+        pitch=float(res["pitch"][0]) / req.arms,  # the coil-to-coil pitch (each arm's is arms × it)
         turns=float(res["turns"][0]),
         requirement=req,
         life=predict_cycles,
     )
+
+
+#: Why a two-arm spring is refused for its coil gap or its size, and what to change.
+PAIR_NOTE = (
+    "; two arms: each arm's end force shifts its coil pack the opposite way to the other's, so only a few coarse "
+    "turns round a large hub stay apart: allow a larger spring (inner_radius_max, max_outer_radius) or use one arm"
+)
+
+
+def _pair_note(req: SpringRequirement, name: str) -> str:
+    """:data:`PAIR_NOTE` for a two-arm spring refused for its coil gap or outer radius, else nothing."""
+    return PAIR_NOTE if req.arms == 2 and name in ("coil_gap", "outer_radius") else ""
 
 
 @functools.lru_cache(maxsize=128)

@@ -31,8 +31,12 @@ Conventions (mm, N, N·mm, rad, MPa):
   ``sense="unwind"`` (rjcad.spring.factors.JOINT_SENSE). This module's own default
   stays ``"tighten"`` (the reference tools' sense, used by its tests).
 * ``arms=2``: two interleaved arms 180° apart, each of pitch 2·p (p the coil-to-coil
-  pitch) and ``turns`` turns, outer ends on posts 180° apart. The hub is fixed, so
-  arm 2 is arm 1 turned by 180°; torques add, hub forces cancel.
+  pitch) and ``turns`` turns, outer ends on posts 180° apart. Each arm is solved as
+  its own rod (arm 2 printed as arm 1 turned by 180°, its end carried round by the
+  same wind-up); torques add, and the net force on the hub is the vector sum of the
+  two arms' inner-end reactions (``hub_force``; ``arm_force`` is one arm's). With a
+  ``key`` (the outer end's clamped key, in the end's ray frame) each arm's gap to the
+  OTHER arm's key is measured too (``key_gap``).
 * Gap: centreline distance − t between parts more than half a turn apart along one
   arm (any parts of different arms); with ``pin_radius``, also |x| − t/2 − pin_radius
   beyond the first quarter turn (the tab). Contact is NOT modelled: the solve runs
@@ -327,7 +331,9 @@ class RodResult:
     ``stress_s`` from the inner end, point ``stress_xy``; gap: min(coil_gap, hub_gap) [mm]
     at ``gap_s``/``gap_xy`` (on arm 1); first_contact: θ where gap crosses 0 (linear
     interpolation) or None; pin_force: per post [N]; hub_force: net on the hub [N];
-    centreline (arms, N, 2) at θ_max. Points in the hub (ground) frame.
+    centreline (arms, N, 2) at θ_max. Points in the hub (ground) frame. ``arm_force``: the largest
+    inner-end reaction of one arm [N]; ``key_gap``: each arm's strip to the other arm's key [mm] (None
+    without a key or with one arm).
     """
 
     theta: np.ndarray
@@ -348,6 +354,8 @@ class RodResult:
     length: float
     k_formula: float
     iterations: np.ndarray
+    arm_force: np.ndarray | None = None
+    key_gap: np.ndarray | None = None
 
     @property
     def stiffness_ratio(self) -> np.ndarray:
@@ -367,25 +375,74 @@ def _rotation_path(X_end, angle, clamped):
     return path
 
 
-def node_gaps(X, tangents, a, t, arms: int = 1, pin_radius=None):
+def node_gaps(X, tangents, a, t, arms: int = 1, pin_radius=None, other=None):
     """Gaps at the nodes of arm 1 [mm]: to the nearest other coil (either arm), and to the pin.
 
     X (N, 2), tangents (N,) current; a (N,) printed spiral angle φ − φ0 of each node.
     Coil gap: distance to the nearest part of the strip(s) more than half a turn away
-    along the same arm (arm 2 = −X), minus t. Hub gap (None without pin_radius):
-    |X| − t/2 − pin_radius, beyond the first quarter turn (inf there).
+    along the same arm (arm 2 = ``other`` (X2, tangents2), default −X), minus t. Hub gap
+    (None without pin_radius): |X| − t/2 − pin_radius, beyond the first quarter turn (inf there).
     """
     g = nearest_gap(X, X, tangents, a, a)
     if arms == 2:
-        g = np.minimum(g, nearest_gap(X, -X, tangents + math.pi))
+        X2, tang2 = (-X, tangents + math.pi) if other is None else other
+        g = np.minimum(g, nearest_gap(X, X2, tang2))
     hub = None
     if pin_radius is not None:
         hub = np.where(a >= math.pi / 2 - 1e-9, np.hypot(X[:, 0], X[:, 1]) - t / 2 - pin_radius, np.inf)
     return g - t, hub
 
 
-def _measure(sol, k, a, s, t, arms, pin_radius, sgn):
-    """One wind-up state: torque, peak |M| and where, gaps and where, end forces."""
+def key_box(X_end, u: tuple[float, float], w: float, angle: float) -> np.ndarray:
+    """Corners (4, 2) of a clamped end's key [mm]: radially u[0]..u[1] from the printed end point ``X_end``
+    along its ray, 0..w across it on the side the spiral winds on (counter-clockwise), turned about the axis
+    by ``angle`` [rad] (the end's rotation: a clamped end turns rigidly with its post)."""
+    r = math.hypot(*X_end)
+    e1 = np.asarray(X_end, float) / r
+    e2 = np.array([-e1[1], e1[0]])
+    pts = np.array([(r + du) * e1 + dv * e2 for du in u for dv in (0.0, w)])[[0, 1, 3, 2]]
+    return _rotate(pts, angle)
+
+
+def _rotate(pts, angle):
+    """Points (M, 2) turned about the origin by ``angle`` [rad]."""
+    c, s = math.cos(angle), math.sin(angle)
+    return pts @ np.array([[c, s], [-s, c]])
+
+
+def box_gap(X, tangents, box, t) -> float:
+    """Smallest gap between a strip of thickness t through X (N, 2) and a convex quadrilateral ``box`` (4, 2)
+    [mm]: the strip's nodes against the box (signed: negative inside) and the box's corners against the strip's
+    cubic shape, minus t/2."""
+    inside = np.full(len(X), np.inf)
+    outside = np.zeros(len(X))
+    for i in range(4):
+        A, B = box[i], box[(i + 1) % 4]
+        d = B - A
+        ln = math.hypot(*d)
+        n = np.array([d[1], -d[0]]) / ln  # outward normal of a counter-clockwise box
+        x = np.clip(((X - A) @ d) / ln**2, 0.0, 1.0)
+        dist = np.hypot(*(X - A - x[:, None] * d).T)
+        side = (X - A) @ n
+        inside = np.minimum(inside, np.where(side < 0, dist, np.inf))
+        outside = np.maximum(outside, side)
+    sdf = np.where(outside <= 0, -inside, np.inf)
+    for i in range(4):  # outside: distance to the nearest edge
+        A, B = box[i], box[(i + 1) % 4]
+        d = B - A
+        x = np.clip(((X - A) @ d) / (d @ d), 0.0, 1.0)
+        sdf = np.where(outside > 0, np.minimum(sdf, np.hypot(*(X - A - x[:, None] * d).T)), sdf)
+    corners = nearest_gap(box, X, tangents)
+    return float(min(sdf.min(), corners.min())) - t / 2
+
+
+def _measure(sol, k, a, s, t, arms, pin_radius, sgn, sol2=None, keys=None, turn=0.0):
+    """One wind-up state: torque, peak |M| and where, gaps and where, end forces.
+
+    ``sol2``: arm 2's own solution (two arms); ``keys``: each arm's key corners (2, 4, 2) as printed, turned by
+    λ·``turn`` [rad] at this state."""
+    if sol2 is not None:
+        return _measure_pair(sol, sol2, k, a, s, t, pin_radius, sgn, keys, turn)
     X, R, m = sol.positions(k), sol.reaction[k], np.abs(sol.moment[k])
     i_m = int(np.argmax(m))
     coil, hub = node_gaps(X, sol.tangents(k), a, t, arms, pin_radius)
@@ -402,7 +459,43 @@ def _measure(sol, k, a, s, t, arms, pin_radius, sgn):
         hub_gap=np.nan if hub is None else _refined_min(hub)[0],
         pin_force=np.hypot(*R[-1, :2]),
         hub_force=np.hypot(*R[0, :2]) if arms == 1 else 0.0,
-    )  # arm 2's hub force is −arm 1's
+    )
+
+
+def _measure_pair(sol, sol2, k, a, s, t, pin_radius, sgn, keys, turn):
+    """:func:`_measure` of two arms, each its own solution: torques and hub reactions summed, gaps on both arms."""
+    sols = (sol, sol2)
+    X = [q.positions(k) for q in sols]
+    tang = [q.tangents(k) for q in sols]
+    R = [q.reaction[k] for q in sols]
+    m = [np.abs(q.moment[k]) for q in sols]
+    i_arm = int(m[1].max() > m[0].max())
+    i_m = int(np.argmax(m[i_arm]))
+    coil, hub = node_gaps(X[0], tang[0], a, t, 2, pin_radius, other=(X[1], tang[1]))
+    coil2, hub2 = node_gaps(X[1], tang[1], a, t, 2, pin_radius, other=(X[0], tang[0]))
+    if hub is not None:
+        hub = np.minimum(hub, hub2)
+    coil = np.minimum(coil, coil2)
+    gap, i_g = _refined_min(coil if hub is None else np.minimum(coil, hub), -t)
+    hub_r = [Ri[0, :2] for Ri in R]
+    row = dict(
+        torque=sgn * sum(Ri[-1, 2] + Xi[-1, 0] * Ri[-1, 1] - Xi[-1, 1] * Ri[-1, 0] for Xi, Ri in zip(X, R)),
+        max_moment=m[i_arm][i_m],
+        stress_s=s[i_m],
+        stress_xy=X[i_arm][i_m],
+        gap=gap,
+        gap_s=s[i_g],
+        gap_xy=X[0][i_g],
+        coil_gap=_refined_min(coil, -t)[0],
+        hub_gap=np.nan if hub is None else _refined_min(hub)[0],
+        pin_force=max(np.hypot(*Ri[-1, :2]) for Ri in R),
+        hub_force=float(np.hypot(*(hub_r[0] + hub_r[1]))),
+        arm_force=max(float(np.hypot(*f)) for f in hub_r),
+    )
+    if keys is not None:
+        angle = float(sol.lam[k]) * turn
+        row["key_gap"] = min(box_gap(X[i], tang[i], _rotate(keys[1 - i], angle), t) for i in (0, 1))
+    return row
 
 
 def spiral_windup(
@@ -420,24 +513,36 @@ def spiral_windup(
     steps: int = 36,
     per_turn: int = 80,
     pin_radius=None,
+    key: tuple[float, float, float] | None = None,
 ) -> RodResult:
     """Wind one printed spiral spring from 0 to ``theta_max`` [rad] in ``steps`` equal steps.
 
     r_in, pitch (coil-to-coil; each arm has arms·pitch), turns (per arm), b, t [mm], E [MPa];
     end ``clamped``/``pinned`` (outer end); sense ``tighten`` (the joint's) or ``unwind``;
     phi0: start angle (default the builder's at 90° preload, −π/2 − 2π·turns);
-    pin_radius: also measure the gap to the hub/pin of that radius.
+    pin_radius: also measure the gap to the hub/pin of that radius; key (u0, u1, w) [mm], two arms only: each
+    outer end's key, radially u0..u1 from the end's centreline point, w wide beyond the end (:func:`key_box`).
     """
     if end not in ENDS or sense not in SENSES or arms not in (1, 2):
         raise ValueError(f"end in {ENDS}, sense in {tuple(SENSES)}, arms 1 or 2; got {end!r}, {sense!r}, {arms!r}")
     phi0 = -math.pi / 2 - TWO_PI * turns if phi0 is None else phi0
     X, tang, a = spiral_nodes(r_in, arms * pitch, turns, phi0, per_turn)
     sgn = SENSES[sense]
-    path = _rotation_path(X[-1], sgn * theta_max, end == "clamped")
-    sol = solve_rod(X, {0: (0.0, 0.0, 0.0), -1: path}, EI=E * b * t**3 / 12.0, EA=E * b * t, steps=steps, tangents=tang)
+    EI, EA = E * b * t**3 / 12.0, E * b * t
+
+    def wind(Xa, tang_a):
+        path = _rotation_path(Xa[-1], sgn * theta_max, end == "clamped")
+        return solve_rod(Xa, {0: (0.0, 0.0, 0.0), -1: path}, EI=EI, EA=EA, steps=steps, tangents=tang_a)
+
+    sol = wind(X, tang)
+    sol2 = wind(-X, tang + math.pi) if arms == 2 else None  # arm 2: printed as arm 1 turned by 180°
+    keys = None
+    if key is not None and arms == 2:
+        keys = np.stack([key_box(Xa[-1], key[:2], key[2], 0.0) for Xa in (X, -X)])
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(X, axis=0).T))])
-    rows = [_measure(sol, k, a, s, t, arms, pin_radius, sgn) for k in range(len(sol.lam))]
-    col = {key: np.array([r[key] for r in rows]) for key in rows[0]}
+    extra = dict(sol2=sol2, keys=keys, turn=sgn * theta_max) if arms == 2 else {}
+    rows = [_measure(sol, k, a, s, t, arms, pin_radius, sgn, **extra) for k in range(len(sol.lam))]
+    col = {k: np.array([r[k] for r in rows]) for k in rows[0]}
     theta = theta_max * sol.lam
     L = archimedean_length(r_in, arms * pitch, turns)
     Xend = sol.positions(-1)
@@ -446,7 +551,7 @@ def spiral_windup(
         stress=col["max_moment"] * 6 / (b * t * t),
         hub_gap=None if pin_radius is None else col.pop("hub_gap"),
         first_contact=first_crossing(theta, col["gap"]),
-        centreline=np.stack([Xend, -Xend])[:arms],
+        centreline=np.stack([Xend, -Xend])[:arms] if sol2 is None else np.stack([Xend, sol2.positions(-1)]),
         length=L,
         k_formula=arms * E * b * t**3 / (12.0 * L),
         iterations=sol.iterations,

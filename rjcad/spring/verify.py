@@ -30,7 +30,9 @@ class RodCheck:
     smallest coil (and pin) gap per sample [mm], its minimum ``min_gap`` at wind-up ``min_gap_theta``
     and point ``gap_xy``; ``coil_gap`` and ``pin_gap`` (None without a pin radius) the two apart; ``first_contact`` where the gap first closes [rad] (None: never);
     ``pin_force`` the largest reaction on the outer end's post [N]; ``wound`` the centreline at θ_max
-    and ``printed`` as printed, in the hub frame [mm].
+    and ``printed`` as printed, in the hub frame [mm]. Two arms (``arms`` 2): ``arm_force`` one arm's largest
+    reaction on the hub [N], ``hub_force`` the largest net force of both arms on the hub [N] (one arm: its
+    reaction), ``key_gap`` each arm's smallest gap to the other arm's key per sample [mm] (None: one arm).
     """
 
     theta: np.ndarray
@@ -49,6 +51,20 @@ class RodCheck:
     wound: np.ndarray
     printed: np.ndarray
     preload: float
+    arms: int = 1
+    hub_force: float = 0.0
+    arm_force: float = 0.0
+    key_gap: np.ndarray | None = None
+
+    @property
+    def hub_force_ratio(self) -> float:
+        """Largest net hub force over one arm's largest reaction (0 for a spring without load)."""
+        return self.hub_force / self.arm_force if self.arm_force > 0 else 0.0
+
+    @property
+    def min_key_gap(self) -> float | None:
+        """Smallest gap between an arm and the other arm's key over the wind-up [mm] (None: one arm)."""
+        return None if self.key_gap is None else float(self.key_gap.min())
 
     @property
     def peak_stress(self) -> float:
@@ -81,8 +97,13 @@ def rod_check(
     preload: float,
     rotation: float,
     pin_radius: float | None = None,
+    arms: int = 1,
+    key: tuple[float, float, float] | None = None,
 ) -> RodCheck:
-    """Wind the spring by the rod model to preload + rotation in ``sense``; see :class:`RodCheck`."""
+    """Wind the spring by the rod model to preload + rotation in ``sense``; see :class:`RodCheck`.
+
+    ``arms`` 2: two interleaved arms (``pitch`` the coil-to-coil pitch); ``key`` (u0, u1, w) [mm]: each arm's key,
+    radially from the end's centreline point, for the gap to the other arm (rjcad.spring.rod.key_box)."""
     theta_max = preload + rotation
     steps = max(4, math.ceil(theta_max / STEP - 1e-9))
     res = rod.spiral_windup(
@@ -98,11 +119,13 @@ def rod_check(
         steps=steps,
         per_turn=PER_TURN,
         pin_radius=pin_radius,
+        arms=arms,
+        key=key,
     )
     i_gap = int(np.argmin(res.gap))
     i_stress = int(np.argmax(res.stress))
     T_pre = float(np.interp(preload, res.theta, res.torque))
-    printed, _, _ = rod.spiral_nodes(r_in, pitch, turns, -math.pi / 2 - 2 * math.pi * turns, PER_TURN)
+    printed, _, _ = rod.spiral_nodes(r_in, arms * pitch, turns, -math.pi / 2 - 2 * math.pi * turns, PER_TURN)
     for arr in (res.theta, res.torque, res.stress, res.gap, res.coil_gap):
         arr.setflags(write=False)
     return RodCheck(
@@ -122,7 +145,17 @@ def rod_check(
         wound=res.centreline[0],
         printed=printed,
         preload=preload,
+        **({} if arms == 1 else _pair_keys(res, arms)),
     )
+
+
+def _pair_keys(res: rod.RodResult, arms: int) -> dict:
+    """A two-arm check's extra fields: net and one arm's hub force, and the key gaps (read-only)."""
+    assert res.arm_force is not None
+    key_gap = res.key_gap
+    if key_gap is not None:
+        key_gap.setflags(write=False)
+    return dict(arms=arms, hub_force=float(res.hub_force.max()), arm_force=float(res.arm_force.max()), key_gap=key_gap)
 
 
 def check_design(design) -> RodCheck:
@@ -140,4 +173,5 @@ def check_design(design) -> RodCheck:
         float(req.preload),
         float(req.rotation),
         req.pin_radius,
+        **({} if req.arms == 1 else {"arms": req.arms, "key": design.nominal_key}),
     )
