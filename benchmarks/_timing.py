@@ -2,7 +2,8 @@
 
 Not a benchmark itself (`make bench` skips files starting with "_"). Times are wall-clock seconds
 (time.perf_counter), and CPU seconds where a figure's name says so (time.process_time: user + system of the
-whole process, every thread); a figure is the median of several runs after untimed warm-up runs.
+whole process, every thread); a figure is the median of several runs after untimed warm-up runs. --quick (a smoke
+run, not a measurement) takes tiny sizes and skips the warm-up runs: every timed call still runs at least once.
 """
 
 from __future__ import annotations
@@ -14,6 +15,9 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+#: False after ``parse_args`` saw --quick: the timers below then run no untimed warm-up.
+WARM_UP = True
+
 
 def timed_runs(
     fn: Callable, repeats: int, *, warmup: int = 1, setup: Callable | None = None
@@ -23,6 +27,7 @@ def timed_runs(
     ``setup``, if given, runs untimed before every call and its result is ``fn``'s argument
     (e.g. a fresh parameter object, so that no cache carries over from one run to the next).
     """
+    warmup = warmup if WARM_UP else 0
     out = []
     for i in range(warmup + repeats):
         arg = (setup(),) if setup is not None else ()
@@ -44,6 +49,7 @@ def median_wall_cpu(fn: Callable, repeats: int, *, warmup: int = 1) -> tuple[flo
     """(median wall seconds, median CPU seconds, the last call's result) of ``repeats`` calls of ``fn`` after
     ``warmup`` untimed ones. CPU time is the steadier figure on a shared machine: another job's load stretches the
     wall time far more than it does the process's own CPU time."""
+    warmup = warmup if WARM_UP else 0
     walls, cpus, result = [], [], None
     for i in range(warmup + max(repeats, 1)):
         t0, c0 = time.perf_counter(), time.process_time()
@@ -69,12 +75,15 @@ def target(value: float | None, *, at_most: float | None = None, at_least: float
 
 
 def parse_args(ap: argparse.ArgumentParser, quick: dict[str, Any]) -> argparse.Namespace:
-    """``ap``'s arguments plus --quick, which makes ``quick`` the defaults (a smoke run; flags given still win)."""
-    ap.add_argument("--quick", action="store_true", help="tiny sizes: a smoke run, not a measurement")
+    """``ap``'s arguments plus --quick, which makes ``quick`` the defaults (a smoke run; flags given still win) and
+    turns the warm-up runs off."""
+    global WARM_UP
+    ap.add_argument("--quick", action="store_true", help="tiny sizes, no warm-up: a smoke run, not a measurement")
     args = ap.parse_args()
     if args.quick:
         ap.set_defaults(**quick)
         args = ap.parse_args()
+        WARM_UP = False
     return args
 
 

@@ -113,7 +113,6 @@ def main() -> None:
     args = parse_args(ap, quick={"repeats": 1, "no_openscad": True, "no_finger": True})
     n = args.repeats
     with tempfile.TemporaryDirectory() as tmp:
-        run(rjcad("joint", "--out", f"{tmp}/j0"))  # the joint `check` reads
         scad = shutil.which("openscad") if not args.no_openscad else None
         turn = {
             "joint": (rjcad("joint", "--out", f"{tmp}/joint"), None),
@@ -126,7 +125,10 @@ def main() -> None:
             **process_times_in_turn(turn, n),
             "finger": None if args.no_finger else process_times(rjcad("finger", "--out", f"{tmp}/finger"), n),
             "spring": process_times(rjcad("spring", "--config", "templates/spring.toml"), n),
-            "check": process_times(rjcad("check", f"{tmp}/j0/joint.3mf", "--manifest", f"{tmp}/j0/joint.json"), n),
+            # on the joint the timed `rjcad joint` runs wrote
+            "check": process_times(
+                rjcad("check", f"{tmp}/joint/joint.3mf", "--manifest", f"{tmp}/joint/joint.json"), n
+            ),
         }
         out.setdefault("openscad", None)
         out["openscad_version"] = (

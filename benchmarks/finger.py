@@ -2,7 +2,7 @@
 
 Prints one JSON object: median build time for N = 1..max-n (CAD build, and build +
 tessellation + measurements), and time(N)/(N·time(1)) from the same run (target <= 1.2
-for every N). One warm-up build of N = 1 comes first.
+for every N). One warm-up build of N = 1 comes first (not with --quick).
 Run: .venv/bin/python benchmarks/finger.py [--max-n 5] [--repeats 3] [--quick]
 """
 
@@ -27,7 +27,8 @@ def main() -> None:
     ap.add_argument("--max-n", type=int, default=5)
     ap.add_argument("--repeats", type=int, default=3)
     args = parse_args(ap, quick={"max_n": 2, "repeats": 1})
-    build_finger(FingerParams.from_dict(template(1)))  # warm-up (the first build pays for OCC's start-up)
+    if not args.quick:
+        build_finger(FingerParams.from_dict(template(1)))  # warm-up (the first build pays for OCC's start-up)
     cad, full = {}, {}
     for n in range(1, args.max_n + 1):
 

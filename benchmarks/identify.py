@@ -102,9 +102,8 @@ def main() -> None:
     args = parse_args(ap, quick={"sizes": "600,1200", "repeats": 1})
     sizes = [int(s) for s in args.sizes.split(",") if s]
 
-    warm = 0 if args.quick else 1  # --quick: a smoke run, no untimed warm-up
-    t_load, _ = median_time(lambda: load_campaign(PAPER), args.repeats, warmup=warm)
-    t_paper, cpu_paper, ident = median_wall_cpu(lambda: run(PAPER), args.repeats, warmup=warm)
+    t_load, _ = median_time(lambda: load_campaign(PAPER), args.repeats)  # --quick: no warm-up (_timing)
+    t_paper, cpu_paper, ident = median_wall_cpu(lambda: run(PAPER), args.repeats)
     out = {
         "paper_campaign_s": round(t_paper, 3),
         "paper_campaign_cpu_s": round(cpu_paper, 3),

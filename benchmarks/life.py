@@ -25,7 +25,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=100_000, help="requirements in the batched optimiser")
     ap.add_argument("--repeats", type=int, default=7)
-    args = parse_args(ap, quick={"n": 500, "repeats": 2})
+    args = parse_args(ap, quick={"n": 100, "repeats": 2})
     rng = np.random.default_rng(0)
 
     # 0. Cold start: fitting the design model from the packaged table (what `rjcad spring` pays once).
@@ -38,7 +38,7 @@ def main() -> None:
     # 1. One design at a time, the paper joint, without and with the life constraint.
     plain = sp.SpringRequirement(5.2, math.radians(90), math.radians(90))
     with_life = sp.SpringRequirement(5.2, math.radians(90), math.radians(90), min_cycles=1e5)
-    reps = max(args.repeats, 50)
+    reps = args.repeats if args.quick else max(args.repeats, 50)
     t_plain, _ = median_time(lambda: design_spring(plain), reps)
     t_life, _ = median_time(lambda: design_spring(with_life), reps)
 
@@ -58,7 +58,7 @@ def main() -> None:
     t_batch_life, _ = median_time(lambda: optimise_arrays(K, windup, min_cycles=1e5, **kw), args.repeats)
 
     # 3. The whole critique (3 laws × 2 variants, leave-one-out, profile intervals) and the CLI.
-    few = max(3, args.repeats // 2)
+    few = 1 if args.quick else max(3, args.repeats // 2)
     t_crit, _ = median_time(lambda: life.critique(), few)
     t_cli, _ = median_time(
         lambda: subprocess.run(

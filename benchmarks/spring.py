@@ -130,7 +130,7 @@ def main() -> None:
     ap.add_argument("--designs", type=int, default=200, help="random designs compared with the rod model")
     ap.add_argument("--random", type=int, default=30, help="random requirements through the designer")
     ap.add_argument("--repeats", type=int, default=7)
-    args = parse_args(ap, quick={"n": 2000, "designs": 4, "random": 3, "repeats": 2})
+    args = parse_args(ap, quick={"n": 500, "designs": 2, "random": 3, "repeats": 2})
     rng = np.random.default_rng(0)
 
     rod_s = median_time(

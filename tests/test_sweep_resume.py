@@ -219,11 +219,13 @@ def test_an_error_message_with_line_breaks_is_one_line(tmp_path, monkeypatch):
 
 # ---------------------------------------------------------------- stopping a build-mode sweep
 
-#: Two infeasible designs (no CAD: their rows come at once), then six that build (1.3-5 s each, two at a time):
-#: stopped after two rows, both workers are building and four designs wait (with only two, a quiet machine
-#: finished both builds before the signal arrived, and the sweep exited 0).
-VALUES = [500.0, 600.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
-BUILD_SWEEP = f"[params.stiffness_nmm_per_rad]\nvalues = {VALUES}\n"
+#: Two infeasible designs (no CAD: their rows come at once), then four that build (1.3-4 s each, two at a time; a
+#: worker's first build imports OpenCASCADE): stopped after two rows, both workers are building and two designs
+#: wait (with only two, a quiet machine finished both builds before the signal arrived, and the sweep exited 0).
+VALUES = [500.0, 600.0, 4.0, 5.0, 6.0, 7.0]
+#: The smallest rotation a joint takes: its motion check has the fewest poses (a build takes half the time of 90°'s).
+ROTATION_DEG = 15
+BUILD_SWEEP = f"[params.stiffness_nmm_per_rad]\nvalues = {VALUES}\n\n[params.rotation_deg]\nvalues = [{ROTATION_DEG}]\n"
 
 
 def _start(tmp_path: Path, out: Path, *extra: str) -> subprocess.Popen:
@@ -277,6 +279,8 @@ def test_a_stopped_build_sweep_leaves_no_process_and_resumes_each_design_once(tm
     r = _start(tmp_path, out, "--resume")
     assert r.wait(timeout=300) == 0, (tmp_path / "stderr").read_text()[-2000:]
     rows = sw.read_results(out / "results.csv")
-    spec = sw.SweepSpec.from_dict({"params": {"stiffness_nmm_per_rad": {"values": VALUES}}})
+    spec = sw.SweepSpec.from_dict(
+        {"params": {"stiffness_nmm_per_rad": {"values": VALUES}, "rotation_deg": {"values": [ROTATION_DEG]}}}
+    )
     assert sorted(r["id"] for r in rows) == sorted(sw.point_id(pt) for pt in spec.points())
     assert [r["status"] for r in rows].count("infeasible") == 2 and all(r["status"] for r in rows)
