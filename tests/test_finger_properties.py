@@ -267,3 +267,27 @@ def test_the_shortest_link_between_two_moment_arms_holds_the_channel_s_shift():
     start = int(np.argmax(np.isclose(y, 14.2) & (x > 0)))  # link1's channel leaves the slot at y = 14.2
     assert np.isclose(y[start + 1], 14.2) and np.isclose(y[start + 2], 6.0)
     assert x[start + 2] - x[start + 1] >= 14.2 - 6.0 - 1e-9
+
+
+@pytest.mark.slow  # one finger built (CAD): full suite only
+def test_the_shortest_link_leaves_the_printers_wall_before_the_next_fork():
+    """A link whose length is left to rjcad (the shortest whole mm) keeps at least the printer's thinnest wall
+    between its tendon slot and the next joint's fork: a stiff joint 1 (40 N·mm/rad at 45°/35°) made link 1's
+    wall 0.503 mm under a 0.4 mm nozzle's 0.8 mm when the margin was a fixed 0.5 mm; measured on the built bodies
+    by rjcad check's min_feature."""
+    from rjcad.check import check_min_feature
+    from rjcad.materials import get_printer
+
+    fp = FingerParams.from_dict(
+        {
+            "joint": [
+                {"stiffness_nmm_per_rad": 40, "rotation_deg": 45, "preload_deg": 35},
+                {"stiffness_nmm_per_rad": 7.8, "rotation_deg": 45, "preload_deg": 35},
+            ]
+        }
+    )
+    prn = get_printer(fp.joints[0].printer)
+    assert fp.joints[0].link_length > 40.0  # the shortest that holds the wall, not the 40 mm floor
+    meshes = build_finger_model(fp).meshes
+    res = check_min_feature(list(meshes.values()), list(meshes), prn, 0.02)
+    assert res.passed, res.detail

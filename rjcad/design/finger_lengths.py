@@ -38,13 +38,20 @@ def channel_shift(p: JointParams, q: JointParams) -> float:
     return math.hypot(q.moment_arm - p.moment_arm, q.z_mid - p.z_mid)
 
 
+#: Added to the printer's thinnest wall for the wall between a slot's end and the next fork's face: a faceted
+#: face may measure this much thinner than modelled [mm].
+WALL_ALLOWANCE = 0.1
+
+
 def link_length_min(p: JointParams, q: JointParams | None = None) -> float:
-    """Shortest link after joint ``p``: X_m + slot + X_g(q) + 0.5 to the next joint ``q`` (+ 4 + the channel's
-    shift when the moment arms differ: its runs and a shift at 45° at most, from the slot's end at X_m + slot − 0.5
-    to the fork's face at L − X_g + 0.5), or, distal, X_m + slot + W/2 + 6 [mm]."""
+    """Shortest link after joint ``p``: X_m + slot + X_g(q) + w to the next joint ``q``, w the printer's thinnest
+    wall + WALL_ALLOWANCE between the slot's end and the fork's face (or, when the moment arms differ, + 4 + the
+    channel's shift: its runs and a shift at 45° at most, from the slot's end at X_m + slot − 0.5 to the fork's face
+    at L − X_g + 0.5), or, distal, X_m + slot + W/2 + 6 [mm]."""
     if q is not None:
         shift = channel_shift(p, q)
-        extra = 0.5 if shift < 1e-9 else sum(CHANNEL_RUNS) - 1.0 + shift
+        wall = max(p.printer_spec.min_wall_mm, q.printer_spec.min_wall_mm) + WALL_ALLOWANCE
+        extra = wall if shift < 1e-9 else sum(CHANNEL_RUNS) - 1.0 + shift
         return p.block_start + p.slot_length + q.ground_block_start + extra
     return p.block_start + p.slot_length + p.link_width / 2 + 6.0
 
