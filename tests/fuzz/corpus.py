@@ -236,7 +236,8 @@ NUMERIC = {
     "view": (["view", "{joint}/joint.json", "--out", "v"], ["--stroke", "--mu-t"]),
 }
 INTEGER = {
-    "spring": (["spring", "--stiffness", "5.2"], ["--springs"]),
+    "spring": (["spring", "--stiffness", "5.2"], ["--springs", "--arms"]),
+    "joint": (["joint", "--out", "o"], ["--arms"]),
     "check": (["check", "{joint}/joint.stl"], ["--bodies"]),
     "simfinger": (["simulate", "finger"], ["--steps"]),
     "view": (["view", "{joint}/joint.json", "--out", "v"], ["--steps"]),
@@ -293,6 +294,17 @@ def option_cases(sh: Shared) -> list[Case]:
             base = ["spring", "--stiffness", "5.2"] if cmd == "spring" else ["joint", "--out", "o"]
             cases.append(Case(f"num-{cmd}{opt}-{len(v)}", base + [f"{opt}={v}"], mention=(opt[2:],)))
     cases.append(Case("num-joint--layout", ["joint", "--out", "o", "--layout", "sideways"], mention=("layout",)))
+    for v in ("0", "3", "-1"):  # spring arms: 1 or 2
+        for cmd in ("spring", "joint"):
+            base = ["spring", "--stiffness", "5.2"] if cmd == "spring" else ["joint", "--out", "o"]
+            cases.append(Case(f"num-{cmd}--arms-{v}", base + ["--arms", v], mention=("arms",)))
+    # two arms: the desktop layout only; the default wind-up (90° + 90°) has no two-arm spring that fits
+    cases.append(
+        Case(
+            "num-joint--arms-stacked", ["joint", "--out", "o", "--arms", "2", "--layout", "stacked"], mention=("arms",)
+        )
+    )
+    cases.append(Case("num-joint--arms-default", ["joint", "--out", "o", "--arms", "2"], mention=("arms",)))
     return cases
 
 
