@@ -234,9 +234,10 @@ def build_joint(
 class _Built:
     """What a built joint and a built finger share: manifest, meshes, solids, check."""
 
-    def __init__(self, manifest: Manifest, meshes: dict[str, trimesh.Trimesh]) -> None:
-        self._manifest = manifest
-        self._meshes = meshes
+    def __init__(self, build: JointBuild | FingerBuild) -> None:
+        self._build = build
+        self._manifest: Manifest = build.manifest
+        self._meshes: dict[str, trimesh.Trimesh] = build.meshes
 
     @property
     def manifest(self) -> dict[str, Any]:
@@ -281,9 +282,7 @@ class _Built:
 class Joint(_Built):
     """A built joint module: ``params``, ``spring``, ``manifest``, ``meshes`` and ``solids`` (ground, moving)."""
 
-    def __init__(self, build: JointBuild) -> None:
-        super().__init__(build.manifest, build.meshes)
-        self._build = build
+    _build: JointBuild
 
     @classmethod
     def from_params(cls, params: JointParams) -> Joint:
@@ -371,9 +370,7 @@ class Closure:
 class Finger(_Built):
     """A built finger: ``params``, ``manifest``, ``meshes`` and ``solids`` (base, link1, …, distal)."""
 
-    def __init__(self, build: FingerBuild) -> None:
-        super().__init__(build.manifest, build.meshes)
-        self._build = build
+    _build: FingerBuild
 
     @classmethod
     def from_params(cls, params: FingerParams) -> Finger:

@@ -22,8 +22,9 @@ def _outputs(out_dir: str, stem: str, no_png: bool, html: bool = False) -> str:
     return f"{out_dir}/{stem}.{{stl,3mf,step,glb{'' if no_png else ',png'},json{',html' if html else ''}}}"
 
 
-def _springs(n: int) -> str:
-    return "N·mm/rad (one spring)" if n == 1 else f"N·mm/rad ({n} springs)"
+def _springs(n: int, arms: int = 1) -> str:
+    what = "one spring" if n == 1 else f"{n} springs"
+    return f"N·mm/rad ({what}{', two arms' if arms == 2 else ''})"
 
 
 def _bodies(m: Manifest | dict[str, Any]) -> tuple[str, str, str]:
@@ -46,11 +47,9 @@ def joint(config, out_dir, no_png, **options):
     cad = process.CadProcess() if rjcad.cli.PROGRAM and process.usable() else None
     with cad or contextlib.nullcontext(), progress_line("joint") as progress:  # the line's thread after the fork
         from rjcad.api import joint_params
-        from rjcad.io.outputs import check_writable
 
         report(progress, "designing the spring")
         params = joint_params(config=config, **{f.keyword: options[f.name] for f in FIELDS})
-        check_writable(out_dir)  # before this process imports OCP or meshes
         from rjcad.cad.build import write_joint
 
         b = write_joint(params, out_dir, png=not no_png, cad=cad, progress=progress)
@@ -63,7 +62,11 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
     """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
     print_table(
         [
-            ("joint stiffness", f"{m['joint_stiffness_nmm_per_rad']:.3f}", _springs(m["spring"].get("springs", 2))),
+            (
+                "joint stiffness",
+                f"{m['joint_stiffness_nmm_per_rad']:.3f}",
+                _springs(m["spring"].get("springs", 2), m["spring"].get("arms", 1)),
+            ),
             (
                 "spring b × t × L",
                 f"{m['spring']['width_mm']:.2f} × {m['spring']['thickness_mm']:.2f} × {m['spring']['length_mm']:.1f}",
@@ -110,13 +113,11 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     templates/finger.toml)."""
     from rjcad.api import finger_params
     from rjcad.cli.progress import progress_line
-    from rjcad.io.outputs import check_writable
     from rjcad.view import finger_page, vendored_three
 
     with progress_line("finger") as progress:
         report(progress, "designing the springs")
         fp = finger_params(template or None, printer=printer, material=material)
-        check_writable(out_dir)
         grav = None
         if mjcf:
             from rjcad.mjcf.export import gravity_of

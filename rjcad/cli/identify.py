@@ -152,9 +152,8 @@ def identify(campaign, json_out, report_dir, allow_outside):
         campaign, json_out = json_out, "-"  # `identify --json C`: --json took the campaign as its value
     if json_out not in (None, "-"):
         deprecated("--json FILE", "--json (one JSON object on stdout; > FILE to keep it)")
-    places = ([Path(json_out).parent] if json_out and json_out != "-" else []) + ([report_dir] if report_dir else [])
-    for place in places:
-        check_writable(place)  # before the fit, not after it
+    if json_out not in (None, "-"):  # the former --json FILE (--report is refused by OutDir as it is read)
+        check_writable(Path(json_out).parent)  # before the fit, not after it
     with progress_line("identify") as progress:
         report(progress, "reading the campaign")
         camp = load_campaign(campaign, allow_outside=allow_outside)

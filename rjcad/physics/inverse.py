@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 from typing import Any
 
 import numpy as np
@@ -137,6 +137,7 @@ def printable_stiffness(
     designs instead of ``samples``. Where no coarse point is printable, every grid point is tried."""
     ks = np.geomspace(*STIFFNESS_RANGE, samples)
 
+    @cache  # the full scan below tries the coarse points again
     def good(i: int) -> bool:
         return _buildable(float(ks[i]), preload, rotation, arm, material, printer) is None
 
