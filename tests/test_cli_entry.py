@@ -50,3 +50,34 @@ def test_a_user_error_still_exits_2_with_its_one_line(tmp_path):
 def test_main_alone_still_raises_system_exit_for_callers_in_process(cli):
     code, out, _ = cli("spring", "--config", "templates/spring.toml", "--json")
     assert code == 0 and json.loads(out)
+
+
+#: What BLAS the program's NumPy runs with: threadpoolctl's report of the loaded OpenBLAS libraries.
+BLAS = """
+import sys
+sys.argv = ["rjcad", "profiles"]
+import atexit, json
+from rjcad.cli import entry
+def report():
+    from threadpoolctl import threadpool_info
+    import numpy  # noqa: F401  (loaded by then in most commands; here for the report)
+    print(json.dumps([i["num_threads"] for i in threadpool_info() if i["internal_api"] == "openblas"]))
+atexit.register(report)
+entry()
+"""
+
+
+def _blas_threads(env_value: str | None) -> list[int]:
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if env_value is not None:
+        env["OPENBLAS_NUM_THREADS"] = env_value
+    r = subprocess.run([sys.executable, "-c", BLAS], capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def test_the_program_runs_one_blas_thread_unless_the_environment_says_otherwise():
+    assert _blas_threads(None) and set(_blas_threads(None)) == {1}
+    assert set(_blas_threads("2")) == {2}  # the user's setting wins

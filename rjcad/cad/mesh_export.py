@@ -13,7 +13,6 @@ import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import escape
 
 import numpy as np
 
@@ -69,8 +68,8 @@ def _zip_entry(name: str) -> zipfile.ZipInfo:
 
 
 def _q(text) -> str:
-    """Text escaped for an XML attribute value."""
-    return escape(str(text), {'"': "&quot;"})
+    """Text escaped for an XML attribute value (&, <, > and ")."""
+    return str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace('"', "&quot;")
 
 
 def threemf_bytes(meshes: dict[str, trimesh.Trimesh], name: str = "assembly") -> bytes:

@@ -144,10 +144,18 @@ def main(argv: list[str] | None = None) -> None:
 PROGRAM = False
 
 
+#: The ``rjcad`` program's BLAS threads, unless the environment sets them: its linear algebra is small problems
+#: (the rod model, the fits), where OpenBLAS's extra threads only spin on the core that the program's other
+#: process needs (the CAD process of ``rjcad joint``, PrusaSlicer in ``rjcad check --slicer``).
+BLAS_THREADS = "1"
+
+
 def entry() -> None:
-    """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()`` with ``PROGRAM`` set."""
+    """The ``rjcad`` program (console script and ``python -m rjcad``): ``main()`` with ``PROGRAM`` set, and one
+    BLAS thread unless ``OPENBLAS_NUM_THREADS`` is set (read when NumPy loads, which is later)."""
     global PROGRAM
     PROGRAM = True
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)
     main()
 
 
