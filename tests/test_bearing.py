@@ -188,3 +188,42 @@ def test_the_page_quotes_the_computed_numbers():
     numbers = BP.doc_numbers()
     missing = {k: v for k, v in numbers.items() if f"{k}={v}" not in quoted}
     assert not missing, f"docs/bearing.md does not quote: {missing}"
+
+
+@pytest.mark.parametrize("layout", ["desktop", "stacked"])
+def test_the_manifest_block_is_the_bearing_at_the_largest_tension(layout):
+    """bearing_block: the tendon balances the spring and the friction (r·T = τ_s + τ_f), the friction is μ·Σ N·ρ
+    of the contacts it lists, and the tilt and gap are those of that state."""
+    from rjcad.physics.bearing_block import MU_ASSUMED, bearing_block
+
+    p = JointParams(layout=layout)
+    b = bearing_block(p)
+    assert b["mu"] == MU_ASSUMED and not b["locked"]
+    tau_s = p.springs * p.spring.rod.torque_at(p.preload + p.rotation)
+    assert b["tendon_tension_n"] * p.moment_arm == pytest.approx(tau_s + b["friction_torque_nmm"], rel=1e-4)
+    state = B.driven(p, MU_ASSUMED, p.rotation, 1, "tendon").state
+    by_hand = MU_ASSUMED * sum(f * math.hypot(*c.point[:2]) for f, c in zip(state.forces, state.contacts))
+    assert b["friction_torque_nmm"] == pytest.approx(by_hand, rel=1e-4)
+    assert set(b["contacts"]) == set(state.bearing) and b["binding"] == state.binding
+    assert b["tilt_deg"] == pytest.approx(math.degrees(state.tilt), abs=1e-3)
+    assert b["min_gap_under_load_mm"] == pytest.approx(state.min_gap, abs=1e-4)
+    if layout == "stacked":  # the pin alone carries the tendon: no tilt, the clearance kept elsewhere
+        assert set(b["contacts"]) == {"pin"} and b["tilt_deg"] == 0.0 and b["binding"] == []
+    else:  # the finding docs/bearing.md states: the hub rocks until the spring meets the cup wall
+        assert b["binding"] == ["spring on cup wall"] and b["tilt_deg"] > 5.0
+
+
+def test_the_fixed_point_is_the_plain_iterations():
+    """driven() finds the friction by secant steps: the same fixed point as the plain iteration τ_f ← F(τ(τ_f))."""
+    p = JointParams()
+    springs = B.spring_forces(p)
+    tau_s, tau_f = B.spring_torque(p, p.rotation), 0.0
+    for _ in range(500):
+        T = (tau_s + tau_f) / p.moment_arm
+        s = B.solve(B.contacts_of(p), [B.tendon_load(p, T, p.rotation), *springs.loads(p.rotation)], 0.4)
+        if abs(s.friction_torque - tau_f) < 1e-10:
+            break
+        tau_f = s.friction_torque
+    assert B.driven(p, 0.4, p.rotation, 1, "tendon").drive == pytest.approx(T, rel=1e-8)
+    with pytest.raises(B.BearingLocked):  # the calibrated μ locks the desktop joint (docs/bearing.md)
+        B.driven(p, BP.calibrate(), p.rotation, 1, "tendon")

@@ -126,6 +126,10 @@ def test_stiffnesses_and_manifest(default_finger):
         ):
             assert key in j
         assert j["tendon_moment_arm_mm"] == pytest.approx(6.0, abs=1e-6)
+        b = j["bearing"]  # issue #36: each joint's bearing at its largest tendon tension
+        assert {"friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm", "contacts"} <= set(b)
+        spring = j["joint_stiffness_nmm_per_rad"] * math.radians(j["preload_deg"] + j["rotation_deg"])
+        assert b["tendon_tension_n"] * 6.0 == pytest.approx(spring + b["friction_torque_nmm"], rel=0.02)
         assert j["preload_deg"] == 90 and j["rotation_deg"] == 90
     assert [j["axis_point_mm"][0] for j in m["joints"]] == [0.0, 44.0, 92.0]
     for key in ("material", "printer", "clearance_mm", "bodies", "tendon_length_mm"):

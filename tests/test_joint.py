@@ -210,6 +210,12 @@ def test_manifest_keys_and_measured_tendon_geometry(default_joint):
     hand = 2 * math.atan2(6.0, 40.0 - LEAD_IN - (xb + 3.0))
     assert m["tendon_wrap_angle_rad"] == pytest.approx(hand, rel=1e-6)
     assert m["bodies"][0]["mass_g"] == pytest.approx(m["bodies"][0]["volume_mm3"] * 1.04e-3)
+    # issue #36: the bearing at the largest tendon tension, as rjcad.physics.bearing_block computes it
+    from rjcad.physics.bearing_block import bearing_block
+
+    b = m["joints"][0]["bearing"]
+    assert {"friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm", "contacts"} <= set(b)
+    assert b == json.loads(json.dumps(bearing_block(JointParams())))
 
 
 def test_moment_arm_follows_the_parameter(tmp_path):

@@ -22,6 +22,7 @@ from rjcad.design.params import KEY_ENGAGEMENT, JointParams
 from rjcad.io.manifest import JointEntry, Manifest
 from rjcad.io.outputs import OutputError, TemporaryWriteError, check_writable
 from rjcad.materials import profile_entries
+from rjcad.physics.bearing_block import bearing_block
 from rjcad.progress import Progress, report
 
 if TYPE_CHECKING:
@@ -62,6 +63,7 @@ def joint_entry(p: JointParams, parent: str, child: str, axis_point: list[float]
             "layout": p.desktop.summary() if p.layout == "desktop" else {"layout": "stacked"},
             "springs": p.springs,
             **({} if p.arms == 1 else {"arms": p.arms}),
+            "bearing": bearing_block(p),
         },
     )
 
@@ -323,6 +325,8 @@ def write_joint(
         source = cad.joint(p)  # sent now: the CAD process builds as soon as it has imported OCP
         report(progress, "loading the mesh and preview libraries")
         mx.prepare(png)  # meanwhile
+        report(progress, "solving the bearing")
+        bearing_block(p)  # meanwhile too (kept for the manifest)
     try:
         b = build(p, source, progress)
     except TemporaryWriteError as e:

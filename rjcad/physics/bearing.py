@@ -444,14 +444,31 @@ def driven(
         raise ParameterError("direction/drive", (direction, drive), "direction ±1, drive 'tendon' or 'bar'")
     springs = spring_forces(p) if springs is None else springs
     contacts = contacts_of(p)
-    tau_s, tau_f = spring_torque(p, theta_j), 0.0
-    for _ in range(200):
+    tau_s = spring_torque(p, theta_j)
+    tol, too_much = 1e-9 * max(1.0, tau_s), 50.0 * (abs(tau_s) + 1.0)
+
+    def at(tau_f: float) -> tuple[float, BearingState]:
+        """The drive τ that a friction τ_f asks for, and the bearing under it."""
         tau = max(tau_s + direction * tau_f, 0.0)
-        if tau > 50.0 * (abs(tau_s) + 1.0):
-            break
         own = [tendon_load(p, tau / p.moment_arm, theta_j)] if drive == "tendon" else bar_loads(p, tau)
-        state = solve(contacts, [*own, *springs.loads(theta_j), *extra], mu)
-        if abs(state.friction_torque - tau_f) <= 1e-9 * max(1.0, tau_s):
+        return tau, solve(contacts, [*own, *springs.loads(theta_j), *extra], mu)
+
+    # the fixed point τ_f = friction(τ(τ_f)) by secant steps (the friction is piecewise linear in the drive, so
+    # a few steps land on it); a plain step where the secant would leave τ_f ≥ 0
+    x0, x1, h0, plain = 0.0, 0.0, math.nan, 0.0
+    for _ in range(200):
+        tau, state = at(x1)
+        if tau > too_much:
+            if x1 == plain:  # a plain step went this far: the friction outgrows the drive
+                break
+            x1, h0 = plain, math.nan  # the secant went too far: the plain step instead
+            continue
+        h1 = state.friction_torque - x1
+        if abs(h1) <= tol:
             return Drive(theta_j, direction, tau / p.moment_arm if drive == "tendon" else tau, state)
-        tau_f = state.friction_torque
+        plain = state.friction_torque
+        x_next = x1 - h1 * (x1 - x0) / (h1 - h0) if math.isfinite(h0) and h1 != h0 else plain
+        if not (math.isfinite(x_next) and x_next >= 0.0):
+            x_next = plain
+        x0, h0, x1 = x1, h1, x_next
     raise BearingLocked(f"μ = {mu:g} at θ_j = {math.degrees(theta_j):.1f}°: the drive's own friction outgrows it")

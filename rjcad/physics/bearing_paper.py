@@ -24,6 +24,7 @@ from rjcad.design.params import JointParams
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
 from rjcad.physics.bearing import BearingLocked, BearingState, Drive, driven, spring_forces, spring_torque
+from rjcad.physics.bearing_block import MU_ASSUMED
 
 #: The paper's band: μ_j·F_n [N·mm] (10.38 = 6.92 mm × 1.5 N).
 PAPER_BAND = JOINT.mu_j * JOINT.normal_load
@@ -153,8 +154,8 @@ def _sum_n_rho(state: BearingState) -> float:
     return float(sum(f * c.radius for f, c in zip(state.forces, state.contacts)))
 
 
-#: A μ inside the plausible range at which docs/bearing.md also states the predictions.
-MU_DRY = 0.4
+#: A μ inside the plausible range at which docs/bearing.md also states the predictions (the manifest's).
+MU_DRY = MU_ASSUMED
 
 
 @lru_cache(maxsize=1)

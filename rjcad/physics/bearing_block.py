@@ -1,0 +1,55 @@
+"""The manifest's ``bearing`` block of a joint: its bearing (``rjcad.physics.bearing``) at the design's largest
+tendon tension, θ_j = rotation, flexing, with the tendon ending in the moving link and no gravity.
+
+μ is assumed, not calibrated: dry ABS or PLA on itself is 0.2–0.6, and the paper's one bar test cannot decide
+μ (docs/bearing.md), so the block uses the middle of that range and says so. The model is linearised (small
+displacements) with a rigid spring: a tilt of several degrees reads "rocks until something stops it"."""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import Any
+
+from rjcad.design.params import JointParams
+from rjcad.physics.bearing import BearingLocked, Drive, driven
+
+#: The friction coefficient of the printed material on itself that the block assumes (dry ABS or PLA: 0.2–0.6).
+MU_ASSUMED = 0.4
+
+#: What the block's numbers are, written with them.
+NOTE = (
+    "the bearing at the largest tendon tension (rotation, flexing; tendon ending in the moving link; no gravity); "
+    "linearised small displacements, rigid spring; mu assumed for dry plastic on plastic, not measured "
+    "(docs/bearing.md); binding: surfaces not designed to bear that close under this load"
+)
+
+
+@lru_cache(maxsize=32)
+def _loaded(p: JointParams, mu: float) -> Drive | None:
+    """The driven pose of the block (None: locked); kept, so that a build computes it once."""
+    try:
+        return driven(p, mu, p.rotation, 1, "tendon")
+    except BearingLocked:
+        return None
+
+
+def bearing_block(p: JointParams, mu: float = MU_ASSUMED) -> dict[str, Any]:
+    """``{mu, tendon_tension_n, friction_torque_nmm, tilt_deg, min_gap_under_load_mm, contacts {surface: N},
+    binding, locked, note}`` [N, N·mm, deg, mm]; locked (the tendon's own friction outgrows it): numbers None."""
+    block: dict[str, Any] = {"mu": mu}
+    d = _loaded(p, mu)
+    if d is None:
+        nothing = dict.fromkeys(("tendon_tension_n", "friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm"))
+        return block | nothing | {"contacts": {}, "binding": [], "locked": True, "note": NOTE}
+    s = d.state
+    return block | {
+        "tendon_tension_n": round(d.drive, 4),
+        "friction_torque_nmm": round(s.friction_torque, 4),
+        "tilt_deg": round(math.degrees(s.tilt), 3),
+        "min_gap_under_load_mm": round(s.min_gap, 4),
+        "contacts": {k: round(v, 4) for k, v in s.bearing.items()},
+        "binding": list(s.binding),
+        "locked": False,
+        "note": NOTE,
+    }
