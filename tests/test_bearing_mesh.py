@@ -49,7 +49,7 @@ def first_touch():
     overlap = moved(hi + 0.02) ^ ground
     lo_box, hi_box = np.array(overlap.bounding_box()).reshape(2, 3)
     where = 0.5 * (lo_box + hi_box)
-    wall = [c for c in B.contacts_of(p) if c.surface == "spring on cup wall"][0].gap
+    wall = next(c for c in B.contacts_of(p) if c.surface == "spring on cup wall").gap
     return {
         "p": p,
         "linear_tilt": math.degrees(state.tilt),
