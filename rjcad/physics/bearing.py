@@ -448,8 +448,10 @@ def driven(
     tol, too_much = 1e-9 * max(1.0, tau_s), 50.0 * (abs(tau_s) + 1.0)
 
     def at(tau_f: float) -> tuple[float, BearingState]:
-        """The drive τ that a friction τ_f asks for, and the bearing under it."""
-        tau = max(tau_s + direction * tau_f, 0.0)
+        """The drive τ that a friction τ_f asks for, and the bearing under it (a tendon only pulls: τ ≥ 0; the
+        hand on the bar also holds it back: τ < 0 where the spring alone cannot return the joint)."""
+        tau = tau_s + direction * tau_f
+        tau = max(tau, 0.0) if drive == "tendon" else tau
         own = [tendon_load(p, tau / p.moment_arm, theta_j)] if drive == "tendon" else bar_loads(p, tau)
         return tau, solve(contacts, [*own, *springs.loads(theta_j), *extra], mu)
 
@@ -458,7 +460,7 @@ def driven(
     x0, x1, h0, plain = 0.0, 0.0, math.nan, 0.0
     for _ in range(200):
         tau, state = at(x1)
-        if tau > too_much:
+        if abs(tau) > too_much:
             if x1 == plain:  # a plain step went this far: the friction outgrows the drive
                 break
             x1, h0 = plain, math.nan  # the secant went too far: the plain step instead

@@ -60,6 +60,30 @@ def band(p: JointParams, mu: float, drive: str) -> float:
     return float(np.mean([(u.drive - d.drive) * arm / 2 for u, d in zip(up, down)]))
 
 
+@dataclass(frozen=True)
+class BarLoop:
+    """The bar test's loop (experiment A) sampled along the range: the slopes dτ/dθ_j of its flexing and
+    releasing branches and Eq. 3's one K_s fitted to both (their mean, both sampled at the same angles)
+    [N·mm/rad], and its mean half-width [N·mm]."""
+
+    slope_pull: float
+    slope_release: float
+    band: float
+
+    @property
+    def slope(self) -> float:
+        return 0.5 * (self.slope_pull + self.slope_release)
+
+
+def bar_loop(p: JointParams, mu: float, poses: int = 25) -> BarLoop:
+    """:class:`BarLoop` of ``p`` with μ, at ``poses`` angles from 0 to the rotation."""
+    th = np.linspace(0.0, p.rotation, poses)
+    springs = spring_forces(p)
+    up = np.array([driven(p, mu, float(t), 1, "bar", springs=springs).drive for t in th])
+    down = np.array([driven(p, mu, float(t), -1, "bar", springs=springs).drive for t in th])
+    return BarLoop(float(np.polyfit(th, up, 1)[0]), float(np.polyfit(th, down, 1)[0]), float(np.mean(up - down) / 2))
+
+
 @lru_cache(maxsize=8)
 def calibrate(target: float = PAPER_BAND) -> float:
     """μ such that the paper's joint in its bar test has the band ``target`` [N·mm] (bisection on μ)."""
@@ -164,6 +188,7 @@ def doc_numbers() -> dict[str, str]:
     mu = calibrate()
     paper = paper_joint()
     g = tendon_gammas(paper, mu)
+    bar = bar_loop(paper, mu)
     out = {
         "mu": f"{mu:.2f}",
         "band_paper_joint": f"{band(paper, mu, 'bar'):.2f}",
@@ -171,6 +196,12 @@ def doc_numbers() -> dict[str, str]:
         "gamma_neg": f"{g.neg:.2f}",
         "bar_contacts": ", ".join(sorted(driven(paper, mu, 0.0, 1, "bar").state.bearing)),
         "bar_sum_n_rho": f"{_sum_n_rho(driven(paper, 0.0, 0.0, 1, 'bar').state):.2f}",
+        "bar_slope_pull": f"{bar.slope_pull:.3f}",
+        "bar_slope_release": f"{bar.slope_release:.3f}",
+        "bar_slope": f"{bar.slope:.3f}",
+        "bar_slope_error": f"{100 * (bar.slope / JOINT.stiffness - 1):.1f}",
+        "bar_band": f"{bar.band:.2f}",
+        "paper_spring": f"{paper.spring.joint_stiffness:.3f}",
         "wedge_radial": f"{1 / math.sin(CONE_ANGLE):.2f}",
         "wedge_axial": f"{1 / math.cos(CONE_ANGLE):.2f}",
     }
