@@ -186,3 +186,51 @@ def test_cli_simulate_finger_and_design(tmp_path, cli_process, root):
     r = cli_process("finger-design", "--target", "65,50,50", "--stroke", "90", "--out", str(tmp_path / "x"))
     assert r.returncode == 2 and "moment arm" in r.stderr and r.stderr.count("\n") == 1
     assert not (tmp_path / "x").exists()
+
+
+def test_simulate_joint_with_bearing_friction_on_the_papers_joint(cli):
+    """Issue #36, acceptance 1: the paper's joint (stacked, 70° preload) with friction from its bearing model, μ
+    calibrated once on the bar test. The band is the paper's 10.38 N·mm (by the calibration); the slope fitted as
+    Eq. 3 fits it (one K_s for both branches) is 5.255, 1.2 % above the paper's 5.19: not within the issue's 1 %
+    (docs/bearing.md says why). The releasing torque goes negative where the hand holds the bar back."""
+    code, out, err = cli("simulate", "joint", "--friction", "bearing", "--rotation", "90", "--json")
+    assert code == 0, err
+    d = json.loads(out)
+    th, s, tau = np.radians(d["theta_deg"]), np.array(d["direction"]), np.array(d["torque_nmm"])
+    assert d["loop_width"] / 2 == pytest.approx(10.38, rel=0.10)
+    X = np.column_stack([th, s, np.ones_like(th)])  # Eq. 3: τ = K_s·θ_j + s·c + τ_0
+    k_s = np.linalg.lstsq(X, tau, rcond=None)[0][0]
+    assert k_s == pytest.approx(5.19, rel=0.015) and abs(k_s / 5.19 - 1) > 0.01  # 1.2 %: the documented miss
+    assert tau[s < 0].min() < 0  # the bar is held back below ≈ 45° while releasing
+
+
+def test_simulate_joint_bearing_friction_inputs(cli):
+    code, out, err = cli(
+        "simulate",
+        "joint",
+        "--friction",
+        "bearing",
+        "--geometry",
+        "desktop",
+        "--drive",
+        "tendon",
+        "--rotation",
+        "90",
+        "--mu",
+        "0.4",
+        "--json",
+    )
+    assert code == 0, err
+    d = json.loads(out)
+    assert max(d["tendon_force_n"]) == pytest.approx(10.67, abs=0.01)  # the manifest's bearing block's tension
+    for args, words in (
+        (["--mu", "1.46", "--geometry", "desktop", "--drive", "tendon"], "locks this joint"),
+        (["--mu-j", "3"], "--mu-j"),
+        (["--rotation", "100"], "(0, 90] deg"),
+        (["--mu", "-1"], "--mu"),
+    ):
+        argv = ["simulate", "joint", "--friction", "bearing", "--rotation", "90", *args]
+        code, out, err = cli(argv)
+        assert code == 2 and words in err and len(err.strip().splitlines()) == 1, (args, err)
+    code, _, err = cli("simulate", "joint", "--rotation", "90", "--mu", "0.3")
+    assert code == 2 and "only with --friction bearing" in err

@@ -9,6 +9,7 @@ import json
 import math
 
 import click
+from click.core import ParameterSource
 
 from rjcad import DEG
 from rjcad.cli.options import OutDir, OutFile, complete_profiles, either, out_file, renamed
@@ -69,6 +70,26 @@ JOINT_LIMITS = {
 )
 @renamed("--pulley-radius", "--tendon-moment-arm")
 @click.option("--rotation", type=float, required=True, help="Cycle 0 → rotation → 0 [deg].")
+@click.option(
+    "--friction",
+    type=click.Choice(["paper", "bearing"]),
+    default="paper",
+    show_default=True,
+    help="paper: Eq. 3-7 with the options above; bearing: the bearing model of --geometry (docs/bearing.md).",
+)
+@click.option(
+    "--geometry",
+    type=click.Choice(["paper", "desktop"]),
+    default="paper",
+    show_default=True,
+    help="With --friction bearing: the paper's joint (stacked, 70° preload) or rjcad's default desktop joint.",
+)
+@click.option(
+    "--mu",
+    type=float,
+    default=None,
+    help="With --friction bearing: μ of the material on itself (default: calibrated on the paper's bar test).",
+)
 @click.option("--json", "as_json", is_flag=True)
 @click.option("--plot", type=OutFile(), help="Write the loop as a PNG.")
 def simulate_joint(
@@ -85,16 +106,23 @@ def simulate_joint(
     tendon_moment_arm,
     pulley_radius,
     rotation,
+    friction,
+    geometry,
+    mu,
     as_json,
     plot,
 ):
-    """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7)."""
-    import numpy as np
-
-    from rjcad.physics.joint import JointModel, Setup, cycle, loop_width, tendon_slack
+    """Hysteresis loop of one joint over a 0 → rotation → 0 cycle (paper Eq. 3-7, or the bearing model)."""
+    from rjcad.physics.joint import JointModel, Setup, cycle, tendon_slack
     from rjcad.physics.joint import simulate as run
     from rjcad.validate import in_range
 
+    if friction == "bearing":
+        _bearing_loop(drive, geometry, mu, rotation, as_json, plot)
+        return
+    for name in ("geometry", "mu"):
+        if click.get_current_context().get_parameter_source(name) is ParameterSource.COMMANDLINE:
+            raise click.BadParameter("only with --friction bearing", param_hint="--" + name)
     arm_flag = "--pulley-radius" if pulley_radius is not None else "--tendon-moment-arm"
     arm = either(tendon_moment_arm, pulley_radius, "--tendon-moment-arm", "--pulley-radius")
     arm = JOINT.pulley_radius if arm is None else arm
@@ -129,6 +157,64 @@ def simulate_joint(
     th, d = cycle(rotation * DEG)
     y = run(m, setup, th, direction=d)
     slack = tendon_slack(m, setup, th, direction=d)
+    _report_loop(setup.quantity, th, d, y, slack, as_json, plot)
+
+
+#: Samples of a --friction bearing cycle (a bearing solve each: 3° steps over 90°).
+BEARING_SAMPLES = 61
+#: The paper-model options --friction bearing takes from the geometry instead.
+PAPER_OPTIONS = (
+    "routed",
+    "normal_load",
+    "stiffness",
+    "preload",
+    "mu_j",
+    "gamma_pos",
+    "gamma_neg",
+    "beta_pos",
+    "beta_neg",
+    "tendon_moment_arm",
+    "pulley_radius",
+)
+
+
+def _bearing_loop(drive: str, geometry: str, mu: float | None, rotation: float, as_json: bool, plot) -> None:
+    """``simulate joint --friction bearing``: the loop with friction from the bearing model (rjcad.physics)."""
+    import numpy as np
+
+    from rjcad.design.params import JointParams
+    from rjcad.physics import bearing_paper as BP
+    from rjcad.physics.bearing import BearingLocked
+    from rjcad.physics.joint import Setup, cycle
+    from rjcad.validate import in_range
+
+    ctx = click.get_current_context()
+    for name in PAPER_OPTIONS:
+        if ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE:
+            hint = "--" + name.replace("_", "-")
+            raise click.BadParameter("not with --friction bearing (the geometry gives it)", param_hint=hint)
+    p = BP.paper_joint() if geometry == "paper" else JointParams()
+    if not 0 < rotation * DEG <= p.rotation + 1e-9:
+        raise click.BadParameter(
+            f"must be in (0, {p.rotation / DEG:g}] deg, the joint's range", param_hint="--rotation"
+        )
+    mu = BP.calibrate() if mu is None else mu
+    in_range("--mu", mu, 0.0, 2.0)
+    th, d = cycle(rotation * DEG, BEARING_SAMPLES)
+    try:
+        y = BP.cycle_drive(p, mu, drive, th, d)
+    except BearingLocked:
+        raise ParameterError("--mu", mu, "locks this joint: the drive's own friction outgrows the drive") from None
+    slack = y <= 0.0 if drive == "tendon" else np.zeros(len(y), dtype=bool)
+    _report_loop(Setup(drive).quantity, th, d, y, slack, as_json, plot)
+
+
+def _report_loop(quantity: str, th, d, y, slack, as_json: bool, plot) -> None:
+    """The loop's slack warning, plot and printout (JSON or one line)."""
+    import numpy as np
+
+    from rjcad.physics.joint import loop_width
+
     if slack.any():
         _warn_slack(th, d, slack)
     if plot:
@@ -138,11 +224,11 @@ def simulate_joint(
                 k = d == sgn
                 ax.plot(np.degrees(th[k]), y[k], label=lab)
             ax.set_xlabel("joint angle θ_j [deg]")
-            ax.set_ylabel("torque [N·mm]" if drive == "bar" else "tendon force at the actuator [N]")
+            ax.set_ylabel("torque [N·mm]" if quantity == "torque_nmm" else "tendon force at the actuator [N]")
             ax.legend()
 
         _plot(plot, draw)
-    _print_loop(setup.quantity, th, d, y, slack, loop_width(th, y, d, ~slack), as_json)
+    _print_loop(quantity, th, d, y, slack, loop_width(th, y, d, ~slack), as_json)
 
 
 def _warn_slack(th, d, slack) -> None:

@@ -84,6 +84,13 @@ def bar_loop(p: JointParams, mu: float, poses: int = 25) -> BarLoop:
     return BarLoop(float(np.polyfit(th, up, 1)[0]), float(np.polyfit(th, down, 1)[0]), float(np.mean(up - down) / 2))
 
 
+def cycle_drive(p: JointParams, mu: float, drive: str, theta_j: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The drive at each sample of a cycle, with friction from ``p``'s bearing: the bar's torque [N·mm] or the
+    tendon's tension [N] (not routed; 0 where slack). Raises ``BearingLocked``."""
+    springs = spring_forces(p)
+    return np.array([driven(p, mu, float(t), int(s), drive, springs=springs).drive for t, s in zip(theta_j, direction)])
+
+
 @lru_cache(maxsize=8)
 def calibrate(target: float = PAPER_BAND) -> float:
     """μ such that the paper's joint in its bar test has the band ``target`` [N·mm] (bisection on μ)."""

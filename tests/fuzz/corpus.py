@@ -228,6 +228,7 @@ NUMERIC = {
         ],
     ),
     "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity"]),
+    "simbearing": (["simulate", "joint", "--rotation", "90", "--friction", "bearing"], ["--mu", "--rotation"]),
     "design": (
         ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "d"],
         ["--stroke", "--base-stiffness"],
@@ -305,6 +306,20 @@ def option_cases(sh: Shared) -> list[Case]:
         )
     )
     cases.append(Case("num-joint--arms-default", ["joint", "--out", "o", "--arms", "2"], mention=("arms",)))
+    # the bearing model's loop (issue #36): its own options, the paper model's refused, a μ that locks the joint
+    sim = ["simulate", "joint", "--rotation", "90"]
+    for name, extra, words in (
+        ("friction", ["--friction", "sliding"], "friction"),
+        ("geometry", ["--friction", "bearing", "--geometry", "round"], "geometry"),
+        ("geometry-alone", ["--geometry", "desktop"], "geometry"),
+        ("mu-alone", ["--mu", "0.3"], "mu"),
+        ("mu-j", ["--friction", "bearing", "--mu-j", "3"], "mu-j"),
+        ("routed", ["--friction", "bearing", "--routed"], "routed"),
+        ("range", ["--friction", "bearing", "--rotation", "91"], "rotation"),
+        ("mu-big", ["--friction", "bearing", "--mu", "2.5"], "mu"),
+        ("locks", ["--friction", "bearing", "--geometry", "desktop", "--drive", "tendon", "--mu", "1.5"], "mu"),
+    ):
+        cases.append(Case(f"num-simjoint-bearing-{name}", sim + extra, mention=(words,)))
     return cases
 
 
