@@ -399,14 +399,14 @@ def _rod_end_forces(
     return th, sol.reaction[keep, 0, :2], np.repeat(X[:1], len(keep), axis=0), ends
 
 
-def bar_loads(p: JointParams, drive_torque: float) -> list[Load]:
+def bar_loads(p: JointParams, drive_torque: float, push_at: float | None = BAR_ARM_MM) -> list[Load]:
     """The paper's bar (experiment A) on the moving link: its weight, BAR_WEIGHT_N along −Z at BAR_ARM_MM on +X,
-    and the drive, drive_torque / BAR_ARM_MM along +Y there (the hand turns the bar at its middle) [N, mm]."""
-    at = (BAR_ARM_MM, 0.0, p.z_mid)
-    return [
-        Load("bar weight", (0.0, 0.0, -BAR_WEIGHT_N), at),
-        Load("bar drive", (0.0, drive_torque / BAR_ARM_MM, 0.0), at),
-    ]
+    and the drive: drive_torque / push_at along +Y at push_at on +X (a push on the bar, by default at its middle),
+    or a couple about the axis (``push_at`` None: no force on the link) [N, mm]. The paper does not say which."""
+    weight = Load("bar weight", (0.0, 0.0, -BAR_WEIGHT_N), (BAR_ARM_MM, 0.0, p.z_mid))
+    if push_at is None:
+        return [weight]
+    return [weight, Load("bar drive", (0.0, drive_torque / push_at, 0.0), (push_at, 0.0, p.z_mid))]
 
 
 def spring_torque(p: JointParams, theta_j: float) -> float:
@@ -437,6 +437,7 @@ def driven(
     drive: str = "tendon",
     extra: Sequence[Load] = (),
     springs: SpringForces | None = None,
+    push_at: float | None = BAR_ARM_MM,
 ) -> Drive:
     """The pose θ_j moving in ``direction`` with friction from the bearing: the drive that balances the spring and
     the friction its own load makes (fixed point of r·T = τ_s + s·τ_f(T), or τ = τ_s + s·τ_f(τ) for the bar)."""
@@ -452,7 +453,7 @@ def driven(
         hand on the bar also holds it back: τ < 0 where the spring alone cannot return the joint)."""
         tau = tau_s + direction * tau_f
         tau = max(tau, 0.0) if drive == "tendon" else tau
-        own = [tendon_load(p, tau / p.moment_arm, theta_j)] if drive == "tendon" else bar_loads(p, tau)
+        own = [tendon_load(p, tau / p.moment_arm, theta_j)] if drive == "tendon" else bar_loads(p, tau, push_at)
         return tau, solve(contacts, [*own, *springs.loads(theta_j), *extra], mu)
 
     # the fixed point τ_f = friction(τ(τ_f)) by secant steps (the friction is piecewise linear in the drive, so

@@ -23,7 +23,7 @@ from rjcad.design.layout_desktop import CONE_ANGLE
 from rjcad.design.params import JointParams
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
-from rjcad.physics.bearing import BearingLocked, BearingState, Drive, driven, spring_forces, spring_torque
+from rjcad.physics.bearing import BAR_ARM_MM, BearingLocked, BearingState, Drive, driven, spring_forces, spring_torque
 from rjcad.physics.bearing_block import MU_ASSUMED
 
 #: The paper's band: μ_j·F_n [N·mm] (10.38 = 6.92 mm × 1.5 N).
@@ -44,18 +44,19 @@ def _poses(p: JointParams) -> np.ndarray:
     return np.linspace(0.0, p.rotation, POSES)
 
 
-def loop(p: JointParams, mu: float, drive: str) -> tuple[list[Drive], list[Drive]]:
-    """The driven poses over the range, flexing and releasing (``drive`` 'bar' or 'tendon')."""
+def loop(p: JointParams, mu: float, drive: str, push_at: float | None = BAR_ARM_MM) -> tuple[list[Drive], list[Drive]]:
+    """The driven poses over the range, flexing and releasing (``drive`` 'bar' or 'tendon'; ``push_at``:
+    ``bar_loads``)."""
     springs = spring_forces(p)
-    up = [driven(p, mu, float(t), 1, drive, springs=springs) for t in _poses(p)]
-    down = [driven(p, mu, float(t), -1, drive, springs=springs) for t in _poses(p)]
+    up = [driven(p, mu, float(t), 1, drive, springs=springs, push_at=push_at) for t in _poses(p)]
+    down = [driven(p, mu, float(t), -1, drive, springs=springs, push_at=push_at) for t in _poses(p)]
     return up, down
 
 
-def band(p: JointParams, mu: float, drive: str) -> float:
+def band(p: JointParams, mu: float, drive: str, push_at: float | None = BAR_ARM_MM) -> float:
     """Mean half-width of the hysteresis loop over the range, as a joint torque [N·mm]:
     mean of (τ⁺ − τ⁻)/2, τ the bar's torque or r·T for the tendon."""
-    up, down = loop(p, mu, drive)
+    up, down = loop(p, mu, drive, push_at)
     arm = p.moment_arm if drive == "tendon" else 1.0
     return float(np.mean([(u.drive - d.drive) * arm / 2 for u, d in zip(up, down)]))
 
@@ -75,12 +76,12 @@ class BarLoop:
         return 0.5 * (self.slope_pull + self.slope_release)
 
 
-def bar_loop(p: JointParams, mu: float, poses: int = 25) -> BarLoop:
-    """:class:`BarLoop` of ``p`` with μ, at ``poses`` angles from 0 to the rotation."""
+def bar_loop(p: JointParams, mu: float, poses: int = 25, push_at: float | None = BAR_ARM_MM) -> BarLoop:
+    """:class:`BarLoop` of ``p`` with μ, at ``poses`` angles from 0 to the rotation (``push_at``: ``bar_loads``)."""
     th = np.linspace(0.0, p.rotation, poses)
     springs = spring_forces(p)
-    up = np.array([driven(p, mu, float(t), 1, "bar", springs=springs).drive for t in th])
-    down = np.array([driven(p, mu, float(t), -1, "bar", springs=springs).drive for t in th])
+    up = np.array([driven(p, mu, float(t), 1, "bar", springs=springs, push_at=push_at).drive for t in th])
+    down = np.array([driven(p, mu, float(t), -1, "bar", springs=springs, push_at=push_at).drive for t in th])
     return BarLoop(float(np.polyfit(th, up, 1)[0]), float(np.polyfit(th, down, 1)[0]), float(np.mean(up - down) / 2))
 
 
@@ -92,16 +93,17 @@ def cycle_drive(p: JointParams, mu: float, drive: str, theta_j: np.ndarray, dire
 
 
 @lru_cache(maxsize=8)
-def calibrate(target: float = PAPER_BAND) -> float:
-    """μ such that the paper's joint in its bar test has the band ``target`` [N·mm] (bisection on μ)."""
+def calibrate(target: float = PAPER_BAND, push_at: float | None = BAR_ARM_MM) -> float:
+    """μ such that the paper's joint in its bar test has the band ``target`` [N·mm] (bisection on μ; ``push_at``:
+    where the bar is pushed, ``bar_loads``)."""
     from scipy.optimize import brentq
 
     p = paper_joint()
     lo, hi = 0.01, 2.0
-    f_hi = band(p, hi, "bar") - target
+    f_hi = band(p, hi, "bar", push_at) - target
     if f_hi < 0:
         raise ParameterError("target", target, f"needs μ > {hi}: the model's load path cannot make that band")
-    return float(brentq(lambda mu: band(p, mu, "bar") - target, lo, hi, xtol=1e-5))
+    return float(brentq(lambda mu: band(p, mu, "bar", push_at) - target, lo, hi, xtol=1e-5))
 
 
 @dataclass(frozen=True)
@@ -189,6 +191,17 @@ def _sum_n_rho(state: BearingState) -> float:
 MU_DRY = MU_ASSUMED
 
 
+def _push_sensitivity(paper: JointParams) -> dict[str, str]:
+    """Eq. 3's slope of the bar loop (μ calibrated each time) with the bar pushed at 105 and 140 mm from the axis,
+    and turned by a couple: the paper does not say how its bar was turned."""
+    out = {}
+    for key, at in (("105", 105.0), ("140", 140.0), ("couple", None)):
+        slope = bar_loop(paper, calibrate(PAPER_BAND, at), push_at=at).slope
+        out[f"bar_slope_{key}"] = f"{slope:.3f}"
+        out[f"bar_slope_{key}_error"] = f"{100 * (slope / JOINT.stiffness - 1):.2f}"
+    return out
+
+
 @lru_cache(maxsize=1)
 def doc_numbers() -> dict[str, str]:
     """Every number docs/bearing.md quotes, formatted as it quotes them (tests/test_bearing.py checks the page)."""
@@ -209,6 +222,7 @@ def doc_numbers() -> dict[str, str]:
         "bar_slope_error": f"{100 * (bar.slope / JOINT.stiffness - 1):.1f}",
         "bar_band": f"{bar.band:.2f}",
         "paper_spring": f"{paper.spring.joint_stiffness:.3f}",
+        **_push_sensitivity(paper),
         "wedge_radial": f"{1 / math.sin(CONE_ANGLE):.2f}",
         "wedge_axial": f"{1 / math.cos(CONE_ANGLE):.2f}",
     }
