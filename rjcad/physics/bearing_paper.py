@@ -19,7 +19,7 @@ from functools import lru_cache
 import numpy as np
 
 from rjcad import DEG
-from rjcad.design.layout_desktop import CONE_ANGLE
+from rjcad.design.layout_desktop import CONE_ANGLE, ROOF_LAND
 from rjcad.design.params import JointParams
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
@@ -241,6 +241,8 @@ def doc_numbers() -> dict[str, str]:
             out[f"{key}_band_paper"] = f"{pr.band_paper:.2f}"
             out[f"{key}_contacts"] = ", ".join(sorted(pr.contacts))
             out[f"{key}_binding"] = ", ".join(pr.binding) or "none"
+    L = JointParams(layout="desktop").desktop
+    out["bore_length"] = f"{L.roof_top(L.R_bore + ROOF_LAND) - L.roof_under(L.R_bore):.2f}"
     dry = predict(JointParams(layout="desktop"), MU_DRY)
     out["desktop_band_ratio"] = f"{dry.band / dry.band_paper:.1f}"
     out["desktop_spring_force"] = f"{dry.spring_force:.2f}"
