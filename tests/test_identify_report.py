@@ -119,7 +119,7 @@ def test_not_identifiable_section(routed_only):
 def test_null_case(null):
     _, js, paths, md = null
     assert js["effects"] == [] and js["steps"] == []
-    assert "Nothing beyond the design simulation was needed" in md
+    assert "Nothing beyond the design model was needed" in md
     assert "Found:" not in md and "## Not identifiable" not in md
     table = [line for line in md.splitlines() if line.startswith("| ") and "design simulation" in line]
     assert table == [f"| 0 | design simulation | — | — | {fmt(js['heldout_rmse_design'], 3)} | 1 |"]

@@ -13,6 +13,7 @@ from rjcad.identify.catalogue import EFFECTS, PARAMS
 from rjcad.identify.formatting import QUANTITY, fmt, quantity_unit, unit_of
 from rjcad.identify.plots import plot_diagnostics, plot_fit, plot_residuals, plot_steps
 from rjcad.identify.select import BIC_GATE, Identification
+from rjcad.identify.verdict import FLOOR_RATIO, NOTHING_NEEDED, verdict_sentences
 from rjcad.io.config import write_atomic
 from rjcad.io.outputs import output_set
 
@@ -29,9 +30,6 @@ __all__ = [
     "unit_of",
     "write_report",
 ]
-
-#: final RMSE / noise σ up to which an experiment counts as explained to the noise floor
-FLOOR_RATIO = 1.2
 
 
 # ---------------------------------------------------------------- tables
@@ -81,11 +79,10 @@ def _summary(js: dict) -> list[str]:
     out = []
     if not js["effects"] and not above:
         out.append(
-            f"Nothing beyond the design simulation was needed: the design simulation ({design}) already "
-            f"explains the data to the noise floor (RMSE / noise {fmt(min(ratios), 3)}–{fmt(max(ratios), 3)} "
-            "per experiment"
+            f"{NOTHING_NEEDED} The design simulation ({design}) gives RMSE / noise "
+            f"{fmt(min(ratios), 3)}–{fmt(max(ratios), 3)} per experiment"
             + (f", held-out {fmt(js['heldout_rmse_design'], 3)}× noise" if js["heldout_rmse_design"] else "")
-            + "). No catalogue effect improved it enough to be accepted."
+            + ". No catalogue effect improved it enough to be accepted."
         )
         return out
     out.append(
@@ -94,11 +91,7 @@ def _summary(js: dict) -> list[str]:
         f"against {fmt(worst['noise'], 3)} {q} noise)."
     )
     if not js["effects"]:
-        out.append("")
-        out.append(
-            "No catalogue effect improved the fit enough to be accepted, yet the residual stays above the "
-            "noise floor: the cause is probably not in the catalogue (see the diagnostics below)."
-        )
+        out += ["", "No catalogue effect improved the fit enough to be accepted (see the diagnostics below)."]
     else:
         out += ["", "Found:", ""]
         for i, eid in enumerate(js["effects"], 1):
@@ -116,11 +109,7 @@ def _summary(js: dict) -> list[str]:
             f"{fmt(js['gain'], 3)}-fold (geometric mean over the experiments)."
         )
     if above:
-        out.append(
-            "The final residual is still above the noise floor in "
-            + ", ".join(f"{e['file']} ({fmt(e['final_over_noise'], 3)}× noise)" for e in above)
-            + ": something there is not explained."
-        )
+        out += verdict_sentences(js)
     else:
         out.append(
             "The final residual is at the noise floor" + (f" in all {len(exps)} experiments." if len(exps) > 1 else ".")

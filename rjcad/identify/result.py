@@ -9,6 +9,7 @@ import numpy as np
 from rjcad.identify.catalogue import EFFECTS
 from rjcad.identify.diagnose import diagnose
 from rjcad.identify.select import Identification
+from rjcad.identify.verdict import verdict_json
 
 
 def _r(x, nd: int = 6):
@@ -110,6 +111,7 @@ def to_json(ident: Identification) -> dict:
     names = {e: EFFECTS[e].name for e in EFFECTS}
     return {
         **selection_json(ident, params, names),
+        **verdict_json({e["file"]: e["final_over_noise"] for e in exps}, ident.effects),
         "experiments": exps,
         "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
         "units": {

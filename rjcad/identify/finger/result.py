@@ -11,6 +11,7 @@ import numpy as np
 from rjcad.identify.formatting import fmt
 from rjcad.identify.result import _r, selection_json
 from rjcad.identify.select import Identification
+from rjcad.identify.verdict import verdict_json, verdict_sentences
 
 if TYPE_CHECKING:
     from rjcad.identify.finger.catalogue import FingerEffect
@@ -98,10 +99,13 @@ def to_json(ident: Identification) -> dict[str, Any]:
     rd = des.rmse()
     rf = fin.rmse()
     names = {e.id: e.name for e in _catalogue(ident)}
+    exps = _per_exp(ident, (rd, rf))
+    over = {f"{e['file']}: {q}": r for e in exps for q, r in e["final_over_noise"].items()}
     return {
         "kind": "finger",
         **selection_json(ident, params, names),
-        "experiments": _per_exp(ident, (rd, rf)),
+        **verdict_json(over, ident.effects),
+        "experiments": exps,
         "joints": _joints(ident),
         "notes": list(ident.campaign.notes) + list(ident.notes),
         "units": {
@@ -155,8 +159,7 @@ def render_markdown(js: dict[str, Any]) -> str:
             "geometric mean over the measured quantities).",
             "",
         ]
-    else:
-        lines += ["Nothing beyond the design model was needed.", ""]
+    lines += [*verdict_sentences(js), ""] if verdict_sentences(js) else []
     lines += ["## Per joint", ""] + [f"- {s}" for s in joint_sentences(js)]
     if js["ambiguous"]:
         lines += [
