@@ -104,22 +104,16 @@ KNOWN_MISSES = [
 ]
 
 
+def _tiny_spring(**fields) -> sp.SpringRequirement:
+    """The known cases' requirement: a 1 N·mm/rad joint turning 5° on the Dimension Elite, pinned, hub ≤ 5 mm."""
+    base = dict(joint_stiffness=1.0, rotation=5 * DEG, printer="dimension-elite", safety_factor=1.0, end="pinned")
+    return sp.SpringRequirement(**base, width_min=1.0, inner_radius_max=5.0, **fields)
+
+
 @pytest.mark.xfail(strict=True, reason="the optimiser misses the smallest spring in the tightest envelopes (open)")
 @pytest.mark.parametrize("case", KNOWN_MISSES)
 def test_known_misses_of_the_optimiser(case):
-    req = sp.SpringRequirement(
-        joint_stiffness=1.0,
-        rotation=5 * DEG,
-        material="abs-m30",
-        printer="dimension-elite",
-        safety_factor=1.0,
-        end="pinned",
-        width_min=1.0,
-        inner_radius_min=3.0,
-        inner_radius_max=5.0,
-        min_turns=1.0,
-        **{"outer_radius_max": 5.0, **case},
-    )
+    req = _tiny_spring(material="abs-m30", inner_radius_min=3.0, min_turns=1.0, **{"outer_radius_max": 5.0, **case})
     best = brute_force(req, margin=0.01)
     assert best < math.inf
     d = opt.design_spring(req)  # raises InfeasibleDesign for the first: an xfail too
@@ -141,18 +135,7 @@ KNOWN_CRASHES_K5 = [(31.0, 245.0, "abs-m30"), (13.0, 253.0, "petg"), (12.0, 257.
 @pytest.mark.xfail(strict=True, reason="the optimiser raises on these tiny, far-wound springs (open)")
 @pytest.mark.parametrize("case", KNOWN_CRASHES)
 def test_known_crashes_of_the_optimiser(case):
-    req = sp.SpringRequirement(
-        joint_stiffness=1.0,
-        rotation=5 * DEG,
-        material="pa12",
-        printer="dimension-elite",
-        safety_factor=1.0,
-        end="pinned",
-        width_min=1.0,
-        width_max=3.0,
-        inner_radius_max=5.0,
-        **case,
-    )
+    req = _tiny_spring(material="pa12", width_max=3.0, **case)
     try:
         assert_meets_every_constraint(opt.design_spring(req))
     except InfeasibleDesign as e:
