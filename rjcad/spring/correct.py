@@ -18,6 +18,7 @@ from rjcad.life.constraint import amplitude_limit
 from rjcad.spring.design import STIFFNESS_TOLERANCE, SpringDesign
 from rjcad.spring.formulas import turns_for_length
 from rjcad.spring.messages import REPORT_NAMES, infeasible_message
+from rjcad.spring.rod import RodSolveError
 
 #: Rounds of adjustment after the rod model's verdict.
 MAX_ADJUST = 3
@@ -66,6 +67,8 @@ def _adjusted(d: SpringDesign, prev):
     pr = req.printer_spec
     b, L, p, r_in = d.width, d.length, d.pitch, d.inner_radius
     k_ratio = rod.stiffness / req.spring_stiffness
+    if not k_ratio > 0:  # the torque falls over the rotation: no length makes it a spring (refused by verify)
+        return None
     if rod.peak_stress > req.allowed_stress * (1 + 1e-9):
         b_max = max(float(snap_down(req.width_max, pr.layer_height_mm)), b)
         b_new = min(float(snap_up(b * rod.peak_stress / req.allowed_stress, pr.layer_height_mm)), b_max)
@@ -99,17 +102,22 @@ def verify(d: SpringDesign, adjust: bool = True) -> SpringDesign:
     ``adjust``: correct it first, at most MAX_ADJUST times (:func:`_adjusted`); else judge it as it is.
     """
     prev = None
-    for _ in range(MAX_ADJUST if adjust else 0):
-        nxt = _adjusted(d, prev)
-        if nxt is None:
-            break
-        d, prev = nxt
-    report = d.constraint_report()
+    try:
+        for _ in range(MAX_ADJUST if adjust else 0):
+            nxt = _adjusted(d, prev)
+            if nxt is None:
+                break
+            d, prev = nxt
+        report = d.constraint_report()
+    except RodSolveError as e:
+        raise RodRefusal("stiffness", _unstable_message(d, e.fraction), math.nan, STIFFNESS_TOLERANCE) from None
     failed = [k for k, (_, _, met) in report.items() if not met]
     if failed:
         name = min(failed, key=list(REPORT_NAMES).index)
         value, limit, _ = report[name]
         rod = d.rod
+        if name == "stiffness_error" and not rod.stiffness > 0:
+            raise RodRefusal("stiffness", _unstable_message(d, None), value, limit)
         raise RodRefusal(
             REPORT_NAMES[name],
             "rod-model check: "
@@ -130,6 +138,22 @@ def verify(d: SpringDesign, adjust: bool = True) -> SpringDesign:
             limit,
         )
     return d
+
+
+def _unstable_message(d: SpringDesign, fraction: float | None) -> str:
+    """One line: the rod model finds the strip snapping through (no equilibrium at ``fraction`` of the wind-up,
+    or, with None, a torque that falls over the rotation)."""
+    req = d.requirement
+    windup = math.degrees(req.max_windup)
+    where = (
+        f"finds no equilibrium at {fraction * windup:.0f}° of the {windup:.0f}° wind-up"
+        if fraction is not None
+        else f"finds its torque falling over the rotation (K = {d.rod.stiffness:.3g} N·mm/rad)"
+    )
+    return (
+        f"rod-model check: stiffness: the rod model {where} at t = {d.thickness:g} mm, b = {d.width:g} mm, "
+        f"{d.turns:.2f} turns: the strip snaps through; lower the preload or the rotation, or raise --min-turns"
+    )
 
 
 def _deg(x):

@@ -220,6 +220,14 @@ def _newton(X0, U, lam, f_ext, fixed, target, EA, EI, tol, max_iter):
     return None
 
 
+class RodSolveError(RuntimeError):
+    """Newton found no equilibrium at load fraction ``fraction`` (0..1), even in bisected steps."""
+
+    def __init__(self, fraction: float):
+        super().__init__(f"rod solve did not converge at λ = {fraction:.6g}")
+        self.fraction = float(fraction)
+
+
 def solve_rod(
     nodes, bc, load=None, *, EI, EA, steps=20, tangents=None, tol: float = 1e-6, max_iter: int = 30, max_cuts: int = 12
 ) -> RodSolution:
@@ -256,7 +264,7 @@ def solve_rod(
             if out is None:
                 cuts += 1
                 if cuts > max_cuts:
-                    raise RuntimeError(f"rod solve did not converge at λ = {nxt:.6g}")
+                    raise RodSolveError(nxt)
                 step /= 2
                 continue
             prev = (lam, U)
