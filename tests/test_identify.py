@@ -17,6 +17,7 @@ from rjcad.cli import main
 from rjcad.identify.bench import DEFAULT_NOISE, write_campaign
 from rjcad.identify.catalogue import CATALOGUE, EFFECTS
 from rjcad.identify.data import load_campaign
+from rjcad.identify.propose import extend
 from rjcad.identify.result import to_json
 from rjcad.identify.select import Selector, identify
 
@@ -38,12 +39,13 @@ def paper(root):
 def _run(tmp_path, effects, seed=3, **kw):
     truth = write_campaign(tmp_path / "c", effects, seed=seed, **kw)
     camp = load_campaign(tmp_path / "c" / "campaign.toml")
-    ident = identify(camp)
-    return truth, ident, to_json(ident)
+    ident, extension = extend(camp)  # as `rjcad identify` runs it
+    return truth, ident, to_json(ident, extension)
 
 
 def _assert_found(truth, js, effects, rel=0.05):
     assert js["effects"] and sorted(js["effects"]) == sorted(effects), js["effects"]
+    assert js["proposed"] == [] and not js["unexplained"]  # nothing outside the catalogue
     for e in effects:
         for name in EFFECTS[e].param_names:
             want, got = truth["params"][name], js["params"][name]

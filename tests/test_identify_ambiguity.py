@@ -108,6 +108,32 @@ def test_undecidable_campaign_says_so(tmp_path):
     assert "What the data cannot decide" in md and amb["separate_by"] in md
 
 
+def test_a_swap_to_the_simpler_set_is_a_step_of_its_own(tmp_path, monkeypatch):
+    """#37: when the final answer is a simpler set than the one selected (here made so: the rival search is told
+    that viscous alone explains the data as well), the steps table says so as a last step, S, with the ΔBIC
+    against the selected set, and the effects are the simpler set's."""
+    from rjcad.identify import select
+    from rjcad.identify.ambiguity import Rival
+
+    real = select.rival_sets
+
+    def simpler(sel, accepted, current, cands):
+        _, amb = real(sel, accepted, current, cands)
+        keep = [e for e in accepted if e != "spring_calibration"]
+        fit = sel.fit_set(keep, {n: current.values[n] for n in current.names if n in sel.free_names(keep)})
+        return Rival(keep, fit, []), amb
+
+    monkeypatch.setattr(select, "rival_sets", simpler)
+    js = _run(tmp_path, "two-speeds", ["spring_calibration", "viscous"], {})
+    added = [s["effect"] for s in js["steps"] if s["action"] == "added"]
+    assert sorted(added) == ["spring_calibration", "viscous"]
+    last = js["steps"][-1]
+    assert last["action"] == "swapped" and last["effect"] == "viscous" and js["effects"] == ["viscous"]
+    assert last["delta_bic"] > 0 and last["heldout_rmse"] is not None
+    md = render_markdown(js)
+    assert "| S | swapped to `viscous` |" in md and "Step S swaps the selected set" in md
+
+
 def test_decidable_campaign_has_no_ambiguity(tmp_path):
     js = _run(tmp_path, "two-speeds", ["spring_calibration", "viscous"], {})
     assert js["ambiguous"] == []

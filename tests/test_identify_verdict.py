@@ -48,16 +48,16 @@ def _drift(path, k, preload_deg, arm, quantity, size=0.05):
 def drifting(tmp_path_factory):
     from rjcad.identify.bench import write_campaign
     from rjcad.identify.data import load_campaign
+    from rjcad.identify.propose import extend
     from rjcad.identify.report import render_markdown
     from rjcad.identify.result import to_json
-    from rjcad.identify.select import identify
 
     base = tmp_path_factory.mktemp("drift") / "c"
     write_campaign(base, [], seed=1)
     camp = load_campaign(base / "campaign.toml")
     for e in camp.experiments:
         _drift(base / e.file, 5.2, 70.0, 6.0, e.quantity)
-    js = to_json(identify(load_campaign(base / "campaign.toml")))
+    js = to_json(*extend(load_campaign(base / "campaign.toml")))
     return js, render_markdown(js)
 
 
@@ -67,6 +67,8 @@ def test_a_drifting_stiffness_is_flagged_unexplained(drifting):
     assert all(v > FLOOR_RATIO for v in js["unexplained_over_noise"].values())
     assert js["partial"] == js["effects"]
     assert NOTHING_NEEDED not in md and "The residual is not explained" in md
+    assert [p["term"] for p in js["proposed"]] == ["stiffness_drift"]  # +5 % → −5 %: c = −0.10
+    assert js["proposed"][0]["coefficient"] == pytest.approx(-0.10, rel=0.2)
     if not js["effects"]:
         assert OUTSIDE_CATALOGUE in md
     else:

@@ -197,13 +197,13 @@ def _identified(camp, report_dir: str | None, progress) -> tuple[dict, list[str]
             report(progress, "writing the report")
         return js, [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
     from rjcad.identify.data import Campaign
+    from rjcad.identify.propose import extend
     from rjcad.identify.report import write_report
     from rjcad.identify.result import to_json
-    from rjcad.identify.select import identify as run
 
     assert isinstance(camp, Campaign)
-    ident = run(camp, progress=progress)
-    js = to_json(ident)
+    ident, extension = extend(camp, progress=progress)
+    js = to_json(ident, extension)
     if report_dir:
         report(progress, "writing the report")
     return js, [str(p) for p in write_report(ident, js, report_dir)] if report_dir else []
@@ -254,8 +254,20 @@ def print_identification(js: dict) -> None:
         click.echo(
             f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}"
         )
+    if js["proposed"]:
+        click.echo("  the fits below are of the data less the proposed term(s) at the end")
     for e in js["experiments"]:
         click.echo(
             f"  {e['file']}: RMSE {e['rmse_design']:.4g} -> {e['rmse_final']:.4g} {e['quantity']} "
             f"(noise {e['noise']:.3g}, {e['samples_masked_at_reversals']} samples at reversals masked)"
+        )
+    from rjcad.identify.verdict import verdict_sentences
+
+    for line in verdict_sentences(js) if js["unexplained"] else []:
+        click.echo(f"  {line}")
+    for p in js["proposed"]:
+        lo, hi = p["ci95"]
+        click.echo(
+            f"  proposed, outside the catalogue: {p['words']} ({p['expression']}, c = {p['coefficient']:.4g} "
+            f"[{lo:.4g}, {hi:.4g}]; held-out RMSE {p['heldout_rmse_before']:.3g} -> {p['heldout_rmse_after']:.3g} x noise)"
         )

@@ -51,10 +51,13 @@ def _short_cause(cause: str) -> str:
 
 
 def _step_labels(steps: list[dict]) -> list[str]:
-    """'1', '2', … for forward steps; 'B1', 'B2', … for effects dropped in the backward pass."""
+    """'1', '2', … for forward steps; 'B1', 'B2', … for effects dropped in the backward pass; 'S' for the swap to
+    the simpler set."""
     out, f, b = [], 0, 0
     for s in steps:
-        if s["action"] == "dropped":
+        if s["action"] == "swapped":
+            out.append("S")
+        elif s["action"] == "dropped":
             b += 1
             out.append(f"B{b}")
         else:
@@ -75,7 +78,7 @@ def _summary(js: dict) -> list[str]:
     worst = max(exps, key=lambda e: (e["rmse_design"] or 0) / (e["noise"] or 1))
     ratios = [(e["rmse_design"] or 0) / (e["noise"] or 1) for e in exps]
     q = quantity_unit(worst["quantity"])
-    above = [e for e in exps if (e["final_over_noise"] or 0) > FLOOR_RATIO]
+    above = js["unexplained_over_noise"]
     out = []
     if not js["effects"] and not above:
         out.append(
@@ -85,8 +88,9 @@ def _summary(js: dict) -> list[str]:
             + ". No catalogue effect improved it enough to be accepted."
         )
         return out
+    data = "the measured data less the proposed term below" if js.get("proposed") else "the measured data"
     out.append(
-        f"The design simulation ({design}) misses the measured data by up to {fmt(max(ratios), 3)}× the "
+        f"The design simulation ({design}) misses {data} by up to {fmt(max(ratios), 3)}× the "
         f"noise. The largest error is in experiment {worst['file']} ({fmt(worst['rmse_design'])} {q} RMSE "
         f"against {fmt(worst['noise'], 3)} {q} noise)."
     )
@@ -110,10 +114,37 @@ def _summary(js: dict) -> list[str]:
         )
     if above:
         out += verdict_sentences(js)
+        out += _proposed_section(js)
     else:
         out.append(
             "The final residual is at the noise floor" + (f" in all {len(exps)} experiments." if len(exps) > 1 else ".")
         )
+    return out
+
+
+def _proposed_section(js: dict) -> list[str]:
+    """The terms outside the catalogue that explain the residual (``proposed``), kept apart from the effects."""
+    terms = js.get("proposed") or []
+    if not terms:
+        return []
+    out = ["", "Proposed, outside the catalogue (a term the catalogue does not hold; not an accepted effect):", ""]
+    for t in terms:
+        lo, hi = t["ci95"]
+        out.append(
+            f"- {t['words']}: `{t['expression']}`, c = {fmt(t['coefficient'], 3)} [{fmt(lo, 3)}, {fmt(hi, 3)}] "
+            f"({t['unit']})."
+        )
+    first, last = terms[0], terms[-1]
+    out += [
+        "",
+        f"With {'it' if len(terms) == 1 else 'them'} the error on held-out whole cycles falls from "
+        f"{fmt(first['heldout_rmse_before'], 3)}× to {fmt(last['heldout_rmse_after'], 3)}× the noise floor"
+        + (
+            "; the catalogue effects above are those still needed beside it."
+            if js["effects"]
+            else "; no catalogue effect is needed beside it."
+        ),
+    ]
     return out
 
 
@@ -158,7 +189,9 @@ def _param_text(js: dict, name: str) -> str:
 def _steps_section(js: dict) -> list[str]:
     rows = [["0", "design simulation", "—", "—", fmt(js["heldout_rmse_design"], 3), "1"]]
     for lab, s in zip(_step_labels(js["steps"]), js["steps"]):
-        eff = f"`{s['effect']}`" if s["action"] == "added" else f"`{s['effect']}` (dropped)"
+        eff = {"added": f"`{s['effect']}`", "dropped": f"`{s['effect']}` (dropped)"}.get(
+            s["action"], f"swapped to `{s['effect']}`"
+        )
         rows.append(
             [
                 lab,
@@ -181,6 +214,11 @@ def _steps_section(js: dict) -> list[str]:
         out += [
             "Steps B1, B2, … are the backward pass: an effect is dropped when, with the others refitted, "
             f"keeping it is worth no more than ΔBIC = −{BIC_GATE:g} (its ΔBIC is shown)."
+        ]
+    if any(s["action"] == "swapped" for s in js["steps"]):
+        out += [
+            "Step S swaps the selected set for a simpler one that the data cannot tell from it (see below): "
+            "its ΔBIC is against the selected set."
         ]
     if js["heldout_rmse_design"] is None:
         out += ["No held-out error: no experiment has two whole cycles."]

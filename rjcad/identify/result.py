@@ -8,6 +8,7 @@ import numpy as np
 
 from rjcad.identify.catalogue import EFFECTS
 from rjcad.identify.diagnose import diagnose
+from rjcad.identify.propose import Extension, over_noise
 from rjcad.identify.select import Identification
 from rjcad.identify.verdict import verdict_json
 
@@ -65,11 +66,13 @@ def selection_json(ident: Identification, params: dict, names: dict) -> dict:
     }
 
 
-def to_json(ident: Identification) -> dict:
+def to_json(ident: Identification, extension: Extension | None = None) -> dict:
     """effects, params, param_ci95, not_identifiable, steps, experiments, gain, and the evidence behind them.
 
     heldout_rmse is whitened: residuals on held-out whole cycles divided by each experiment's noise
-    σ, pooled (1.0 = the noise floor).
+    σ, pooled (1.0 = the noise floor). With an ``extension`` (rjcad.identify.propose.extend): ``proposed`` lists
+    the terms outside the catalogue, the verdict keys and ``catalogue_only`` are the catalogue's alone on the data
+    as measured, and the rest is fitted beside the proposed terms.
     """
     fin, des = ident.final, ident.design
     params = {"stiffness_nmm_per_rad": fin.values["stiffness_nmm_per_rad"], "preload_deg": fin.values["preload_deg"]}
@@ -109,11 +112,24 @@ def to_json(ident: Identification) -> dict:
             }
         )
     names = {e: EFFECTS[e].name for e in EFFECTS}
+    over = {e["file"]: e["final_over_noise"] for e in exps}
+    notes = []
+    if extension is not None:
+        cat = extension.catalogue
+        over = {k: _r(v) for k, v in over_noise(cat).items()}
+        notes.append(
+            "The catalogue alone leaves a residual that a term outside it explains (proposed): the effects, "
+            "parameters and experiments' final RMSE above are fitted beside that term."
+        )
     return {
         **selection_json(ident, params, names),
-        **verdict_json({e["file"]: e["final_over_noise"] for e in exps}, ident.effects),
+        **verdict_json(over, ident.effects),
+        "proposed": [] if extension is None else _clean(extension.json()),
+        "catalogue_only": None
+        if extension is None
+        else {"effects": list(extension.catalogue.effects), "final_over_noise": over},
         "experiments": exps,
-        "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes),
+        "notes": list(ident.campaign.notes) + _outlier_notes(ident) + list(ident.notes) + notes,
         "units": {
             "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
             "rmse": "the experiment's quantity (torque_nmm: N·mm, tendon_force_n: N)",

@@ -43,7 +43,7 @@ class Step:
 
     effect: str
     cause: str
-    action: str  # "added" | "dropped"
+    action: str  # "added" | "dropped" | "swapped" (to the simpler set the data cannot tell apart: ``effect``)
     delta_bic: float  # BIC after the step − before (dropping an effect costs ≤ +10 by the rule)
     heldout_rmse: float | None  # whitened: 1.0 = noise floor
     relevance: float  # max |Δprediction| / measured range
@@ -445,6 +445,18 @@ class Selector:
             notes.append(
                 f"the data cannot tell {', '.join(accepted)} from {', '.join(best.effects)}: "
                 f"the simpler set is kept (see ambiguous)"
+            )
+            steps.append(
+                Step(
+                    ", ".join(best.effects) or "design simulation",
+                    f"the data cannot tell {', '.join(accepted)} from it: the simpler set is kept",
+                    "swapped",
+                    best.fit.bic - current.bic,
+                    self.heldout(list(best.effects), {n: best.fit.values[n] for n in best.fit.names}),
+                    self.relevance(current.values, best.fit.values),
+                    best.fit.rmse(),
+                    _gain(design.rmse(), best.fit.rmse()),
+                )
             )
             accepted = list(best.effects)
             current, not_ident = self.final_identifiability(accepted, best.fit)
