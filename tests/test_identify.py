@@ -187,6 +187,9 @@ def test_masking_at_reversals_is_small_and_reported(tmp_path):
     _, _ident, js = _run(tmp_path, ["coulomb_pin"])
     for ex in js["experiments"]:
         assert 0 < ex["samples_masked_at_reversals"] < 0.12 * ex["samples"]
+        assert ex["masked_fraction_at_reversals"] == pytest.approx(
+            ex["samples_masked_at_reversals"] / ex["samples"], abs=5e-4
+        )
         assert ex["reversals"] == 7 and ex["cycles"] >= 3  # 3 cycles, one with a partial return
 
 

@@ -38,8 +38,26 @@ class Param:
         return value / self.scale
 
 
+@dataclass(frozen=True)
+class Limit:
+    """Where an effect reduces to a simpler one: with ``param`` at its limit the effect is ``simpler`` (an effect
+    id, or "" for none) with the parameters ``start`` gives from the fitted values (JSON units); ``words`` say so."""
+
+    param: str
+    simpler: str
+    words: str
+
+    def start(self, values: dict[str, float]) -> dict[str, float]:
+        if self.simpler == "viscous":  # a Maxwell arm with T_r → 0: c = K_M·T_r
+            return {"viscous_nmm_s_per_rad": values["relaxation_stiffness_nmm_per_rad"] * values["relaxation_time_s"]}
+        return {}
+
+
 class Effect:
-    """A candidate effect. Subclasses set ``id``, ``cause``, ``params``, ``needs`` and ``needs_text``."""
+    """A candidate effect. Subclasses set ``id``, ``cause``, ``params``, ``needs`` and ``needs_text``; ``limits``:
+    where it reduces to a simpler effect (nested models, tried once the selection is done)."""
+
+    limits: tuple[Limit, ...] = ()
 
     id: str = ""
     name: str = ""  # short name of the cause, e.g. "Coulomb pin friction"
@@ -163,6 +181,7 @@ class Stiffening(Effect):
         "the torque grows faster than linearly, +k₃·θ³ on the total spring deformation"
     )
     params = (Param("cubic_nmm_per_rad3", "cubic", 1.0, 0.0, 20.0, 0.15, 0.0),)
+    limits = (Limit("cubic_nmm_per_rad3", "", "stiffening with k₃ → 0 is no stiffening"),)
 
 
 class Relaxation(Effect):
@@ -177,6 +196,10 @@ class Relaxation(Effect):
     params = (
         Param("relaxation_stiffness_nmm_per_rad", "relaxation_stiffness", 1.0, 0.0, 200.0, 1.5, 0.0),
         Param("relaxation_time_s", "relaxation_time", 1.0, 0.5, 1000.0, 1.5, 1.0),
+    )
+    limits = (
+        Limit("relaxation_time_s", "viscous", "a Maxwell arm with T_r → 0 is a viscous damper, c = K_M·T_r"),
+        Limit("relaxation_stiffness_nmm_per_rad", "", "a Maxwell arm with K_M → 0 does nothing"),
     )
     # T_r ≥ 0.5 s: a Maxwell arm much faster than that acts as damping (c = K_M·T_r) on bench data whose
     # velocity is smoothed over 0.15 s, and would compete with `viscous` by filtering the velocity noise.

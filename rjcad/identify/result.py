@@ -43,7 +43,7 @@ def selection_json(ident: Identification, params: dict, names: dict) -> dict:
             {
                 "step": i + 1,
                 "effect": s.effect,
-                "name": names[s.effect],
+                "name": names[s.effect] if s.action != "swapped" else "simpler set",
                 "cause": s.cause,
                 "action": s.action,
                 "delta_bic": _r(s.delta_bic),
@@ -97,6 +97,7 @@ def to_json(ident: Identification, extension: Extension | None = None) -> dict:
                 "samples": len(e.t),
                 "samples_fitted": int(p.valid.sum()),
                 "samples_masked_at_reversals": _n(p.motion.at_reversal),
+                "masked_fraction_at_reversals": _r(_n(p.motion.at_reversal) / max(len(e.t), 1), 3),
                 "outliers_angle": _n(p.motion.glitches),
                 "outliers_quantity": _n(p.outliers),
                 "cycles": p.motion.n_cycles,

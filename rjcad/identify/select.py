@@ -435,6 +435,49 @@ class Selector:
             cands.append(Candidate(eff.id, d, "accepted", step_no, "accepted"))
         return chosen
 
+    def _corrected(self, fr: FitResult) -> tuple[FitResult, str | None]:
+        """``fr`` with its viscous coefficient corrected for the velocity's angle noise (rjcad.identify.eiv)."""
+        return correct_viscous(fr, self.problem({**self.base, **fr.values}), *self.bounds(fr.names))
+
+    def _nested_limits(self, design, current: FitResult, accepted: list[str], steps: list[Step]):
+        """Each accepted effect with ``limits`` against the simpler set it reduces to there (a Maxwell arm with
+        T_r → 0 is viscous damping with c = K_M·T_r; one with K_M → 0, or stiffening with k₃ → 0, is nothing):
+        the simpler set is taken when, both corrected for the velocity's angle noise, it costs ΔBIC ≤ BIC_GATE.
+        Returns (fit, effects, notes); each reduction is a "swapped" step."""
+        notes: list[str] = []
+        for eid in list(accepted):
+            for lim in self.effects[eid].limits:
+                if eid not in accepted:
+                    break
+                rest = [a for a in accepted if a != eid]
+                if lim.simpler and lim.simpler not in rest:
+                    rest.append(lim.simpler)
+                keep = self.free_names(rest)
+                start = {n: current.values[n] for n in current.names if n in keep} | lim.start(current.values)
+                fr = self.fit_set(rest, start)
+                cost = self._corrected(fr)[0].bic - self._corrected(current)[0].bic
+                if cost > BIC_GATE:
+                    continue
+                steps.append(
+                    Step(
+                        ", ".join(rest) or "design simulation",
+                        f"{lim.words}: {lim.param} = {current.values[lim.param]:.4g} fits no better than the limit",
+                        "swapped",
+                        cost,
+                        self.heldout(rest, {n: fr.values[n] for n in fr.names}),
+                        self.relevance(current.values, fr.values),
+                        fr.rmse(),
+                        _gain(design.rmse(), fr.rmse()),
+                    )
+                )
+                notes.append(
+                    f"{eid} reduced to {lim.simpler or 'nothing'} ({lim.words}; ΔBIC {cost:+.1f}, the data cannot tell "
+                    f"{lim.param} = {current.values[lim.param]:.4g} from its limit)"
+                )
+                accepted[:] = rest
+                current = fr
+        return current, accepted, notes
+
     def _finish(self, design, ho_design, current, ho_cur, accepted, steps, cands) -> Identification:
         """The identification: the simplest set the data cannot tell from the selected one, the viscous
         correction, the final identifiability and the notes."""
@@ -460,9 +503,12 @@ class Selector:
             )
             accepted = list(best.effects)
             current, not_ident = self.final_identifiability(accepted, best.fit)
-        current, note = correct_viscous(
-            current, self.problem({**self.base, **current.values}), *self.bounds(current.names)
-        )
+        current, accepted, reduced = self._nested_limits(design, current, accepted, steps)
+        notes += reduced
+        if reduced:
+            current, not_ident = self.final_identifiability(accepted, current)
+            ho_cur = self.heldout(accepted, {n: current.values[n] for n in current.names})
+        current, note = self._corrected(current)
         if note:
             notes.append(note)
         if not self._fold_ids:
