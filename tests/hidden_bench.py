@@ -3,8 +3,9 @@ rjcad's catalogue.
 
 The joint is driven through a triangle of angles with holds at both ends; the measured quantity is the spring's
 torque K(t, d)·(θ + θ₀) (bar) or that torque over the pulley radius (tendon, no friction), with Gaussian noise on
-the angle and on the quantity. The hidden effects change K: ``drift`` (K from (1 + size) to (1 − size) over each
-run) and ``direction`` (K·(1 + size·d), d = +1 while the angle grows, −1 while it falls, held through a hold).
+the angle and on the quantity. The hidden effects: ``drift`` (K from (1 + size) to (1 − size) over each run),
+``direction`` (K·(1 + size·d), d = +1 while the angle grows, −1 while it falls, held through a hold) and
+``backlash`` (a play of ``size`` degrees between the spring and the measured link).
 """
 
 from __future__ import annotations
@@ -29,8 +30,21 @@ def path(cycles: int = 4, rise_s: float = 4.0, hold_s: float = 1.5, top_deg: flo
     return t, top_deg * theta, d
 
 
+def play(theta_deg, width_deg: float):
+    """The angle the spring sees through a backlash of ``width_deg`` between it and the measured link (a play
+    operator: it follows only once the link has taken up the play) [deg]."""
+    out = np.empty_like(theta_deg)
+    s = theta_deg[0] - width_deg / 2
+    for i, x in enumerate(theta_deg):
+        s = min(max(s, x - width_deg / 2), x + width_deg / 2)
+        out[i] = s
+    return out
+
+
 def torque(effect: str, size: float, t, theta_deg, d):
-    """The spring's torque with the hidden effect [N·mm]."""
+    """The spring's torque with the hidden effect [N·mm]; for ``backlash``, ``size`` is the play [deg]."""
+    if effect == "backlash":
+        return K * np.radians(play(theta_deg, size) + PRELOAD_DEG)
     factor = {"drift": 1.0 + size * (1.0 - 2.0 * t / t[-1]), "direction": 1.0 + size * d, "none": 1.0}[effect]
     return K * factor * np.radians(theta_deg + PRELOAD_DEG)
 

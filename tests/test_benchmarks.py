@@ -97,8 +97,10 @@ BENCHMARKS = {
             "finger_solver_us_per_step",
             "finger_samples",
             "finger_campaign_threads_s",
+            "outside_catalogue_campaign_s",
+            "outside_catalogue_campaign_cpu_s",
         },
-        {"paper_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"},
+        {"paper_campaign_s", "outside_catalogue_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"},
     ),
     "joint": (
         {
@@ -224,6 +226,9 @@ def check_identify(d):
     assert d["finger_solver_us_per_step"]["angles"] > 0 and d["finger_solver_us_per_step"]["closure"] > 0
     assert d["finger_solver_us_per_step"]["angles_weight"] > 0 and d["finger_solver_us_per_step"]["closure_weight"] > 0
     assert len(d["cpu_seconds"]) == 2 and d["finger_campaign_cpu_s"]["moment_arm"] > 0  # CPU time, beside wall time
+    # a stiffness drifting ±5 % over each run, outside the catalogue: the paper's effects and the drift proposed
+    assert d["outside_catalogue_proposed"] == ["stiffness_drift"]
+    assert d["outside_catalogue_effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
 
 
 def check_physics(d):

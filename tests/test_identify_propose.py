@@ -4,6 +4,8 @@ tests/hidden_bench.py, a bench written for these tests apart from rjcad's joint 
 
 from __future__ import annotations
 
+import math
+
 import hidden_bench as hb
 import pytest
 
@@ -21,14 +23,16 @@ def _identify(tmp_path, effect, size=0.05):
 
 
 @pytest.mark.parametrize(
-    ("effect", "term", "truth", "words"),
+    ("effect", "size", "term", "truth", "words"),
     [
-        ("drift", "stiffness_drift", -0.10, "+5.0% at its start, -5.0% at its end"),
-        ("direction", "direction_stiffness", 0.05, "+5.0% while the angle grows, -5.0% while it falls"),
+        ("drift", 0.05, "stiffness_drift", -0.10, "+5.0% at its start, -5.0% at its end"),
+        ("direction", 0.05, "direction_stiffness", 0.05, "+5.0% while the angle grows, -5.0% while it falls"),
+        # a 4° play between spring and link: away from reversals, a band of half-width K·δ/2 against the motion
+        ("backlash", 4.0, "band", -hb.K * math.radians(4.0) / 2, "or a backlash of 2·|c|/K = "),
     ],
 )
-def test_a_hidden_effect_outside_the_catalogue_is_flagged_and_proposed(tmp_path, effect, term, truth, words):
-    js, md = _identify(tmp_path, effect)
+def test_a_hidden_effect_outside_the_catalogue_is_flagged_and_proposed(tmp_path, effect, size, term, truth, words):
+    js, md = _identify(tmp_path, effect, size)
     assert js["unexplained"] and set(js["unexplained_over_noise"]) == {"bar.csv", "tendon.csv"}
     assert js["effects"] == [] and js["partial"] == []  # no catalogue effect named for it
     (p,) = js["proposed"]
@@ -79,3 +83,30 @@ def test_viscous_damping_with_a_calibration_error_on_noisy_angles(tmp_path, thet
     if any(s["effect"] == "relaxation" for s in js["steps"]):  # the selection met the limit: the swap says so
         assert swaps and swaps[-1]["effect"] == "spring_calibration, viscous"
         assert any("relaxation reduced to viscous" in n for n in js["notes"])
+
+
+def test_the_residual_structure_names_what_the_catalogue_left():
+    """#37 point 3 on the tests' own bench: the catalogue's final residual of a drifting stiffness follows time,
+    that of a direction-dependent one follows angle × direction; a null follows none of the groups. Each test's
+    null distribution comes from circular shifts, so p-values hold for a smoothed, correlated residual."""
+    import tempfile
+    from pathlib import Path
+
+    from rjcad.identify.select import identify
+    from rjcad.identify.structure import structure
+
+    def found(effect):
+        with tempfile.TemporaryDirectory() as d:
+            ident = identify(load_campaign(hb.write(Path(d), effect)))
+        out = []
+        for p, yh in zip(ident.prepared, ident.final_predictions):
+            out.append({t["against"]: t for t in structure(p, p.exp.y - yh, yh)})
+        return out
+
+    for per_file in found("drift"):
+        assert per_file["time"]["found"] and per_file["time"]["size_over_noise"] > 1.0
+    bar = found("direction")[0]
+    assert bar["angle_x_direction"]["found"] or bar["load"]["found"]
+    for per_file in found("none"):
+        assert not any(t["found"] for t in per_file.values()), per_file
+        assert all(t["size_over_noise"] < 0.3 for t in per_file.values())

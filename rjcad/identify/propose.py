@@ -5,7 +5,9 @@ terms (:data:`LIBRARY`), pooled over the experiments. Terms are added greedily b
 is fitted on the training cycles and scored on the held-out cycles (the identification's folds). A term is kept
 only if it removes at least MATERIAL of the held-out excess over the noise, h² − 1 (h: held-out RMSE / σ; 1 is
 the noise floor). Its coefficient's 95 % interval comes from a bootstrap over whole cycles (samples within a
-cycle are not independent). Nothing is proposed when the residual is explained (``verdict.FLOOR_RATIO``).
+cycle are not independent). Nothing is proposed when the residual is explained (``verdict.FLOOR_RATIO``), nor
+when the terms found do not bring it to that floor. :func:`extend` identifies the campaign again on the data
+less the terms, so that the catalogue effects reported are those still needed beside them.
 
 Stiffness-relative terms use the spring's part of the prediction, s = the design model with the fitted
 stiffness and preload and no other effect (N·mm for a torque, N for a tendon), so that their coefficient is a
@@ -57,7 +59,8 @@ class Term:
     def column(self, c: Columns) -> np.ndarray:
         raise NotImplementedError
 
-    def words(self, coef: float, q: str) -> str:
+    def words(self, coef: float, q: str, k: float) -> str:
+        """The term in words for coefficient ``coef`` (``q``: the quantity unit, ``k``: the fitted stiffness)."""
         raise NotImplementedError
 
 
@@ -67,7 +70,7 @@ class StiffnessDrift(Term):
     def column(self, c):
         return c.spring * c.tau
 
-    def words(self, coef, q):
+    def words(self, coef, q, k):
         return (
             f"a stiffness that drifts over each run: {-coef / 2:+.1%} at its start, {coef / 2:+.1%} at its end "
             f"({coef:+.1%} in all)"
@@ -80,7 +83,7 @@ class DirectionStiffness(Term):
     def column(self, c):
         return c.spring * c.direction
 
-    def words(self, coef, q):
+    def words(self, coef, q, k):
         return (
             f"a stiffness that differs by direction of motion: {coef:+.1%} while the angle grows, "
             f"{-coef:+.1%} while it falls"
@@ -93,7 +96,7 @@ class OffsetDrift(Term):
     def column(self, c):
         return c.tau * c.unit
 
-    def words(self, coef, q):
+    def words(self, coef, q, k):
         return f"an offset that drifts over each run by {coef:+.3g} {q} (a zero that wanders, or warm-up)"
 
 
@@ -103,8 +106,13 @@ class Band(Term):
     def column(self, c):
         return c.direction * c.unit
 
-    def words(self, coef, q):
-        return f"a band of constant half-width {coef:+.3g} {q} by direction of motion"
+    def words(self, coef, q, k):
+        sense = "against" if coef < 0 else "with"
+        return (
+            f"a band of constant half-width {abs(coef):.3g} {q} {sense} the motion: a friction that does not depend "
+            f"on the load, or a backlash of 2·|c|/K = {math.degrees(2 * abs(coef) / k):.3g}° between the spring "
+            "and the measured angle (the samples at reversals, left out, would tell them apart)"
+        )
 
 
 class Cubic(Term):
@@ -113,7 +121,7 @@ class Cubic(Term):
     def column(self, c):
         return c.theta**3 * c.unit
 
-    def words(self, coef, q):
+    def words(self, coef, q, k):
         return f"a term growing with the cube of the angle ({coef:+.3g} {q}/rad³)"
 
 
@@ -123,7 +131,7 @@ class Lag(Term):
     def column(self, c):
         return -np.gradient(c.prediction, c.t)
 
-    def words(self, coef, q):
+    def words(self, coef, q, k):
         return f"the measured quantity lagging the angle by {coef * 1e3:.3g} ms"
 
 
@@ -242,20 +250,22 @@ def fitted(
     return coef, _interval(d, chosen), _heldout(d, []), _heldout(d, chosen)
 
 
-def terms_json(chosen: list[int], coef: np.ndarray, ci: np.ndarray, before: float, after: float) -> list[dict]:
+def terms_json(
+    chosen: list[int], coef: np.ndarray, ci: np.ndarray, before: float, after: float, k: float
+) -> list[dict]:
     """The ``proposed`` list of an identification's JSON: each term with its words, coefficient and interval."""
     return [
         {
-            "term": LIBRARY[k].key,
-            "expression": LIBRARY[k].expression,
-            "words": LIBRARY[k].words(float(coef[j]), "N·mm"),
+            "term": LIBRARY[i].key,
+            "expression": LIBRARY[i].expression,
+            "words": LIBRARY[i].words(float(coef[j]), "N·mm", k),
             "coefficient": float(coef[j]),
             "ci95": [float(ci[0, j]), float(ci[1, j])],
-            "unit": LIBRARY[k].unit,
+            "unit": LIBRARY[i].unit,
             "heldout_rmse_before": before,
             "heldout_rmse_after": after,
         }
-        for j, k in enumerate(chosen)
+        for j, i in enumerate(chosen)
     ]
 
 
@@ -277,13 +287,15 @@ class Extension:
     before: float
     after: float
 
+    #: the stiffness fitted beside the terms [N·mm/rad] (a band's backlash is 2·|c|/K)
+    stiffness: float = 0.0
+
     def json(self) -> list[dict]:
-        return terms_json(self.chosen, self.coef, self.ci, self.before, self.after)
+        return terms_json(self.chosen, self.coef, self.ci, self.before, self.after, self.stiffness)
 
 
 def _less(campaign, ident: Identification, chosen: list[int], measured, progress, values=None):
     """Identify the campaign's data less the chosen terms, fitted on the residual of ``ident`` at ``values``."""
-
     coef = fitted(ident, chosen, data=measured, values=values)[0]
     less = [y - c for y, c in zip(measured, correction(ident, chosen, coef, values=values))]
     exps = tuple(replace(e, y=y) for e, y in zip(campaign.experiments, less))
@@ -314,11 +326,11 @@ def extend(campaign, progress=None):
       direction), then the same rounds.
 
     Each term must remove ≥ MATERIAL of the held-out excess, and together they must bring the held-out error to
-    FLOOR_RATIO or below (a library term that explains only part of the residual is not proposed). Returns (identification, Extension or None). With an
-    Extension, the identification's experiments hold the data less the proposed terms; its ``catalogue`` is the
-    answer on the data as measured.
-    """
+    FLOOR_RATIO or below (a library term that explains only part of the residual is not proposed).
 
+    Returns (identification, Extension or None). With an Extension, the identification's experiments hold the data
+    less the proposed terms; its ``catalogue`` is the answer on the data as measured.
+    """
     first = identify(campaign, progress)
     if not any(v > FLOOR_RATIO for v in over_noise(first).values()):
         return first, None
@@ -340,4 +352,4 @@ def extend(campaign, progress=None):
     before = _heldout(_data(first), [])
     if not (after <= FLOOR_RATIO and before**2 - after**2 >= MATERIAL * (before**2 - 1.0)):
         return first, None  # the terms do not explain the data to the floor: nothing is proposed
-    return ident, Extension(first, chosen, coef, ci, before, after)
+    return ident, Extension(first, chosen, coef, ci, before, after, ident.final.values["stiffness_nmm_per_rad"])

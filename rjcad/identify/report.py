@@ -13,6 +13,7 @@ from rjcad.identify.catalogue import EFFECTS, PARAMS
 from rjcad.identify.formatting import QUANTITY, fmt, quantity_unit, unit_of
 from rjcad.identify.plots import plot_diagnostics, plot_fit, plot_residuals, plot_steps
 from rjcad.identify.select import BIC_GATE, Identification
+from rjcad.identify.structure import P_FOUND, SIZE_FOUND
 from rjcad.identify.verdict import FLOOR_RATIO, NOTHING_NEEDED, verdict_sentences
 from rjcad.io.config import write_atomic
 from rjcad.io.outputs import output_set
@@ -388,7 +389,7 @@ def _diagnostics_section(js: dict) -> list[str]:
             for h in hints:
                 out.append(f"- {h['evidence']} → {', '.join(f'`{x}`' for x in h['effects'])}")
         else:
-            out.append("- no systematic pattern above the noise")
+            out.append("- no catalogue effect's pattern above the noise")
         ratio = e["final_over_noise"] or 0
         if ratio <= FLOOR_RATIO:
             fin = f"at the noise floor ({fmt(ratio, 3)}× noise)"
@@ -404,8 +405,26 @@ def _diagnostics_section(js: dict) -> list[str]:
                 else ""
             )
         )
+        out.append(_structure_line(e.get("residual_structure") or [], bool(js.get("proposed"))))
         out.append("")
     return out[:-1]
+
+
+def _structure_line(tests: list[dict], proposed: bool) -> str:
+    """One line: what the catalogue's final residual still follows (rjcad.identify.structure), with sizes."""
+    whose = "the catalogue's final residual (on the data as measured)" if proposed else "the final residual"
+    found = [t for t in tests if t["found"]]
+    if not tests:
+        return f"- {whose}: too few samples to test its structure"
+    if not found:
+        names = ", ".join(t["against"].replace("_x_", " × ") for t in tests)
+        return f"- {whose} follows none of: {names} (each p > {P_FOUND:g} or < {SIZE_FOUND:g}× noise)"
+    parts = [
+        f"{t['words']} (p {'≤' if t['p_value'] <= P_FOUND else '='} {fmt(max(t['p_value'], P_FOUND), 2)}, "
+        f"{fmt(t['size_over_noise'], 2)}× noise)"
+        for t in found
+    ]
+    return f"- {whose} follows: " + "; ".join(parts)
 
 
 def render_markdown(js: dict, plots: dict[str, str] | None = None) -> str:

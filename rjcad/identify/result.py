@@ -10,6 +10,7 @@ from rjcad.identify.catalogue import EFFECTS
 from rjcad.identify.diagnose import diagnose
 from rjcad.identify.propose import Extension, over_noise
 from rjcad.identify.select import Identification
+from rjcad.identify.structure import structure
 from rjcad.identify.verdict import verdict_json
 
 
@@ -72,7 +73,8 @@ def to_json(ident: Identification, extension: Extension | None = None) -> dict:
     heldout_rmse is whitened: residuals on held-out whole cycles divided by each experiment's noise
     σ, pooled (1.0 = the noise floor). With an ``extension`` (rjcad.identify.propose.extend): ``proposed`` lists
     the terms outside the catalogue, the verdict keys and ``catalogue_only`` are the catalogue's alone on the data
-    as measured, and the rest is fitted beside the proposed terms.
+    as measured, and the rest is fitted beside the proposed terms. Each experiment's ``residual_structure`` tests
+    the catalogue's final residual on the data as measured (rjcad.identify.structure).
     """
     fin, des = ident.final, ident.design
     params = {"stiffness_nmm_per_rad": fin.values["stiffness_nmm_per_rad"], "preload_deg": fin.values["preload_deg"]}
@@ -84,8 +86,10 @@ def to_json(ident: Identification, extension: Extension | None = None) -> dict:
             params.pop(n, None)
     r_design = [p.exp.y - yh for p, yh in zip(ident.prepared, ident.design_predictions)]
     r_final = residuals(ident)
+    cat = ident if extension is None else extension.catalogue  # the catalogue's answer on the data as measured
+    structures = [_clean(structure(p, p.exp.y - yh, yh)) for p, yh in zip(cat.prepared, cat.final_predictions)]
     exps = []
-    for p, rmse_d, rmse_f, rd, rf in zip(ident.prepared, des.rmse(), fin.rmse(), r_design, r_final):
+    for p, rmse_d, rmse_f, rd, rf, struct in zip(ident.prepared, des.rmse(), fin.rmse(), r_design, r_final, structures):
         e = p.exp
         exps.append(
             {
@@ -110,6 +114,7 @@ def to_json(ident: Identification, extension: Extension | None = None) -> dict:
                 "range": _r(p.span),
                 "diagnostics_design": _clean(diagnose(p, rd)),
                 "diagnostics_final": _clean(diagnose(p, rf)),
+                "residual_structure": struct,
             }
         )
     names = {e: EFFECTS[e].name for e in EFFECTS}

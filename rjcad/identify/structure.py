@@ -1,0 +1,100 @@
+"""What a residual still follows: tests of its structure against time, direction, angle, tension and reversals.
+
+On one experiment's valid samples, the residual r is regressed on each group of regressors in :data:`GROUPS`
+(with an intercept). The statistic is the share of r's variance the group explains beyond the intercept, R².
+Its null distribution is made by shifting r circularly against the regressors (SHIFTS shifts, each at least a
+tenth of the record): a shift keeps the residual's own autocorrelation and breaks any tie to the regressors, so
+the p-value stays honest for smoothed, correlated residuals where an F-test's would not. A structure is
+reported when p ≤ P_FOUND and its fitted part's RMS is at least SIZE_FOUND × the noise σ; its size is that RMS
+[quantity units] and its ratio to σ.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rjcad.identify.fit import Prepared
+
+#: Circular shifts of the null distribution (the smallest p-value that can be stated is 1/(SHIFTS + 1)).
+SHIFTS = 199
+#: A structure is reported at p ≤ this ...
+P_FOUND = 0.01
+#: ... and when its fitted part's RMS is at least this many noise σ.
+SIZE_FOUND = 0.3
+
+#: Group name → (words, regressors from (τ = t/T − ½, d = ±1 direction, θ [rad], ŷ the prediction, k samples
+#: since the last reversal)).
+GROUPS = {
+    "time": ("time over the run (drift, warm-up)", lambda c: [c["tau"], c["tau"] ** 2]),
+    "direction": ("direction of motion", lambda c: [c["d"]]),
+    "angle": ("angle", lambda c: [c["theta"], c["theta"] ** 2]),
+    "angle_x_direction": (
+        "angle × direction (a slope that changes sign with the motion: a stiffness that differs by direction)",
+        lambda c: [c["theta"] * c["d"]],
+    ),
+    "load": ("the predicted load (a term proportional to the tension or torque)", lambda c: [c["y"], c["y"] * c["d"]]),
+    "reversals": (
+        "the samples just after each reversal (a flat step there: a dead band)",
+        lambda c: [c["d"] * np.exp(-c["since"] / c["k"])],
+    ),
+}
+
+
+def _since_reversal(n: int, reversals: np.ndarray) -> np.ndarray:
+    """Samples since the last reversal (since the start before the first)."""
+    marks = np.zeros(n, dtype=bool)
+    marks[reversals[(reversals >= 0) & (reversals < n)]] = True
+    last = np.maximum.accumulate(np.where(marks, np.arange(n), 0))
+    return (np.arange(n) - last).astype(float)
+
+
+def _r2(r: np.ndarray, X: np.ndarray) -> float:
+    coef, *_ = np.linalg.lstsq(X, r, rcond=None)
+    fitted = X @ coef
+    ss = float(np.sum((r - r.mean()) ** 2))
+    return float(np.sum((fitted - fitted.mean()) ** 2)) / ss if ss > 0 else 0.0
+
+
+def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> list[dict]:
+    """Each group of :data:`GROUPS` the residual ``r`` (full length) follows on the valid samples: ``against``,
+    ``words``, ``p_value``, ``size`` (RMS of the fitted part, quantity units), ``size_over_noise``, ``found``."""
+    ok = p.valid
+    n_ok = int(ok.sum())
+    if n_ok < 50:
+        return []
+    t = p.exp.t
+    span = float(t[-1] - t[0]) or 1.0
+    cols = {
+        "tau": ((t - t[0]) / span - 0.5)[ok],
+        "d": p.motion.direction[ok].astype(float),
+        "theta": p.motion.theta[ok],
+        "y": y_hat[ok],
+        "since": _since_reversal(len(t), p.motion.reversals)[ok],
+        "k": max(p.motion.window, 1),
+    }
+    rr = r[ok] - r[ok].mean()
+    rng = np.random.default_rng(seed)
+    lo = max(n_ok // 10, 1)
+    shifts = rng.integers(lo, max(n_ok - lo, lo + 1), SHIFTS)
+    out = []
+    for name, (words, make) in GROUPS.items():
+        X = np.column_stack([np.ones(n_ok), *make(cols)])
+        X[:, 1:] -= X[:, 1:].mean(axis=0)
+        if not np.all(np.isfinite(X)) or np.linalg.matrix_rank(X) < X.shape[1]:
+            continue
+        stat = _r2(rr, X)
+        null = np.array([_r2(np.roll(rr, int(s)), X) for s in shifts])
+        p_value = float((1 + np.sum(null >= stat)) / (SHIFTS + 1))
+        size = float(np.sqrt(stat) * np.std(rr))
+        ratio = size / p.sigma
+        out.append(
+            {
+                "against": name,
+                "words": words,
+                "p_value": p_value,
+                "size": size,
+                "size_over_noise": ratio,
+                "found": p_value <= P_FOUND and ratio >= SIZE_FOUND,
+            }
+        )
+    return out
