@@ -48,11 +48,14 @@ def _since_reversal(n: int, reversals: np.ndarray) -> np.ndarray:
     return (np.arange(n) - last).astype(float)
 
 
-def _r2(r: np.ndarray, X: np.ndarray) -> float:
-    coef, *_ = np.linalg.lstsq(X, r, rcond=None)
-    fitted = X @ coef
-    ss = float(np.sum((r - r.mean()) ** 2))
-    return float(np.sum((fitted - fitted.mean()) ** 2)) / ss if ss > 0 else 0.0
+def _basis(X: np.ndarray) -> np.ndarray | None:
+    """Orthonormal basis (n, k) of the centred columns of ``X``, or None when they are degenerate."""
+    Xc = X - X.mean(axis=0)
+    if not np.all(np.isfinite(Xc)):
+        return None
+    q, r = np.linalg.qr(Xc)
+    keep = np.abs(np.diag(r)) > 1e-9 * max(float(np.abs(r).max()), 1e-300)
+    return q[:, keep] if keep.all() else None
 
 
 def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> list[dict]:
@@ -73,19 +76,22 @@ def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> l
         "k": max(p.motion.window, 1),
     }
     rr = r[ok] - r[ok].mean()
+    ss = float(rr @ rr)
+    if ss <= 0:
+        return []
     rng = np.random.default_rng(seed)
     lo = max(n_ok // 10, 1)
     shifts = rng.integers(lo, max(n_ok - lo, lo + 1), SHIFTS)
+    rolled = rr[(np.arange(n_ok)[:, None] - shifts[None, :]) % n_ok]  # column j: rr shifted by shifts[j]
     out = []
     for name, (words, make) in GROUPS.items():
-        X = np.column_stack([np.ones(n_ok), *make(cols)])
-        X[:, 1:] -= X[:, 1:].mean(axis=0)
-        if not np.all(np.isfinite(X)) or np.linalg.matrix_rank(X) < X.shape[1]:
+        q = _basis(np.column_stack(make(cols)))
+        if q is None:
             continue
-        stat = _r2(rr, X)
-        null = np.array([_r2(np.roll(rr, int(s)), X) for s in shifts])
+        stat = float(np.sum((q.T @ rr) ** 2)) / ss  # R² of the group (a shift keeps Σr²)
+        null = np.sum((q.T @ rolled) ** 2, axis=0) / ss
         p_value = float((1 + np.sum(null >= stat)) / (SHIFTS + 1))
-        size = float(np.sqrt(stat) * np.std(rr))
+        size = float(np.sqrt(stat * ss / n_ok))
         ratio = size / p.sigma
         out.append(
             {
