@@ -1,7 +1,9 @@
 """What a residual still follows: tests of its structure against time, direction, angle, tension and reversals.
 
 On one experiment's valid samples, the residual r is regressed on each group of regressors in :data:`GROUPS`
-(with an intercept). The statistic is the share of r's variance the group explains beyond the intercept, R².
+(with an intercept), stepwise: the largest structure found is taken out first and the other groups are tested
+on what is left, beyond it (correlated groups, e.g. direction and angle × direction, are not reported twice
+for one cause). The statistic is the share of the variance left that a group explains, R².
 Its null distribution is made by shifting r circularly against the regressors (SHIFTS shifts, each at least a
 tenth of the record): a shift keeps the residual's own autocorrelation and breaks any tie to the regressors, so
 the p-value stays honest for smoothed, correlated residuals where an F-test's would not. A structure is
@@ -59,8 +61,9 @@ def _basis(X: np.ndarray) -> np.ndarray | None:
 
 
 def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> list[dict]:
-    """Each group of :data:`GROUPS` the residual ``r`` (full length) follows on the valid samples: ``against``,
-    ``words``, ``p_value``, ``size`` (RMS of the fitted part, quantity units), ``size_over_noise``, ``found``."""
+    """The groups of :data:`GROUPS` the residual ``r`` (full length) follows on the valid samples, in the order they
+    were found, then the tests of the rest on what is left: ``against``, ``words``, ``p_value``, ``size`` (RMS
+    of the fitted part, quantity units), ``size_over_noise``, ``found``."""
     ok = p.valid
     n_ok = int(ok.sum())
     if n_ok < 50:
@@ -76,31 +79,50 @@ def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> l
         "k": max(p.motion.window, 1),
     }
     rr = r[ok] - r[ok].mean()
-    ss = float(rr @ rr)
-    if ss <= 0:
-        return []
     rng = np.random.default_rng(seed)
     lo = max(n_ok // 10, 1)
     shifts = rng.integers(lo, max(n_ok - lo, lo + 1), SHIFTS)
-    rolled = rr[(np.arange(n_ok)[:, None] - shifts[None, :]) % n_ok]  # column j: rr shifted by shifts[j]
-    out = []
-    for name, (words, make) in GROUPS.items():
+    roll = (np.arange(n_ok)[:, None] - shifts[None, :]) % n_ok  # column j: a residual shifted by shifts[j]
+    bases = {}
+    for name, (_, make) in GROUPS.items():
         q = _basis(np.column_stack(make(cols)))
-        if q is None:
-            continue
-        stat = float(np.sum((q.T @ rr) ** 2)) / ss  # R² of the group (a shift keeps Σr²)
-        null = np.sum((q.T @ rolled) ** 2, axis=0) / ss
-        p_value = float((1 + np.sum(null >= stat)) / (SHIFTS + 1))
-        size = float(np.sqrt(stat * ss / n_ok))
-        ratio = size / p.sigma
-        out.append(
-            {
-                "against": name,
-                "words": words,
-                "p_value": p_value,
-                "size": size,
-                "size_over_noise": ratio,
-                "found": p_value <= P_FOUND and ratio >= SIZE_FOUND,
-            }
-        )
+        if q is not None:
+            bases[name] = q
+    out: list[dict] = []
+    taken = np.zeros((n_ok, 0))
+    while bases:
+        ss = float(rr @ rr)
+        if ss <= 0:
+            break
+        rolled = rr[roll]
+        tests = {}
+        for name, q in bases.items():
+            q = _basis(q - taken @ (taken.T @ q)) if taken.shape[1] else q  # beyond the structures found before
+            if q is None:
+                continue
+            stat = float(np.sum((q.T @ rr) ** 2)) / ss  # share of the variance left (a shift keeps Σr²)
+            null = np.sum((q.T @ rolled) ** 2, axis=0) / ss
+            size = float(np.sqrt(stat * ss / n_ok))
+            p_value = float((1 + np.sum(null >= stat)) / (SHIFTS + 1))
+            tests[name] = (p_value, size, q)
+        strong = [n for n, (pv, size, _) in tests.items() if pv <= P_FOUND and size / p.sigma >= SIZE_FOUND]
+        pick = max(strong, key=lambda n: tests[n][1]) if strong else None
+        for name in [pick] if pick else list(tests):
+            pv, size, q = tests[name]
+            out.append(
+                {
+                    "against": name,
+                    "words": GROUPS[name][0],
+                    "p_value": pv,
+                    "size": size,
+                    "size_over_noise": size / p.sigma,
+                    "found": name == pick,
+                }
+            )
+        if pick is None:
+            break
+        q = tests[pick][2]
+        rr = rr - q @ (q.T @ rr)
+        taken = np.column_stack([taken, q])
+        del bases[pick]
     return out
