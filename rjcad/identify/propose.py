@@ -337,7 +337,7 @@ def extend(campaign, progress=None):
     measured = [e.y for e in campaign.experiments]
     routes = [_alternate(campaign, first, [], measured, progress)]
     k = next_term(_data(first, values=first.design.values, data=measured), [])
-    if k is not None and k not in routes[0][1][:1]:
+    if k is not None:  # even if route A began with the same term: A keeps the catalogue effects it began with
         ident = _less(campaign, first, [k], measured, progress, values=first.design.values)
         routes.append(_alternate(campaign, ident, [k], measured, progress))
     scored = [
