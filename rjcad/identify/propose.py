@@ -11,7 +11,8 @@ less the terms, so that the catalogue effects reported are those still needed be
 
 Stiffness-relative terms use the spring's part of the prediction, s = the design model with the fitted
 stiffness and preload and no other effect (N·mm for a torque, N for a tendon), so that their coefficient is a
-fraction of the stiffness. τ = t/T − ½ over each experiment (T its duration); d = ±1 the direction of motion.
+fraction of the stiffness. τ = t/T − ½ over each experiment (T its duration); d = ±1 the direction of motion. A
+backlash is a family of terms, one per play width, each the play operator's shape with its amplitude fitted.
 """
 
 from __future__ import annotations
@@ -37,8 +38,9 @@ BOOTSTRAP = 200
 @dataclass(frozen=True)
 class Columns:
     """What a term's column is built from, per experiment (all samples): τ, d, θ [rad], the spring's part s, the
-    prediction ŷ, t [s], and ``unit``: 1 for a torque, 1/pulley radius for a tension (so that a coefficient in
-    quantity units is N·mm at the joint for both)."""
+    prediction ŷ, t [s], ``unit``: 1 for a torque, 1/pulley radius for a tension (so that a coefficient in
+    quantity units is N·mm at the joint for both), and ``slope``: the fitted stiffness in the quantity's units per
+    rad (K·unit)."""
 
     tau: np.ndarray
     direction: np.ndarray
@@ -47,6 +49,7 @@ class Columns:
     prediction: np.ndarray
     t: np.ndarray
     unit: float
+    slope: float
 
 
 class Term:
@@ -135,8 +138,47 @@ class Lag(Term):
         return f"the measured quantity lagging the angle by {coef * 1e3:.3g} ms"
 
 
+def play(theta: np.ndarray, width: float, start_direction: float) -> np.ndarray:
+    """The angle seen through a backlash of ``width`` [rad] (a play operator on ``theta`` [rad])."""
+    out = np.empty_like(theta)
+    s, half = theta[0] - start_direction * width / 2, width / 2
+    for i, x in enumerate(theta):
+        s = min(max(s, x - half), x + half)
+        out[i] = s
+    return out
+
+
+class Backlash(Term):
+    """A play of ``width_deg`` between the spring and the measured angle: the spring follows only once the play is
+    taken up, so after each reversal the load stays flat over the play; the coefficient is the half-play [rad]."""
+
+    unit = "rad, half the play"
+
+    def __init__(self, width_deg: float):
+        self.width = math.radians(width_deg)
+        self.key = f"backlash_{width_deg:g}deg"
+        self.expression = f"c·K·(play(θ, {width_deg:g}°) − θ)/({width_deg:g}°/2)"
+
+    def column(self, c):
+        return c.slope * (play(c.theta, self.width, float(c.direction[0])) - c.theta) / (self.width / 2)
+
+    def words(self, coef, q, k):
+        return (
+            f"a backlash of {math.degrees(2 * abs(coef)):.3g}° between the spring and the measured angle (the load "
+            f"stays flat over it after each reversal; its shape there fits a {math.degrees(self.width):g}° play)"
+        )
+
+
 #: The candidate terms, in the order a tie is broken.
-LIBRARY: tuple[Term, ...] = (StiffnessDrift(), DirectionStiffness(), OffsetDrift(), Band(), Cubic(), Lag())
+LIBRARY: tuple[Term, ...] = (
+    StiffnessDrift(),
+    DirectionStiffness(),
+    OffsetDrift(),
+    Band(),
+    Cubic(),
+    Lag(),
+    *(Backlash(w) for w in (1.0, 2.0, 4.0, 8.0, 16.0)),
+)
 
 
 def columns(p: Prepared, values: dict[str, float], spring_values: dict[str, float]) -> Columns:
@@ -150,7 +192,8 @@ def columns(p: Prepared, values: dict[str, float], spring_values: dict[str, floa
         spring=predict(spring_values, p),
         prediction=predict(values, p),
         t=t,
-        unit=1.0 if p.exp.quantity == "torque_nmm" else 1.0 / p.exp.pulley_radius,
+        unit=(unit := 1.0 if p.exp.quantity == "torque_nmm" else 1.0 / p.exp.pulley_radius),
+        slope=values["stiffness_nmm_per_rad"] * unit,
     )
 
 
