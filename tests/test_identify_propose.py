@@ -16,10 +16,20 @@ from rjcad.identify.result import to_json
 from rjcad.identify.verdict import OUTSIDE_CATALOGUE
 
 
-def _identify(tmp_path, effect, size=0.05):
-    ident, extension = propose.extend(load_campaign(hb.write(tmp_path / effect, effect, size)))
-    js = to_json(ident, extension)
-    return js, render_markdown(js)
+@pytest.fixture(scope="module")
+def identified(tmp_path_factory):
+    """``run(effect, size)``: the JSON and report of `rjcad identify`'s path on the bench's campaign, once per case
+    in this module (a worker runs each case once)."""
+    done: dict = {}
+
+    def run(effect, size=0.05):
+        if (effect, size) not in done:
+            toml = hb.write(tmp_path_factory.mktemp(effect), effect, size)
+            js = to_json(*propose.extend(load_campaign(toml)))
+            done[(effect, size)] = (js, render_markdown(js))
+        return done[(effect, size)]
+
+    return run
 
 
 @pytest.mark.parametrize(
@@ -33,8 +43,8 @@ def _identify(tmp_path, effect, size=0.05):
         ("backlash", 8.0, "band", -hb.K * math.radians(8.0) / 2, "or a backlash of 2·|c|/K = "),
     ],
 )
-def test_a_hidden_effect_outside_the_catalogue_is_flagged_and_proposed(tmp_path, effect, size, term, truth, words):
-    js, md = _identify(tmp_path, effect, size)
+def test_a_hidden_effect_outside_the_catalogue_is_flagged_and_proposed(identified, effect, size, term, truth, words):
+    js, md = identified(effect, size)
     assert js["unexplained"] and set(js["unexplained_over_noise"]) == {"bar.csv", "tendon.csv"}
     assert js["effects"] == [] and js["partial"] == []  # no catalogue effect named for it
     (p,) = js["proposed"]
@@ -51,8 +61,8 @@ def test_a_hidden_effect_outside_the_catalogue_is_flagged_and_proposed(tmp_path,
     assert js["catalogue_only"]["final_over_noise"] == js["unexplained_over_noise"]
 
 
-def test_nothing_is_proposed_where_the_design_model_explains_the_data(tmp_path):
-    js, md = _identify(tmp_path, "none")
+def test_nothing_is_proposed_where_the_design_model_explains_the_data(identified):
+    js, md = identified("none")
     assert js["proposed"] == [] and js["catalogue_only"] is None and not js["unexplained"]
     assert "Proposed" not in md
 
@@ -91,26 +101,18 @@ def test_viscous_damping_with_a_calibration_error_on_noisy_angles(tmp_path, thet
         assert any("relaxation reduced to viscous" in n for n in js["notes"])
 
 
-def test_the_residual_structure_names_what_the_catalogue_left():
+def test_the_residual_structure_names_what_the_catalogue_left(identified):
     """#37 point 3 on the tests' own bench: the catalogue's final residual of a drifting stiffness follows time,
     that of a direction-dependent one follows angle × direction; a null follows none of the groups. Each test's
     null distribution comes from circular shifts, so p-values hold for a smoothed, correlated residual."""
-    import tempfile
-    from pathlib import Path
-
-    from rjcad.identify.select import identify
-    from rjcad.identify.structure import structure
 
     def found(effect):
-        with tempfile.TemporaryDirectory() as d:
-            ident = identify(load_campaign(hb.write(Path(d), effect)))
-        out = []
-        for p, yh in zip(ident.prepared, ident.final_predictions):
-            out.append({t["against"]: t for t in structure(p, p.exp.y - yh, yh)})
-        return out
+        js, _ = identified(effect)
+        return [{t["against"]: t for t in e["residual_structure"]} for e in js["experiments"]]
 
     for per_file in found("drift"):
         assert per_file["time"]["found"] and per_file["time"]["size_over_noise"] > 1.0
+        assert not any(t["found"] for name, t in per_file.items() if name != "time"), per_file
     bar = found("direction")[0]
     assert bar["angle_x_direction"]["found"] or bar["load"]["found"]
     for per_file in found("none"):
