@@ -251,13 +251,23 @@ def _interval(d: _Pooled, cols: list[int], seed: int = 0) -> np.ndarray:
     return np.percentile(np.array(draws), [2.5, 97.5], axis=0)
 
 
-def _data(ident: Identification, values: dict[str, float] | None = None, data=None) -> _Pooled:
-    """The pooled regression of ``data`` (default: each experiment's y) minus ``ident``'s prediction."""
+def _columns(ident: Identification, values: dict[str, float] | None) -> list[Columns]:
+    """:func:`columns` of every experiment at ``values`` (default: ``ident``'s final)."""
     values = ident.final.values if values is None else values
     spring = spring_only(ident.campaign, values)
-    cols = [columns(p, values, spring) for p in ident.prepared]
+    return [columns(p, values, spring) for p in ident.prepared]
+
+
+def _data(ident: Identification, values: dict[str, float] | None = None, data=None) -> _Pooled:
+    """The pooled regression of ``data`` (default: each experiment's y) minus ``ident``'s prediction."""
+    cols = _columns(ident, values)
     ys = [p.exp.y for p in ident.prepared] if data is None else data
-    return _pooled(ident.prepared, [y - yh for y, yh in zip(ys, ident.predictions(values))], cols)
+    return _pooled(ident.prepared, [y - c.prediction for y, c in zip(ys, cols)], cols)
+
+
+def _coefficients(d: _Pooled, chosen: list[int]) -> np.ndarray:
+    """Least-squares coefficients of the chosen terms on all of ``d``'s samples."""
+    return np.linalg.lstsq(d.X[:, chosen], d.y, rcond=None)[0]
 
 
 def next_term(d: _Pooled, chosen: list[int]) -> int | None:
@@ -274,13 +284,10 @@ def next_term(d: _Pooled, chosen: list[int]) -> int | None:
 def correction(ident: Identification, chosen: list[int], coef: np.ndarray, values=None) -> list[np.ndarray]:
     """Σ c·column of the chosen terms per experiment (full length, quantity units), at ``values`` (default:
     ``ident``'s final)."""
-    values = ident.final.values if values is None else values
-    spring = spring_only(ident.campaign, values)
-    out = []
-    for p in ident.prepared:
-        c = columns(p, values, spring)
-        out.append(sum((k * LIBRARY[j].column(c) for j, k in zip(chosen, coef)), np.zeros(len(p.exp.t))))
-    return out
+    return [
+        sum((k * LIBRARY[j].column(c) for j, k in zip(chosen, coef)), np.zeros(len(c.t)))
+        for c in _columns(ident, values)
+    ]
 
 
 def fitted(
@@ -289,8 +296,7 @@ def fitted(
     """(coefficients, their 95 % intervals (2, k), held-out RMSE without and with the terms) of the chosen terms on
     ``data`` (default: each experiment's y) minus ``ident``'s prediction at ``values`` (default: its final)."""
     d = _data(ident, values=values, data=data)
-    coef, *_ = np.linalg.lstsq(d.X[:, chosen], d.y, rcond=None)
-    return coef, _interval(d, chosen), _heldout(d, []), _heldout(d, chosen)
+    return _coefficients(d, chosen), _interval(d, chosen), _heldout(d, []), _heldout(d, chosen)
 
 
 def terms_json(
@@ -339,7 +345,7 @@ class Extension:
 
 def _less(campaign, ident: Identification, chosen: list[int], measured, progress, values=None):
     """Identify the campaign's data less the chosen terms, fitted on the residual of ``ident`` at ``values``."""
-    coef = fitted(ident, chosen, data=measured, values=values)[0]
+    coef = _coefficients(_data(ident, values=values, data=measured), chosen)
     less = [y - c for y, c in zip(measured, correction(ident, chosen, coef, values=values))]
     exps = tuple(replace(e, y=y) for e, y in zip(campaign.experiments, less))
     return identify(replace(campaign, experiments=exps), progress)

@@ -445,6 +445,7 @@ class Selector:
         the simpler set is taken when, both corrected for the velocity's angle noise, it costs ΔBIC ≤ BIC_GATE.
         Returns (fit, effects, notes); each reduction is a "swapped" step."""
         notes: list[str] = []
+        bic: float | None = None
         for eid in list(accepted):
             for lim in self.effects[eid].limits:
                 if eid not in accepted:
@@ -455,28 +456,36 @@ class Selector:
                 keep = self.free_names(rest)
                 start = {n: current.values[n] for n in current.names if n in keep} | lim.start(current.values)
                 fr = self.fit_set(rest, start)
-                cost = self._corrected(fr)[0].bic - self._corrected(current)[0].bic
+                if bic is None:  # the current set's, corrected likewise: once per set
+                    bic = self._corrected(current)[0].bic
+                cost = self._corrected(fr)[0].bic - bic
                 if cost > BIC_GATE:
                     continue
+                value = f"{lim.param} = {current.values[lim.param]:.4g}"
                 steps.append(
-                    Step(
-                        ", ".join(rest) or "design simulation",
-                        f"{lim.words}: {lim.param} = {current.values[lim.param]:.4g} fits no better than the limit",
-                        "swapped",
-                        cost,
-                        self.heldout(rest, {n: fr.values[n] for n in fr.names}),
-                        self.relevance(current.values, fr.values),
-                        fr.rmse(),
-                        _gain(design.rmse(), fr.rmse()),
+                    self._swap_step(
+                        design, current, rest, fr, f"{lim.words}: {value} fits no better than the limit", cost
                     )
                 )
                 notes.append(
                     f"{eid} reduced to {lim.simpler or 'nothing'} ({lim.words}; ΔBIC {cost:+.1f}, the data cannot tell "
-                    f"{lim.param} = {current.values[lim.param]:.4g} from its limit)"
+                    f"{value} from its limit)"
                 )
-                accepted[:] = rest
-                current = fr
+                accepted, current, bic = rest, fr, None
         return current, accepted, notes
+
+    def _swap_step(self, design, current: FitResult, effects: list[str], fr: FitResult, cause: str, cost: float):
+        """The "swapped" step from ``current`` to the simpler set ``effects`` fitted as ``fr`` (ΔBIC ``cost``)."""
+        return Step(
+            ", ".join(effects) or "design simulation",
+            cause,
+            "swapped",
+            cost,
+            self.heldout(list(effects), {n: fr.values[n] for n in fr.names}),
+            self.relevance(current.values, fr.values),
+            fr.rmse(),
+            _gain(design.rmse(), fr.rmse()),
+        )
 
     def _finish(self, design, ho_design, current, ho_cur, accepted, steps, cands) -> Identification:
         """The identification: the simplest set the data cannot tell from the selected one, the viscous
@@ -489,18 +498,8 @@ class Selector:
                 f"the data cannot tell {', '.join(accepted)} from {', '.join(best.effects)}: "
                 f"the simpler set is kept (see ambiguous)"
             )
-            steps.append(
-                Step(
-                    ", ".join(best.effects) or "design simulation",
-                    f"the data cannot tell {', '.join(accepted)} from it: the simpler set is kept",
-                    "swapped",
-                    best.fit.bic - current.bic,
-                    self.heldout(list(best.effects), {n: best.fit.values[n] for n in best.fit.names}),
-                    self.relevance(current.values, best.fit.values),
-                    best.fit.rmse(),
-                    _gain(design.rmse(), best.fit.rmse()),
-                )
-            )
+            cause = f"the data cannot tell {', '.join(accepted)} from it: the simpler set is kept"
+            steps.append(self._swap_step(design, current, best.effects, best.fit, cause, best.fit.bic - current.bic))
             accepted = list(best.effects)
             current, not_ident = self.final_identifiability(accepted, best.fit)
         current, accepted, reduced = self._nested_limits(design, current, accepted, steps)
