@@ -99,8 +99,16 @@ BENCHMARKS = {
             "finger_campaign_threads_s",
             "outside_catalogue_campaign_s",
             "outside_catalogue_campaign_cpu_s",
+            "finger_outside_catalogue_s",
+            "finger_outside_catalogue_cpu_s",
         },
-        {"paper_campaign_s", "outside_catalogue_campaign_s", "worst_scaling_exponent", "finger_campaign_worst_s"},
+        {
+            "paper_campaign_s",
+            "outside_catalogue_campaign_s",
+            "worst_scaling_exponent",
+            "finger_campaign_worst_s",
+            "finger_outside_catalogue_s",
+        },
     ),
     "joint": (
         {
@@ -229,6 +237,8 @@ def check_identify(d):
     # a stiffness drifting ±5 % over each run, outside the catalogue: the paper's effects and the drift proposed
     assert d["outside_catalogue_proposed"] == ["stiffness_drift"]
     assert d["outside_catalogue_effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
+    # every spring of the default finger drifting ±5 % over each run, outside the finger catalogue
+    assert d["finger_outside_catalogue_proposed"] == ["stiffness_drift"] and d["finger_outside_catalogue_effects"] == []
 
 
 def check_physics(d):

@@ -188,11 +188,12 @@ def _identified(camp, report_dir: str | None, progress) -> tuple[dict, list[str]
     if getattr(camp, "kind", "joint") == "finger":
         from rjcad.identify.finger import result as finger_result
         from rjcad.identify.finger.data import FingerCampaign
-        from rjcad.identify.finger.problem import identify_finger
+        from rjcad.identify.finger.propose import FingerBasis
+        from rjcad.identify.propose import extend
 
         assert isinstance(camp, FingerCampaign)
-        ident = identify_finger(camp, progress=progress)
-        js = finger_result.to_json(ident)
+        ident, extension = extend(camp, progress=progress, basis=FingerBasis(camp.design.model.n))
+        js = finger_result.to_json(ident, extension)
         if report_dir:
             report(progress, "writing the report")
         return js, [str(p) for p in finger_result.write_report(js, report_dir)] if report_dir else []
@@ -245,18 +246,13 @@ def print_identification(js: dict) -> None:
 
         for line in joint_sentences(js):
             click.echo(f"  {line}")
-        for a in js["ambiguous"]:
-            click.echo(
-                f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}"
-            )
-        return
     for a in js.get("ambiguous", []):
         click.echo(
             f"  ambiguous: {', '.join(a['effects'])} (dBIC {a['delta_bic']:+.3g}); separate by {a['separate_by']}"
         )
     if js["proposed"]:
         click.echo("  the fits below are of the data less the proposed term(s) at the end")
-    for e in js["experiments"]:
+    for e in js["experiments"] if js.get("kind") != "finger" else []:
         click.echo(
             f"  {e['file']}: RMSE {e['rmse_design']:.4g} -> {e['rmse_final']:.4g} {e['quantity']} "
             f"(noise {e['noise']:.3g}, {e['samples_masked_at_reversals']} samples at reversals masked)"

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -59,7 +60,8 @@ class Term:
     expression = ""
     unit = ""
 
-    def column(self, c: Columns) -> np.ndarray:
+    def column(self, c: Any) -> np.ndarray:
+        """The column from its building blocks (:class:`Columns` for a joint; a finger's are its own)."""
         raise NotImplementedError
 
     def words(self, coef: float, q: str, k: float) -> str:
@@ -202,23 +204,76 @@ def spring_only(campaign, values: dict[str, float]) -> dict[str, float]:
     return {**base_values(campaign), **{k: values[k] for k in ("stiffness_nmm_per_rad", "preload_deg")}}
 
 
+class Basis:
+    """How a kind of campaign builds its terms' columns (a strategy): the joint's (:class:`JointBasis`) or the
+    finger's (``rjcad.identify.finger.propose``). Every array is per prepared series and full length (the whole
+    record); ``rows`` picks the samples the identification fits."""
+
+    library: tuple[Term, ...] = ()
+
+    def identify(self, campaign, progress) -> Identification:
+        raise NotImplementedError
+
+    def measured(self, ident: Identification) -> list[np.ndarray]:
+        """Each series' measured data, full length."""
+        raise NotImplementedError
+
+    #: rounds of secant columns after the tangent fit (0: every term is linear in its coefficient)
+    secant_rounds = 0
+
+    def matrices(
+        self, ident: Identification, values: dict[str, float], sizes: dict[int, float] | None = None
+    ) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Per series: the prediction at ``values`` and the library's columns (samples × terms); the column of a
+        term in ``sizes`` {index: coefficient} is its secant at that coefficient (y(c) − y(0))/c, else its
+        tangent."""
+        raise NotImplementedError
+
+    def rows(self, p) -> np.ndarray:
+        """Indices of the fitted samples of series ``p`` in its full record."""
+        raise NotImplementedError
+
+    def group(self, i: int, p) -> int:
+        """The experiment series ``i`` (``p``) belongs to: its cycles are one block for the bootstrap."""
+        return i
+
+    def with_data(self, campaign, ident: Identification, data: list[np.ndarray]):
+        """``campaign`` with each series' data replaced by ``data``."""
+        raise NotImplementedError
+
+    def words(self, term: Term, coef: float, ident: Identification) -> str:
+        return term.words(coef, "N·mm", ident.final.values.get("stiffness_nmm_per_rad", 0.0))
+
+
+class JointBasis(Basis):
+    """The joint's terms (:data:`LIBRARY`), built from the spring's part of its prediction."""
+
+    library = LIBRARY
+
+    def identify(self, campaign, progress):
+        return identify(campaign, progress)
+
+    def measured(self, ident):
+        return [p.exp.y for p in ident.prepared]
+
+    def matrices(self, ident, values, sizes=None):
+        spring = spring_only(ident.campaign, values)
+        cols = [columns(p, values, spring) for p in ident.prepared]
+        return [(c.prediction, np.column_stack([term.column(c) for term in self.library])) for c in cols]
+
+    def rows(self, p):
+        return np.flatnonzero(p.valid)
+
+    def with_data(self, campaign, ident, data):
+        return replace(campaign, experiments=tuple(replace(e, y=y) for e, y in zip(campaign.experiments, data)))
+
+
 @dataclass
 class _Pooled:
     X: np.ndarray  # whitened columns, valid samples of every experiment
     y: np.ndarray  # whitened residual
     fold: np.ndarray  # held-out fold (−1: always trained on)
     block: np.ndarray  # (experiment, cycle) block id, for the bootstrap
-
-
-def _pooled(prepared: list[Prepared], residuals: list[np.ndarray], cols: list[Columns]) -> _Pooled:
-    X, y, fold, block = [], [], [], []
-    for i, (p, r, c) in enumerate(zip(prepared, residuals, cols)):
-        ok = p.valid
-        X.append(np.column_stack([term.column(c)[ok] for term in LIBRARY]) / p.sigma)
-        y.append(r[ok] / p.sigma)
-        fold.append(p.folds[ok])
-        block.append(i * 100_000 + p.motion.cycle[ok])
-    return _Pooled(np.vstack(X), np.concatenate(y), np.concatenate(fold), np.concatenate(block))
 
 
 def _heldout(d: _Pooled, cols: list[int]) -> float:
@@ -251,18 +306,19 @@ def _interval(d: _Pooled, cols: list[int], seed: int = 0) -> np.ndarray:
     return np.percentile(np.array(draws), [2.5, 97.5], axis=0)
 
 
-def _columns(ident: Identification, values: dict[str, float] | None) -> list[Columns]:
-    """:func:`columns` of every experiment at ``values`` (default: ``ident``'s final)."""
+def _data(basis: Basis, ident: Identification, values=None, data=None, sizes=None) -> _Pooled:
+    """The pooled regression of ``data`` (default: the measured data) minus ``ident``'s prediction at ``values``
+    (default: its final), on the fitted samples of every series (``sizes``: see Basis.matrices)."""
     values = ident.final.values if values is None else values
-    spring = spring_only(ident.campaign, values)
-    return [columns(p, values, spring) for p in ident.prepared]
-
-
-def _data(ident: Identification, values: dict[str, float] | None = None, data=None) -> _Pooled:
-    """The pooled regression of ``data`` (default: each experiment's y) minus ``ident``'s prediction."""
-    cols = _columns(ident, values)
-    ys = [p.exp.y for p in ident.prepared] if data is None else data
-    return _pooled(ident.prepared, [y - c.prediction for y, c in zip(ys, cols)], cols)
+    ys = basis.measured(ident) if data is None else data
+    X, y, fold, block = [], [], [], []
+    for i, (p, yi, (pred, cols)) in enumerate(zip(ident.prepared, ys, basis.matrices(ident, values, sizes))):
+        rows, ok = basis.rows(p), p.valid
+        X.append(cols[rows] / p.sigma)
+        y.append((yi - pred)[rows] / p.sigma)
+        fold.append(p.folds[ok])
+        block.append(basis.group(i, p) * 100_000 + p.motion.cycle[ok])
+    return _Pooled(np.vstack(X), np.concatenate(y), np.concatenate(fold), np.concatenate(block))
 
 
 def _coefficients(d: _Pooled, chosen: list[int]) -> np.ndarray:
@@ -271,46 +327,62 @@ def _coefficients(d: _Pooled, chosen: list[int]) -> np.ndarray:
 
 
 def next_term(d: _Pooled, chosen: list[int]) -> int | None:
-    """The LIBRARY index of the term that, added to ``chosen``, lowers the held-out score most, if it removes at
+    """The library index of the term that, added to ``chosen``, lowers the held-out score most, if it removes at
     least MATERIAL of the held-out excess over the noise; else None (and None once the score is ≤ FLOOR_RATIO)."""
     h = _heldout(d, chosen)
-    tried = {k: _heldout(d, [*chosen, k]) for k in range(len(LIBRARY)) if k not in chosen}
+    tried = {k: _heldout(d, [*chosen, k]) for k in range(d.X.shape[1]) if k not in chosen}
     if not tried or not math.isfinite(h) or h <= FLOOR_RATIO:  # explained to the floor: nothing left to propose
         return None
     k = min(tried, key=lambda j: (tried[j], j))
     return k if tried[k] < h and h**2 - tried[k] ** 2 >= MATERIAL * max(h**2 - 1.0, 0.0) else None
 
 
-def correction(ident: Identification, chosen: list[int], coef: np.ndarray, values=None) -> list[np.ndarray]:
-    """Σ c·column of the chosen terms per experiment (full length, quantity units), at ``values`` (default:
-    ``ident``'s final)."""
-    return [
-        sum((k * LIBRARY[j].column(c) for j, k in zip(chosen, coef)), np.zeros(len(c.t)))
-        for c in _columns(ident, values)
-    ]
+def solve(basis: Basis, ident: Identification, chosen: list[int], values=None, data=None):
+    """(coefficients, sizes, pooled data) of the chosen terms on ``data`` minus ``ident``'s prediction at
+    ``values``: a least-squares fit on the tangent columns, then ``basis.secant_rounds`` refits on the secant
+    columns at the coefficients found (a term not linear in its coefficient, e.g. a finger's spring that is
+    stiffer one way, is then fitted at its own size)."""
+    sizes: dict[int, float] = {}
+    d = _data(basis, ident, values, data)
+    coef = _coefficients(d, chosen) if chosen else np.zeros(0)
+    for _ in range(basis.secant_rounds if chosen else 0):
+        sizes = dict(zip(chosen, map(float, coef)))
+        d = _data(basis, ident, values, data, sizes)
+        coef = _coefficients(d, chosen)
+    return coef, sizes, d
+
+
+def correction(
+    basis: Basis, ident: Identification, chosen: list[int], coef: np.ndarray, values=None, sizes=None
+) -> list[np.ndarray]:
+    """Σ c·column of the chosen terms per series (full length, its units), at ``values`` (default: ``ident``'s
+    final), each column the secant at ``sizes`` where given."""
+    values = ident.final.values if values is None else values
+    return [cols[:, chosen] @ coef for _, cols in basis.matrices(ident, values, sizes)]
 
 
 def fitted(
-    ident: Identification, chosen: list[int], data=None, values=None
+    basis: Basis, ident: Identification, chosen: list[int], data=None, values=None
 ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """(coefficients, their 95 % intervals (2, k), held-out RMSE without and with the terms) of the chosen terms on
-    ``data`` (default: each experiment's y) minus ``ident``'s prediction at ``values`` (default: its final)."""
-    d = _data(ident, values=values, data=data)
-    return _coefficients(d, chosen), _interval(d, chosen), _heldout(d, []), _heldout(d, chosen)
+    ``data`` (default: the measured data) minus ``ident``'s prediction at ``values`` (default: its final)."""
+    coef, _, d = solve(basis, ident, chosen, values, data)
+    return coef, _interval(d, chosen), _heldout(_data(basis, ident, values, data), []), _heldout(d, chosen)
 
 
 def terms_json(
-    chosen: list[int], coef: np.ndarray, ci: np.ndarray, before: float, after: float, k: float
+    library: tuple[Term, ...], chosen: list[int], coef: np.ndarray, ci: np.ndarray, before: float, after: float, words
 ) -> list[dict]:
-    """The ``proposed`` list of an identification's JSON: each term with its words, coefficient and interval."""
+    """The ``proposed`` list of an identification's JSON: each term with its words (``words(term, c)``),
+    coefficient and interval."""
     return [
         {
-            "term": LIBRARY[i].key,
-            "expression": LIBRARY[i].expression,
-            "words": LIBRARY[i].words(float(coef[j]), "N·mm", k),
+            "term": library[i].key,
+            "expression": library[i].expression,
+            "words": words(library[i], float(coef[j])),
             "coefficient": float(coef[j]),
             "ci95": [float(ci[0, j]), float(ci[1, j])],
-            "unit": LIBRARY[i].unit,
+            "unit": library[i].unit,
             "heldout_rmse_before": before,
             "heldout_rmse_after": after,
         }
@@ -323,10 +395,15 @@ def over_noise(ident) -> dict[str, float]:
     return {p.exp.file: r / p.sigma for p, r in zip(ident.prepared, ident.final.rmse())}
 
 
+def _explained(ident) -> bool:
+    """Every series' final RMSE within FLOOR_RATIO of its noise."""
+    return all(r / p.sigma <= FLOOR_RATIO for p, r in zip(ident.prepared, ident.final.rmse()))
+
+
 @dataclass
 class Extension:
     """The catalogue's answer on the data as measured (``catalogue``), and the terms proposed outside it: the
-    ``chosen`` LIBRARY indices with their coefficients, 95 % intervals and the held-out RMSE (whitened) of the
+    ``chosen`` library indices with their coefficients, 95 % intervals and the held-out RMSE (whitened) of the
     catalogue alone (``before``) and of the catalogue refitted with the terms (``after``)."""
 
     catalogue: Identification
@@ -335,70 +412,108 @@ class Extension:
     ci: np.ndarray
     before: float
     after: float
-
-    #: the stiffness fitted beside the terms [N·mm/rad] (a band's backlash is 2·|c|/K)
-    stiffness: float = 0.0
+    #: the identification beside the terms (its words read its fitted values, e.g. a band's backlash 2·|c|/K)
+    beside: Identification
+    basis: Basis
 
     def json(self) -> list[dict]:
-        return terms_json(self.chosen, self.coef, self.ci, self.before, self.after, self.stiffness)
+        words = lambda term, c: self.basis.words(term, c, self.beside)  # noqa: E731
+        return terms_json(self.basis.library, self.chosen, self.coef, self.ci, self.before, self.after, words)
 
 
-def _less(campaign, ident: Identification, chosen: list[int], measured, progress, values=None):
+#: Rounds of identifying the answer again beside its terms while their correction to the data still moves by more
+#: than POLISH_SIGMA (RMS over the fitted samples, in noise σ) in some series.
+POLISH_ROUNDS, POLISH_SIGMA = 2, 0.1
+#: A route whose terms alone (no catalogue effect) bring the held-out error to this is not bettered by 2 %: the
+#: other route is not tried.
+NOISE_TIE = 1.02
+
+
+def _less(basis: Basis, campaign, ident: Identification, chosen: list[int], measured, progress, values=None):
     """Identify the campaign's data less the chosen terms, fitted on the residual of ``ident`` at ``values``."""
-    coef = _coefficients(_data(ident, values=values, data=measured), chosen)
-    less = [y - c for y, c in zip(measured, correction(ident, chosen, coef, values=values))]
-    exps = tuple(replace(e, y=y) for e, y in zip(campaign.experiments, less))
-    return identify(replace(campaign, experiments=exps), progress)
+    coef, sizes, _ = solve(basis, ident, chosen, values, measured)
+    less = [y - c for y, c in zip(measured, correction(basis, ident, chosen, coef, values, sizes))]
+    return basis.identify(basis.with_data(campaign, ident, less), progress)
 
 
-def _alternate(campaign, ident: Identification, chosen: list[int], measured, progress):
+def _polish(basis: Basis, campaign, ident: Identification, chosen: list[int], measured, progress):
+    """Identify again on the data less the terms fitted beside ``ident``'s answer, while that correction moves by
+    more than POLISH_SIGMA from the one ``ident`` was identified on (POLISH_ROUNDS at most): a catalogue effect the
+    terms were first fitted beside may have taken up part of a term, or changed its shape (alternating least
+    squares)."""
+    for _ in range(POLISH_ROUNDS):
+        applied = [m - y for m, y in zip(measured, basis.measured(ident))]
+        coef, sizes, _ = solve(basis, ident, chosen, None, measured)
+        new = correction(basis, ident, chosen, coef, None, sizes)
+        moved = max(
+            float(np.sqrt(np.mean(((a - b) / p.sigma)[basis.rows(p)] ** 2)))
+            for p, a, b in zip(ident.prepared, applied, new)
+        )
+        if moved <= POLISH_SIGMA:
+            break
+        ident = basis.identify(basis.with_data(campaign, ident, [m - c for m, c in zip(measured, new)]), progress)
+    return ident
+
+
+def _alternate(basis: Basis, campaign, ident: Identification, chosen: list[int], measured, progress):
     """Add terms one per round (:func:`next_term` on the measured data less ``ident``'s prediction), each round
     identifying again on the data less the terms: (identification, terms)."""
     while len(chosen) < MAX_TERMS:
-        k = next_term(_data(ident, data=measured), chosen)
+        k = next_term(solve(basis, ident, chosen, data=measured)[2], chosen)
         if k is None:
             break
         chosen = [*chosen, k]
-        ident = _less(campaign, ident, chosen, measured, progress)
+        ident = _less(basis, campaign, ident, chosen, measured, progress)
     return ident, chosen
 
 
-def extend(campaign, progress=None):
+def _score(basis: Basis, route, measured) -> float:
+    """A route's held-out RMSE (whitened): its terms refitted on the measured data less its answer."""
+    ident, chosen = route
+    return _heldout(solve(basis, ident, chosen, data=measured)[2], chosen)
+
+
+def extend(campaign, progress=None, basis: Basis | None = None):
     """Identify ``campaign``; where the catalogue leaves a residual, look for terms outside it by two routes and
-    keep the one with the lower held-out error (within 2 %: the one with fewer effects and terms, then the
-    first):
+    keep the one with the lower held-out error (within 2 %: the one with fewer effects and terms, then A):
 
-    - from the catalogue's answer: add the LIBRARY term that explains most of the residual left, identify again on
-      the data less it (the catalogue effects reported are those still needed beside it), repeat;
-    - from the design model: the term that explains most of the design residual first (a catalogue effect may
+    - A, from the catalogue's answer: add the library term that explains most of the residual left, identify
+      again on the data less it (the catalogue effects reported are those still needed beside it), repeat;
+    - B, from the design model: the term that explains most of the design residual first (a catalogue effect may
       have taken up part of a term's shape, e.g. a friction that grows with angle a stiffness that differs by
-      direction), then the same rounds.
+      direction), then the same rounds. B is tried first; where its one term alone brings the held-out error to
+      NOISE_TIE, A is not tried (it could not be simpler, nor better by 2 %).
 
-    Each term must remove ≥ MATERIAL of the held-out excess, and together they must bring the held-out error to
-    FLOOR_RATIO or below (a library term that explains only part of the residual is not proposed).
+    The answer taken is identified again beside its terms until their correction settles (:func:`_polish`). Each
+    term must remove ≥ MATERIAL of the held-out excess, and together they must bring the held-out error to
+    FLOOR_RATIO or below (a library term that explains only part of the residual is not proposed). ``basis``: the
+    joint's (default) or the finger's terms.
 
     Returns (identification, Extension or None). With an Extension, the identification's experiments hold the data
     less the proposed terms; its ``catalogue`` is the answer on the data as measured.
     """
-    first = identify(campaign, progress)
-    if not any(v > FLOOR_RATIO for v in over_noise(first).values()):
+    basis = JointBasis() if basis is None else basis
+    first = basis.identify(campaign, progress)
+    if _explained(first):
         return first, None
-    measured = [e.y for e in campaign.experiments]
-    routes = [_alternate(campaign, first, [], measured, progress)]
-    k = next_term(_data(first, values=first.design.values, data=measured), [])
-    if k is not None:  # even if route A began with the same term: A keeps the catalogue effects it began with
-        ident = _less(campaign, first, [k], measured, progress, values=first.design.values)
-        routes.append(_alternate(campaign, ident, [k], measured, progress))
-    scored = [
-        (_heldout(_data(i, data=measured), c), len(i.effects) + len(c), n, i, c) for n, (i, c) in enumerate(routes)
-    ]
+    measured = basis.measured(first)
+    scored = []
+    k = next_term(_data(basis, first, values=first.design.values, data=measured), [])
+    if k is not None:  # even if route A begins with the same term: A keeps the catalogue effects it began with
+        ident = _less(basis, campaign, first, [k], measured, progress, values=first.design.values)
+        i, c = _alternate(basis, campaign, ident, [k], measured, progress)
+        scored.append((_score(basis, (i, c), measured), len(i.effects) + len(c), 1, i, c))
+    if not (scored and scored[0][0] <= NOISE_TIE and scored[0][1] == 1):
+        i, c = _alternate(basis, campaign, first, [], measured, progress)
+        scored.append((_score(basis, (i, c), measured), len(i.effects) + len(c), 0, i, c))
     best = min(scored, key=lambda r: r[0])
     near = [r for r in scored if r[0] <= best[0] * 1.02]
     _, _, _, ident, chosen = min(near, key=lambda r: (r[1], r[2]))
     if not chosen:
         return first, None
-    coef, ci, _, after = fitted(ident, chosen, data=measured)
-    before = _heldout(_data(first), [])
+    ident = _polish(basis, campaign, ident, chosen, measured, progress)
+    coef, ci, _, after = fitted(basis, ident, chosen, data=measured)
+    before = _heldout(_data(basis, first), [])
     if not (after <= FLOOR_RATIO and before**2 - after**2 >= MATERIAL * (before**2 - 1.0)):
         return first, None  # the terms do not explain the data to the floor: nothing is proposed
-    return ident, Extension(first, chosen, coef, ci, before, after, ident.final.values["stiffness_nmm_per_rad"])
+    return ident, Extension(first, chosen, coef, ci, before, after, ident, basis)

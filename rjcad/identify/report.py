@@ -115,7 +115,7 @@ def _summary(js: dict) -> list[str]:
         )
     if above:
         out += verdict_sentences(js)
-        out += _proposed_section(js)
+        out += proposed_section(js)
     else:
         out.append(
             "The final residual is at the noise floor" + (f" in all {len(exps)} experiments." if len(exps) > 1 else ".")
@@ -123,7 +123,7 @@ def _summary(js: dict) -> list[str]:
     return out
 
 
-def _proposed_section(js: dict) -> list[str]:
+def proposed_section(js: dict) -> list[str]:
     """The terms outside the catalogue that explain the residual (``proposed``), kept apart from the effects."""
     terms = js.get("proposed") or []
     if not terms:
@@ -405,12 +405,12 @@ def _diagnostics_section(js: dict) -> list[str]:
                 else ""
             )
         )
-        out.append(_structure_line(e.get("residual_structure") or [], bool(js.get("proposed"))))
+        out.append(structure_line(e.get("residual_structure") or [], bool(js.get("proposed"))))
         out.append("")
     return out[:-1]
 
 
-def _structure_line(tests: list[dict], proposed: bool) -> str:
+def structure_line(tests: list[dict], proposed: bool) -> str:
     """One line: what the catalogue's final residual still follows (rjcad.identify.structure), with sizes."""
     whose = "the catalogue's final residual (on the data as measured)" if proposed else "the final residual"
     found = [t for t in tests if t["found"]]

@@ -60,15 +60,16 @@ def _basis(X: np.ndarray) -> np.ndarray | None:
     return q[:, keep] if keep.all() else None
 
 
-def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0) -> list[dict]:
+def structure(p: Prepared, r: np.ndarray, y_hat: np.ndarray, seed: int = 0, t: np.ndarray | None = None) -> list[dict]:
     """The groups of :data:`GROUPS` the residual ``r`` (full length) follows on the valid samples, in the order they
     were found, then the tests of the rest on what is left: ``against``, ``words``, ``p_value``, ``size`` (RMS
-    of the fitted part, quantity units), ``size_over_noise``, ``found``."""
+    of the fitted part, quantity units), ``size_over_noise``, ``found``. ``t``: the series' times when they are
+    not its experiment's (a finger's channel holds a subset of the record's samples)."""
     ok = p.valid
     n_ok = int(ok.sum())
     if n_ok < 50:
         return []
-    t = p.exp.t
+    t = p.exp.t if t is None else t
     span = float(t[-1] - t[0]) or 1.0
     cols = {
         "tau": ((t - t[0]) / span - 0.5)[ok],

@@ -210,6 +210,12 @@ class FingerSelector(Selector):
         for name, why in self.reference.items():
             if name in self.param_names(ident.effects):
                 ident.not_identifiable[name] = why
+        if "capstan_path" in ident.effects:
+            ident.notes.append(
+                "capstan_path scales the tension by β⁺ while pulling and β⁻ while releasing and leaves the angles "
+                "alone; so does a stiffness that differs by direction by the same fraction in every spring: the "
+                "data cannot tell them apart (a load cell at the finger's base, past the tendon's path, would)"
+            )
         if not self.campaign.has_tension and "spring_calibration" in ident.effects:
             ident.notes.append(
                 "without a tension record joint 1's stiffness is held at its design value (joint "

@@ -9,14 +9,17 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from rjcad.identify.formatting import fmt
-from rjcad.identify.result import _r, selection_json
+from rjcad.identify.report import proposed_section, structure_line
+from rjcad.identify.result import _clean, _r, selection_json
 from rjcad.identify.select import Identification
+from rjcad.identify.structure import structure
 from rjcad.identify.verdict import verdict_json, verdict_sentences
 
 if TYPE_CHECKING:
     from rjcad.identify.finger.catalogue import FingerEffect
     from rjcad.identify.finger.data import FingerCampaign
     from rjcad.identify.finger.problem import Channel
+    from rjcad.identify.propose import Extension
     from rjcad.physics.finger import FingerModel
 
 
@@ -57,6 +60,18 @@ def _per_exp(ident: Identification, fits: tuple[list[float], list[float]]) -> li
     return [out[k] for k in sorted(out)]
 
 
+def _structures(ident: Identification) -> dict[tuple[int, str], list[dict]]:
+    """Per (experiment, quantity): the tests of the final residual's structure (rjcad.identify.structure), the
+    motion's coordinate being the tendon's path."""
+    out = {}
+    for ch, yh in zip(_channels(ident), ident.final_predictions):
+        tests = structure(cast("Any", ch), ch.y - yh, yh, t=ch.exp.t[ch.kept])
+        for test in tests:
+            test["words"] = test["words"].replace("angle", "tendon path")
+        out[(ch.exp_index, ch.quantity)] = _clean(tests)
+    return out
+
+
 def _joints(ident: Identification) -> list[dict[str, Any]]:
     """Per joint: the design model's largest and RMS angle error, the final RMSE, and the effects acting on it."""
     n = _model(ident).n
@@ -92,22 +107,45 @@ def _joints(ident: Identification) -> list[dict[str, Any]]:
     return out
 
 
-def to_json(ident: Identification) -> dict[str, Any]:
-    """effects, params, not_identifiable, experiments (per quantity), gain, ambiguous, joints, steps, candidates."""
+def _over_noise(ident: Identification) -> dict[str, float | None]:
+    """{"file: quantity": final RMSE / noise σ} of every channel."""
+    return {f"{ch.exp.file}: {ch.quantity}": _r(r / ch.sigma) for ch, r in zip(_channels(ident), ident.final.rmse())}
+
+
+def to_json(ident: Identification, extension: Extension | None = None) -> dict[str, Any]:
+    """effects, params, not_identifiable, experiments (per quantity), gain, ambiguous, joints, steps, candidates.
+
+    With an ``extension`` (rjcad.identify.propose.extend with the finger's basis): ``proposed`` lists the terms
+    outside the catalogue, the verdict keys and ``catalogue_only`` are the catalogue's alone on the data as
+    measured, and the rest is fitted beside the proposed terms."""
     fin, des = ident.final, ident.design
     params = {n: fin.values[n] for n in fin.names if n not in ident.not_identifiable}
     rd = des.rmse()
     rf = fin.rmse()
     names = {e.id: e.name for e in _catalogue(ident)}
     exps = _per_exp(ident, (rd, rf))
-    over = {f"{e['file']}: {q}": r for e in exps for q, r in e["final_over_noise"].items()}
+    cat = ident if extension is None else extension.catalogue  # the catalogue's answer on the data as measured
+    over = _over_noise(cat)
+    structures = _structures(cat)
+    for k, e in enumerate(exps):
+        e["residual_structure"] = {q: structures[(k, q)] for q in e["quantities"]}
+    notes = []
+    if extension is not None:
+        notes.append(
+            "The catalogue alone leaves a residual that a term outside it explains (proposed): the effects, "
+            "parameters and channels' final RMSE above are fitted beside that term."
+        )
     return {
         "kind": "finger",
         **selection_json(ident, params, names),
         **verdict_json(over, ident.effects),
+        "proposed": [] if extension is None else _clean(extension.json()),
+        "catalogue_only": None
+        if extension is None
+        else {"effects": list(extension.catalogue.effects), "final_over_noise": over},
         "experiments": exps,
         "joints": _joints(ident),
-        "notes": list(ident.campaign.notes) + list(ident.notes),
+        "notes": list(ident.campaign.notes) + list(ident.notes) + notes,
         "units": {
             "rmse": "each quantity's unit (theta*_deg: deg, tendon_force_n: N)",
             "heldout_rmse": "residual / noise σ, pooled over held-out whole cycles (1 = noise floor)",
@@ -160,6 +198,8 @@ def render_markdown(js: dict[str, Any]) -> str:
             "",
         ]
     lines += [*verdict_sentences(js), ""] if verdict_sentences(js) else []
+    if js.get("proposed"):
+        lines += [*proposed_section(js)[1:], ""]
     lines += ["## Per joint", ""] + [f"- {s}" for s in joint_sentences(js)]
     if js["ambiguous"]:
         lines += [
@@ -194,6 +234,10 @@ def render_markdown(js: dict[str, Any]) -> str:
                 f"| {e['file']} | {q} | {fmt(e['rmse_design'][q])} | {fmt(e['rmse_final'][q])} | "
                 f"{fmt(e['noise'][q], 3)} | {fmt(e['final_over_noise'][q], 3)} |"
             )
+    tested = [(e["file"], q, t) for e in js["experiments"] for q, t in e.get("residual_structure", {}).items()]
+    if tested:
+        lines += ["", "What each channel's residual still follows (the tendon's path stands for the angle):", ""]
+        lines += [f"- {f}, {q}: " + structure_line(t, bool(js.get("proposed")))[2:] for f, q, t in tested]
     rejected = [c for c in js["candidates"] if c["reason"] != "accepted"]
     if rejected:
         lines += ["", "## Candidates not accepted (last verdict)", ""]
