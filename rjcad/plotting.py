@@ -13,13 +13,44 @@ if TYPE_CHECKING:
 
 
 def pyplot() -> ModuleType:
-    """``matplotlib.pyplot`` on the Agg backend (imported on first use: it is slow to import)."""
+    """``matplotlib.pyplot`` on the Agg backend (imported on first use: it is slow to import). rjcad renders to
+    files: a bad ``MPLBACKEND`` is overridden; where Matplotlib's config and cache folders cannot be made (an
+    unwritable HOME) it gets a private one, removed at exit, instead of warning on stderr."""
+    import sys
+
+    if "matplotlib" not in sys.modules:
+        os.environ["MPLBACKEND"] = "Agg"
+        if not os.environ.get("MPLCONFIGDIR") and not _matplotlib_dirs_made():
+            import atexit
+            import shutil
+            import tempfile
+
+            private = tempfile.mkdtemp(prefix="rjcad-mpl-")
+            atexit.register(shutil.rmtree, private, True)
+            os.environ["MPLCONFIGDIR"] = private
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def _matplotlib_dirs_made() -> bool:
+    """Make Matplotlib's config and cache folders (XDG, or under HOME), as it would; False if one cannot be."""
+    home = os.path.expanduser("~")
+    dirs = (
+        os.path.join(os.environ.get("XDG_CONFIG_HOME") or os.path.join(home, ".config"), "matplotlib"),
+        os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(home, ".cache"), "matplotlib"),
+    )
+    try:
+        for d in dirs:
+            os.makedirs(d, exist_ok=True)
+            if not os.access(d, os.W_OK):
+                return False
+    except OSError:
+        return False
+    return True
 
 
 def png_bytes(fig: Figure, dpi: float | str = 100) -> bytes:

@@ -71,15 +71,16 @@ def tendon_owner(path_mm: list[list[float]], joints: list[dict]) -> list[str]:
 def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
     """A built finger's (or joint's) manifest (JSON object) and the GLB beside it (same stem)."""
     from rjcad.io.manifest import Manifest
+    from rjcad.io.untrusted import confined, read_bytes, regular_or_absent
 
     path = Path(manifest_path)
     man = Manifest.read(str(path)).to_json()
-    glb = path.with_suffix(".glb")
-    if not glb.is_file():
+    glb = confined(path.parent, path.with_suffix(".glb").name, str(path))
+    if not regular_or_absent(glb):
         raise ViewerError(
             f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild to get it)"
         )
-    data = glb.read_bytes()
+    data = read_bytes(glb, "mesh")
     glb_frame(data, str(glb))  # a damaged GLB is refused before the simulation
     return man, data
 

@@ -155,15 +155,15 @@ def test_bad_input_writes_nothing_and_keeps_an_earlier_report(tmp_path, cli):
     assert not [p for p in os.listdir(tmp_path) if p.startswith(".")]  # no temporary file left
 
 
-def test_the_report_replaces_a_symlink_never_writes_through_it(tmp_path, cli):
+def test_the_report_is_never_written_through_a_symlink_nor_replaces_it(tmp_path, cli):
     good, man = write_pair(tmp_path, printable_pair(), "good", joint=False)
     target = tmp_path / "elsewhere.xml"
     target.write_text("not mine\n")
     link = tmp_path / "report.xml"
     link.symlink_to(target)
-    assert cli("check", str(good), "--manifest", str(man), "--junit", str(link)).code == 0
-    assert not link.is_symlink() and target.read_text() == "not mine\n"
-    assert JUnitXml.fromfile(str(link)).tests == 9
+    code, _, err = cli("check", str(good), "--manifest", str(man), "--junit", str(link))
+    assert code == 2 and "report.xml" in err and "symbolic link" in err and len(err.splitlines()) == 1
+    assert link.is_symlink() and target.read_text() == "not mine\n"  # issue #38: refused, both as they were
 
 
 def test_an_unwritable_report_is_refused_before_checking(tmp_path, cli, monkeypatch):

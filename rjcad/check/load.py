@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree
@@ -10,16 +11,19 @@ import numpy as np
 import trimesh
 
 from rjcad.check.report import BadInput
+from rjcad.errors import RjcadError
 from rjcad.io.manifest import Manifest, ManifestError
+from rjcad.io.untrusted import check_zip, read_bytes
 
 #: Where a 3MF names the parts of an object (PrusaSlicer's per-object config; rjcad writes it).
 PARTS_CONFIG = "Metadata/Slic3r_PE_model.config"
 
 
-def _parts_config(path: Path) -> dict[str, list[tuple[str, int, int]]]:
-    """{object name: [(part name, first triangle, last triangle)]} from a 3MF's parts config ({} if none)."""
+def _parts_config(raw: bytes, label: str) -> dict[str, list[tuple[str, int, int]]]:
+    """{object name: [(part name, first triangle, last triangle)]} from a 3MF's parts config ({} if none); BadInput
+    for a part whose ``firstid``/``lastid`` are not whole numbers with 0 ≤ firstid ≤ lastid."""
     try:
-        with zipfile.ZipFile(path) as z:
+        with zipfile.ZipFile(io.BytesIO(raw)) as z:
             if PARTS_CONFIG not in z.namelist():
                 return {}
             root = ElementTree.fromstring(z.read(PARTS_CONFIG))
@@ -32,14 +36,29 @@ def _parts_config(path: Path) -> dict[str, list[tuple[str, int, int]]]:
         for k, vol in enumerate(obj.findall("volume"), 1):
             vmeta = {m.get("key"): m.get("value") for m in vol.findall("metadata")}
             if vmeta.get("volume_type", "ModelPart") == "ModelPart":
-                vols.append((vmeta.get("name") or f"part{k}", int(vol.attrib["firstid"]), int(vol.attrib["lastid"])))
+                name = vmeta.get("name") or f"part{k}"
+                vols.append((name, *_ids(vol.attrib.get("firstid"), vol.attrib.get("lastid"), name, label)))
         key = meta.get("name", obj.get("id"))
         if key is not None:  # an object with neither a name nor an id: no scene geometry is named None
             out[key] = vols
     return out
 
 
-def _scene_bodies(scene: trimesh.Scene, parts: dict) -> tuple[list[trimesh.Trimesh], list[str]]:
+def _ids(first: str | None, last: str | None, part: str, label: str) -> tuple[int, int]:
+    """A part's triangle range from its ``firstid``/``lastid`` attributes; BadInput unless 0 ≤ first ≤ last."""
+    try:
+        a, b = int(first or ""), int(last or "")
+    except ValueError:
+        a, b = -1, -1
+    if not 0 <= a <= b:
+        raise BadInput(
+            f"{label}: {PARTS_CONFIG}: part {part!r}: firstid {first!r}, lastid {last!r}: must be whole numbers "
+            "with 0 <= firstid <= lastid"
+        )
+    return a, b
+
+
+def _scene_bodies(scene: trimesh.Scene, parts: dict, label: str) -> tuple[list[trimesh.Trimesh], list[str]]:
     """Every object of a 3MF scene placed by its build transform, split into its named parts if listed."""
     names, bodies = [], []
     for node in scene.graph.nodes_geometry:
@@ -54,6 +73,11 @@ def _scene_bodies(scene: trimesh.Scene, parts: dict) -> tuple[list[trimesh.Trime
             bodies.append(trimesh.Trimesh(verts, geom.faces, process=True))
             continue
         for part, first, last in ranges:
+            if last >= len(geom.faces):
+                raise BadInput(
+                    f"{label}: {PARTS_CONFIG}: part {part!r}: lastid {last} is past the object's {len(geom.faces)} "
+                    "triangles"
+                )
             faces = geom.faces[first : last + 1]
             used = np.unique(faces)
             remap = np.full(len(verts), -1, dtype=np.int64)
@@ -88,11 +112,21 @@ def load_bodies(path: str | Path) -> tuple[list[trimesh.Trimesh], list[str] | No
     p = mesh_file(path)
     is_3mf = p.suffix.lower() == ".3mf"
     try:
-        loaded = trimesh.load(str(p), process=not is_3mf, force=None)
+        raw = read_bytes(p, "mesh")
+        if is_3mf:
+            check_zip(raw, str(p))
+    except RjcadError as e:
+        raise BadInput(str(e)) from None
+    try:
+        loaded = trimesh.load(io.BytesIO(raw), file_type=p.suffix.lower()[1:], process=not is_3mf, force=None)
     except Exception as e:  # trimesh raises many kinds on garbage
         raise BadInput(f"{p}: not a readable mesh ({type(e).__name__}: {e})".splitlines()[0]) from None
+    for geom in loaded.geometry.values() if isinstance(loaded, trimesh.Scene) else [loaded]:
+        faces, verts = getattr(geom, "faces", None), getattr(geom, "vertices", ())
+        if faces is not None and len(faces) and (faces.min() < 0 or faces.max() >= len(verts)):
+            raise BadInput(f"{p}: a triangle names a vertex the mesh does not have (index out of range)")
     if isinstance(loaded, trimesh.Scene):
-        bodies, names = _scene_bodies(loaded, _parts_config(p) if is_3mf else {})
+        bodies, names = _scene_bodies(loaded, _parts_config(raw, str(p)) if is_3mf else {}, str(p))
         if not bodies:
             raise BadInput(f"{p}: the file holds no triangles")
         return bodies, names

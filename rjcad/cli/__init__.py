@@ -18,6 +18,7 @@ inside the command functions, so each command imports only what it needs.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import re
@@ -119,24 +120,45 @@ class Terminated(KeyboardInterrupt):
 
 
 def _on_sigterm(signum, frame):
-    raise Terminated()
+    """SIGTERM stops the command, unless its output is already in place: it then finishes (exit 0)."""
+    from rjcad.io import outputs
+
+    if not outputs.PLACED:
+        raise Terminated()
+
+
+def _on_sigint(signum, frame):
+    """Ctrl-C stops the command, unless its output is already in place: it then finishes (exit 0)."""
+    from rjcad.io import outputs
+
+    if not outputs.PLACED:
+        raise KeyboardInterrupt()
 
 
 def main(argv: list[str] | None = None) -> None:
     """Console entry point: run the CLI, turn user errors into one line and exit 2 (SIGINT 130, SIGTERM 143)."""
     args = list(sys.argv[1:] if argv is None else argv)
+    environment()
     debug = "--debug" in args
     from rjcad.cli import progress
 
     progress.QUIET = "--quiet" in args
     args = [a for a in args if a not in ("--debug", "--quiet")]  # accepted anywhere on the line
     on_main = threading.current_thread() is threading.main_thread()
-    previous = signal.signal(signal.SIGTERM, _on_sigterm) if on_main else None
+    from rjcad.io import outputs
+
+    outputs.PLACED = False
+    previous = {}
+    if on_main:
+        previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, _on_sigterm)}
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # not where Ctrl-C is ignored
+            previous[signal.SIGINT] = signal.signal(signal.SIGINT, _on_sigint)
     try:
         _run(args, debug)
     finally:
-        if on_main and previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for s, h in previous.items():
+            if h is not None:
+                signal.signal(s, h)
 
 
 #: True in the ``rjcad`` program itself (``entry``), False where ``main`` is called in another program's
@@ -157,6 +179,41 @@ def entry() -> None:
     PROGRAM = True
     os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)
     main()
+
+
+#: rjcad's symbols as ASCII, for a terminal whose encoding lacks them (a non-UTF-8 locale).
+ASCII = {
+    "→": "->", "←": "<-", "↔": "<->", "°": " deg", "·": "*", "×": "x", "≤": "<=", "≥": ">=", "±": "+/-",
+    "−": "-", "–": "-", "—": "-", "…": "...", "≈": "~", "²": "^2", "³": "^3", "√": "sqrt", "µ": "u", "μ": "mu",
+    "θ": "theta", "τ": "tau", "σ": "sigma", "γ": "gamma", "β": "beta", "α": "alpha", "Δ": "d", "ω": "omega",
+    "φ": "phi", "ρ": "rho", "κ": "kappa", "λ": "lambda", "ε": "eps", "⁺": "+", "⁻": "-", "₀": "0", "₁": "1",
+    "₂": "2", "₃": "3", "✓": "ok", "✗": "x", "“": '"', "”": '"', "‘": "'", "’": "'",
+}  # fmt: skip
+
+
+def _as_ascii(err: UnicodeError) -> tuple[str, int]:
+    """The ``rjcad-ascii`` error handler: ASCII stand-ins for what the stream cannot encode ("?" at worst)."""
+    import unicodedata
+
+    if not isinstance(err, UnicodeEncodeError):
+        raise err
+    text = err.object[err.start : err.end]
+    plain = (ASCII.get(c) or unicodedata.normalize("NFKD", c).encode("ascii", "ignore").decode() or "?" for c in text)
+    return "".join(plain), err.end
+
+
+def environment() -> None:
+    """Streams that cannot encode rjcad's symbols (a non-UTF-8 locale) write them as ASCII (``ASCII``: "->",
+    " deg"); Matplotlib's environment is set where it is imported (``rjcad.plotting.pyplot``)."""
+    import codecs
+
+    codecs.register_error("rjcad-ascii", _as_ascii)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            "".join(ASCII).encode(getattr(stream, "encoding", None) or "ascii")
+        except (UnicodeEncodeError, LookupError):
+            with contextlib.suppress(AttributeError, ValueError):  # not a TextIOWrapper (a test's capture)
+                stream.reconfigure(errors="rjcad-ascii")  # type: ignore[union-attr]
 
 
 def _quiet_stdout() -> None:

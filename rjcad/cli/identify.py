@@ -144,7 +144,7 @@ def identify(campaign, json_out, report_dir, allow_outside):
     from rjcad.cli.progress import progress_line
     from rjcad.identify.campaign import load_campaign
     from rjcad.io.config import write_json
-    from rjcad.io.outputs import check_writable
+    from rjcad.io.outputs import check_writable, refuse_special
 
     if campaign is None:
         if json_out in (None, "-"):
@@ -153,6 +153,7 @@ def identify(campaign, json_out, report_dir, allow_outside):
     if json_out not in (None, "-"):
         deprecated("--json FILE", "--json (one JSON object on stdout; > FILE to keep it)")
     if json_out not in (None, "-"):  # the former --json FILE (--report is refused by OutDir as it is read)
+        refuse_special(json_out)
         check_writable(Path(json_out).parent)  # before the fit, not after it
     with progress_line("identify") as progress:
         report(progress, "reading the campaign")

@@ -103,7 +103,15 @@ class OutFile(click.Path):
     def convert(self, value, param, ctx):
         import os
 
+        from rjcad.io.outputs import OutputError, refuse_special
+
         out = str(super().convert(value, param, ctx))
+        try:
+            refuse_special(out)  # a link, a FIFO or a device is never written through nor replaced
+        except OutputError as e:
+            raise OutputError(
+                f"{param.opts[0]} {value}" if param is not None and param.opts else value, e.reason
+            ) from None
         writable(param, out, os.path.dirname(out) or ".")
         return out
 

@@ -409,9 +409,11 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
                 "--mu-t", mu_t, "MuJoCo has no capstan (one tension along a tendon): use 0 with --engine mujoco"
             )
         from rjcad.cli.mjcf import mujoco_model
-        from rjcad.mjcf.simulate import run_stroke
+        from rjcad.mjcf.simulate import raise_warnings, run_stroke
 
-        return run_stroke(mujoco_model(source, gravity), stroke, steps)
+        closure = run_stroke(mujoco_model(source, gravity), stroke, steps)
+        raise_warnings(str(source or "the paper's finger"))
+        return closure
     if source is not None and Path(source).suffix.lower() == ".xml":
         raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
     from rjcad.physics.finger import simulate_stroke

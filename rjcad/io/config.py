@@ -10,7 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from rjcad.errors import ParameterError
-from rjcad.io.outputs import cannot_write, restore_times
+from rjcad.io import outputs
+from rjcad.io.outputs import cannot_write, make_dirs, refuse_special, restore_times, unmake
 from rjcad.io.untrusted import read_toml
 
 #: Known keys and the type (or types) each takes.
@@ -39,17 +40,22 @@ def check_key(where: str, key: str, value: Any, allowed: KeyTypes) -> Any:
 
 
 def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
-    """Write ``data`` to a temporary file beside ``path``, then rename it into place.
+    """Write ``data`` to a temporary file beside ``path`` (a short name, so that any name the file system allows
+    works), then rename it into place.
 
-    A path that cannot be written is an ``OutputError`` naming it and the system's reason; nothing is left.
+    A path that cannot be written is an ``OutputError`` naming it and the system's reason; a symbolic link, a FIFO
+    or a device at ``path`` is refused (never written through, never replaced); nothing is left, not even the
+    folders it made.
     """
     path = Path(path)
     raw = data.encode("utf-8") if isinstance(data, str) else data
+    refuse_special(path)
+    made = make_dirs(path.parent)
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
         parent = os.stat(path.parent)  # its times come back if the write fails: an earlier run untouched
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=outputs.stage_prefix(), suffix=".tmp")
     except OSError as e:
+        unmake(made)
         raise cannot_write(path, e) from None
     try:
         with os.fdopen(fd, "wb") as f:
@@ -57,10 +63,14 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
+        refuse_special(path)  # a link made while the data was written
+        with outputs.signals_held():
+            os.replace(tmp, path)
+            outputs.PLACED = True
     except BaseException as e:
         Path(tmp).unlink(missing_ok=True)
         restore_times(path.parent, parent)
+        unmake(made)
         if isinstance(e, OSError):
             raise cannot_write(path, e) from None
         raise

@@ -11,8 +11,12 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shutil
+import signal
+import stat
 import tempfile
+import threading
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager, suppress
 from pathlib import Path
@@ -21,6 +25,60 @@ from rjcad.errors import RjcadError
 
 #: Inside a stage: the files a commit replaces, until it is done.
 _ASIDE = ".replaced"
+#: True once this process has put an output set or file in place. A signal after that is answered by finishing
+#: the command (``rjcad.cli`` ignores it): a run never ends "terminated" with its new files in place.
+PLACED = False
+
+
+def stage_prefix() -> str:
+    """The start of this process's temporary names (short: any legal output name fits beside them; with the pid,
+    so that a later run can tell a killed run's leftovers from a live run's)."""
+    return f".rjcad-{os.getpid()}-"
+
+
+def _hold() -> set | None:
+    """Hold SIGINT and SIGTERM back (pending) in the main thread; the mask before (None: not the main thread)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+
+
+def _release(old: set | None) -> None:
+    """Deliver what ``_hold`` held back (its handler runs now)."""
+    if old is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextmanager
+def signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back (left pending) while files are renamed into place, in the main thread."""
+    old = _hold()
+    try:
+        yield
+    finally:
+        _release(old)
+
+
+def clear_stale(out: Path) -> None:
+    """Remove the temporary files and stages a killed run left in ``out`` (named with a pid no longer running)."""
+    with suppress(OSError):
+        for entry in out.iterdir():
+            m = re.fullmatch(r"\.rjcad-(\d+)-[^/]*\.tmp", entry.name)
+            if m and int(m.group(1)) != os.getpid() and not _alive(int(m.group(1))):
+                if entry.is_dir() and not entry.is_symlink():
+                    shutil.rmtree(entry, ignore_errors=True)
+                else:
+                    entry.unlink(missing_ok=True)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True
+    return True
 
 
 class OutputError(RjcadError):
@@ -49,6 +107,20 @@ def cannot_write(path: str | os.PathLike, err: OSError) -> OutputError:
     return OutputError(path, err.strerror or str(err))
 
 
+def refuse_special(path: str | os.PathLike) -> None:
+    """OutputError if ``path`` is a symbolic link, a FIFO, a device or a socket: rjcad never writes through a link
+    and never replaces one, nor such a file (a directory or a regular file, or nothing, passes)."""
+    try:
+        mode = os.lstat(path).st_mode
+    except (OSError, ValueError):
+        return  # absent, or a name the write itself will refuse
+    if stat.S_ISLNK(mode):
+        raise OutputError(path, "is a symbolic link: rjcad never writes through a link nor replaces one")
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        kind = "FIFO" if stat.S_ISFIFO(mode) else "device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "socket"
+        raise OutputError(path, f"is a {kind}, not a regular file: rjcad does not replace it")
+
+
 def check_writable(out_dir: str | os.PathLike) -> Path:
     """Refuse, before a long computation, an output directory that cannot be made or written; creates nothing.
 
@@ -75,15 +147,19 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
     ``OutputError``s naming the file in ``out_dir``, never the stage.
     """
     out = Path(out_dir)
-    made = _make_dirs(out)
+    made = make_dirs(out)
+    held = _hold()  # until the clean-up below is armed: a signal in between would leave the stage behind
     try:
+        clear_stale(out)
         times = os.stat(out)
-        stage = Path(tempfile.mkdtemp(dir=out, prefix=".rjcad-", suffix=".tmp"))
+        stage = Path(tempfile.mkdtemp(dir=out, prefix=stage_prefix(), suffix=".tmp"))
     except OSError as e:
-        _unmake(made)
+        _release(held)
+        unmake(made)
         raise cannot_write(out, e) from None
     done = False
     try:
+        _release(held)
         yield stage
         _commit(stage, out, remove)
         done = True
@@ -96,7 +172,7 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
         if done or not (aside.is_dir() and any(aside.iterdir())):  # else: earlier files that could not go back
             shutil.rmtree(stage, ignore_errors=True)
         if not done:
-            _unmake(made)
+            unmake(made)
             restore_times(out, times)
 
 
@@ -120,7 +196,7 @@ def write_set(
     return [out / name for name in files]
 
 
-def _make_dirs(out: Path) -> list[Path]:
+def make_dirs(out: Path) -> list[Path]:
     """Make ``out`` and its missing parents; return the ones made, deepest first."""
     missing = []
     for d in (out, *out.parents):
@@ -130,13 +206,13 @@ def _make_dirs(out: Path) -> list[Path]:
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        _unmake(missing)
+        unmake(missing)
         raise cannot_write(out, e) from None
     return missing
 
 
-def _unmake(made: list[Path]) -> None:
-    """Remove the directories ``_make_dirs`` made, if still empty."""
+def unmake(made: list[Path]) -> None:
+    """Remove the directories ``make_dirs`` made, if still empty."""
     for d in made:
         with suppress(OSError):
             d.rmdir()
@@ -163,6 +239,8 @@ def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
     """Move the staged files (and folders) into ``out``, each one they replace set aside first; undo all on a
     failure. An earlier directory is replaced only by a staged folder or a ``remove`` name ending in "/"."""
     new = sorted(p.name for p in stage.iterdir())
+    for n in dict.fromkeys([*new, *(r.rstrip("/") for r in remove)]):
+        refuse_special(out / n)
     folders = {n for n in new if (stage / n).is_dir()} | {n.rstrip("/") for n in remove if n.endswith("/")}
     old = [n for n in dict.fromkeys([*new, *(r.rstrip("/") for r in remove)]) if os.path.lexists(out / n)]
     for n in old:
@@ -173,15 +251,18 @@ def _commit(stage: Path, out: Path, remove: tuple[str, ...]) -> None:
     saved: list[str] = []
     moved: list[str] = []
     current = out
+    global PLACED
     try:
-        for n in old:
-            current = out / n
-            os.replace(out / n, aside / n)
-            saved.append(n)
-        for n in new:
-            current = out / n
-            os.replace(stage / n, out / n)
-            moved.append(n)
+        with signals_held():  # a signal waits until the whole set is in place (or back as it was)
+            for n in old:
+                current = out / n
+                os.replace(out / n, aside / n)
+                saved.append(n)
+            for n in new:
+                current = out / n
+                os.replace(stage / n, out / n)
+                moved.append(n)
+            PLACED = True
     except BaseException as e:
         if not _undo(stage, out, moved, saved):
             raise OutputError(

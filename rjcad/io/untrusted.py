@@ -1,7 +1,8 @@
 """Untrusted input: every file a user gives rjcad (TOML, JSON, CSV) is read and parsed here, and checked.
 
-What a reader gets from :func:`read_toml`, :func:`read_json` or :func:`read_text` is a file that exists, is
-at most ``MAX_BYTES[kind]`` long, is UTF-8 text (a BOM is dropped) without NUL bytes and, parsed, nests at
+What a reader gets from :func:`read_toml`, :func:`read_json` or :func:`read_text` is a regular file (a FIFO, a
+device or a directory is refused before it is read: nothing blocks) that exists, is at most ``MAX_BYTES[kind]``
+long (its size checked before it is read), is UTF-8 text (a BOM is dropped) without NUL bytes and, parsed, nests at
 most ``MAX_DEPTH`` tables/arrays deep, holds no integer too large for a float and no NaN or infinity.
 Anything else is one :class:`RjcadError` line naming the file (and the key): never a traceback, never the
 file's content (only a short prefix of a value, :func:`rjcad.errors.quote`). Values are then checked by
@@ -16,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
 import sys
 import tomllib
 from pathlib import Path
@@ -25,7 +27,10 @@ from rjcad.errors import ParameterError, RjcadError, quote
 
 #: Largest file read, by kind [bytes]: design, sweep and campaign TOML files are written by hand; a
 #: manifest is a few kB; a campaign CSV holds up to a few million rows.
-MAX_BYTES = {"TOML": 1 << 20, "JSON": 32 << 20, "CSV": 256 << 20, "text": 32 << 20}
+MAX_BYTES = {"TOML": 1 << 20, "JSON": 32 << 20, "CSV": 256 << 20, "text": 32 << 20, "mesh": 256 << 20}
+#: A zip container (3MF) read: at most this many members, inflating to at most this many bytes in all, each
+#: member at most MAX_ZIP_RATIO times its compressed size (a zip bomb is refused before anything is inflated).
+MAX_ZIP_MEMBERS, MAX_ZIP_BYTES, MAX_ZIP_RATIO = 10_000, 256 << 20, 1000
 #: Deepest nesting of tables and arrays (rjcad's own files nest at most 4 deep).
 MAX_DEPTH = 32
 #: Byte order marks of the encodings a user's editor may save in instead of UTF-8.
@@ -42,24 +47,90 @@ def _size_text(n: int) -> str:
     return f"{n / (1 << 20):.0f} MB" if n >= 1 << 20 else f"{n} bytes"
 
 
-def read_text(path: str | os.PathLike, kind: str = "text", name: str | None = None) -> str:
-    """The UTF-8 text of ``path`` (at most ``MAX_BYTES[kind]``; a BOM dropped); RjcadError naming ``name``
-    (default: the path) if it is missing, not a file, unreadable, too large, not UTF-8 or holds NUL bytes."""
+def read_bytes(path: str | os.PathLike, kind: str = "text", name: str | None = None) -> bytes:
+    """The bytes of the regular file ``path`` (at most ``MAX_BYTES[kind]``); RjcadError naming ``name`` (default: the
+    path) if it is missing, a directory, a FIFO, a device or a socket, unreadable or too large. It is opened without
+    blocking (a FIFO with no writer would wait for ever) and its type and size are checked before it is read."""
     p = Path(path)
     label = str(p) if name is None else name
     limit = MAX_BYTES[kind]
+    flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
     try:
-        with p.open("rb") as f:
-            raw = f.read(limit + 1)
+        fd = os.open(p, flags)
     except FileNotFoundError:
         raise RjcadError(f"{label}: file not found") from None
     except IsADirectoryError:
         raise RjcadError(f"{label}: is a directory, not a {kind} file") from None
+    except (OSError, ValueError) as e:  # ValueError: a NUL byte in the name
+        raise RjcadError(f"{label}: cannot read ({getattr(e, 'strerror', None) or type(e).__name__})") from None
+    try:
+        st = os.fstat(fd)
+        if stat.S_ISDIR(st.st_mode):
+            raise RjcadError(f"{label}: is a directory, not a {kind} file")
+        if not stat.S_ISREG(st.st_mode):
+            raise RjcadError(f"{label}: not a regular file (a {_file_type(st.st_mode)}): give a {kind} file")
+        if st.st_size > limit:
+            raise RjcadError(f"{label}: too large: a {kind} file must be at most {_size_text(limit)}")
+        with os.fdopen(os.dup(fd), "rb") as f:
+            raw = f.read(limit + 1)
     except OSError as e:
         raise RjcadError(f"{label}: cannot read ({e.strerror or type(e).__name__})") from None
+    finally:
+        os.close(fd)
     if len(raw) > limit:
         raise RjcadError(f"{label}: too large: a {kind} file must be at most {_size_text(limit)}")
-    return decode(raw, label, kind)
+    return raw
+
+
+def _file_type(mode: int) -> str:
+    kinds = ((stat.S_ISFIFO, "FIFO"), (stat.S_ISCHR, "character device"), (stat.S_ISBLK, "block device"))
+    return next((name for test, name in kinds if test(mode)), "socket" if stat.S_ISSOCK(mode) else "special file")
+
+
+def regular_or_absent(path: str | os.PathLike, name: str | None = None) -> bool:
+    """True if ``path`` is a regular file (symlinks followed), False if nothing is there; RjcadError naming ``name``
+    for a FIFO, a device, a socket or a directory (a reader that only looks whether a file exists)."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return False
+    except (OSError, ValueError) as e:
+        raise RjcadError(f"{name or path}: cannot read ({getattr(e, 'strerror', None) or type(e).__name__})") from None
+    if stat.S_ISREG(st.st_mode):
+        return True
+    what = "a directory" if stat.S_ISDIR(st.st_mode) else f"a {_file_type(st.st_mode)}"
+    raise RjcadError(f"{name or path}: not a regular file ({what})")
+
+
+def read_text(path: str | os.PathLike, kind: str = "text", name: str | None = None) -> str:
+    """The UTF-8 text of ``path`` (:func:`read_bytes`, then :func:`decode`: a BOM dropped); RjcadError naming
+    ``name`` (default: the path) if it is missing, not a regular file, unreadable, too large, not UTF-8 or holds
+    NUL bytes."""
+    label = str(path) if name is None else name
+    return decode(read_bytes(path, kind, label), label, kind)
+
+
+def check_zip(raw: bytes, label: str) -> None:
+    """Refuse a zip container (a 3MF) before inflating it: not a zip, more than MAX_ZIP_MEMBERS members, more than
+    MAX_ZIP_BYTES inflated in all, or a member inflating more than MAX_ZIP_RATIO-fold (RjcadError naming ``label``)."""
+    import io
+    import zipfile
+
+    try:
+        infos = zipfile.ZipFile(io.BytesIO(raw)).infolist()
+    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as e:
+        raise RjcadError(f"{label}: not a readable zip container ({_one_line(e)})") from None
+    if len(infos) > MAX_ZIP_MEMBERS:
+        raise RjcadError(f"{label}: {len(infos)} zip members; at most {MAX_ZIP_MEMBERS} are read")
+    total = sum(i.file_size for i in infos)
+    if total > MAX_ZIP_BYTES:
+        raise RjcadError(f"{label}: inflates to {_size_text(total)}; at most {_size_text(MAX_ZIP_BYTES)} are read")
+    for i in infos:
+        if i.file_size > (1 << 20) and i.file_size > MAX_ZIP_RATIO * max(i.compress_size, 1):
+            raise RjcadError(
+                f"{label}: zip member {quote(i.filename)} inflates {i.file_size // max(i.compress_size, 1)}-fold; "
+                f"at most {MAX_ZIP_RATIO}-fold is read (a zip bomb)"
+            )
 
 
 def decode(raw: bytes, label: str, kind: str = "text") -> str:
@@ -151,6 +222,19 @@ def _fits_float(i: int) -> bool:
     return True
 
 
+def parse_json_lines(text: str, label: str) -> list[Any]:
+    """Each non-blank line of ``text`` parsed as JSON (:func:`parse_json`: the same depth and number checks), or None
+    for a line that is not valid JSON (a reader of a log drops those)."""
+    out: list[Any] = []
+    for k, line in enumerate(text.split("\n"), 1):
+        if line.strip():
+            try:
+                out.append(parse_json(line, f"{label}: line {k}"))
+            except RjcadError:
+                out.append(None)
+    return out
+
+
 def _key(where: str) -> str:
     return quote(where, 80, repr_=False) if where else "the document"
 
@@ -167,7 +251,7 @@ def confined(folder: Path, name: str, label: str, allow_outside: bool = False) -
         return path
     try:
         base, real = folder.resolve(), path.resolve()
-    except (OSError, ValueError) as e:  # a NUL byte, a name too long, a symlink loop
+    except (OSError, ValueError, RuntimeError) as e:  # a NUL byte, a name too long, a symlink loop (RuntimeError)
         why = getattr(e, "strerror", None) or e
         raise RjcadError(f"{label}: file {quote(name)} cannot be opened ({why})") from None
     if base not in real.parents:

@@ -141,14 +141,20 @@ MESHDIR = "meshes"
 
 def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
     """Where each body's mesh is: ``<stem>_<body>.stl`` beside the manifest, else ``<stem>.3mf``."""
+    from rjcad.io.untrusted import confined, regular_or_absent
+
     p = Path(manifest_path)
     out = {}
     threemf = p.with_suffix(".3mf")
-    for b in _checked(man.bodies):
-        stl = p.with_name(f"{p.stem}_{b.name}.stl")
-        if stl.is_file():
+    for k, b in enumerate(_checked(man.bodies), 1):
+        if not b.name or "/" in b.name or "\\" in b.name or b.name.startswith(".") or "\0" in b.name:
+            raise ParameterError(
+                f"{p}: bodies[{k}].name", b.name, "must be a plain name (no '/', '\\' or leading '.'): it names a file"
+            )
+        stl = confined(p.parent, f"{p.stem}_{b.name}.stl", str(p))
+        if regular_or_absent(stl):
             out[b.name] = stl
-        elif threemf.is_file():
+        elif regular_or_absent(confined(p.parent, threemf.name, str(p))):
             out[b.name] = threemf
         else:
             raise RjcadError(
@@ -160,17 +166,21 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
 
 def read_meshes(sources: dict[str, Path]) -> dict[str, trimesh.Trimesh]:
     """Each body's trimesh from its source (a per-body STL, or the named part of a 3MF)."""
+    import io
+
     import trimesh
 
     from rjcad.check.load import load_bodies
+    from rjcad.io.untrusted import read_bytes
 
     out: dict[str, trimesh.Trimesh] = {}
     parts: dict[Path, dict[str, trimesh.Trimesh]] = {}
     for name, path in sources.items():
         mesh: Geometry | None
         if path.suffix.lower() == ".stl":
+            raw = read_bytes(path, "mesh")
             try:
-                mesh = trimesh.load(str(path), force="mesh")
+                mesh = trimesh.load(io.BytesIO(raw), file_type="stl", force="mesh")
             except Exception as e:  # trimesh raises many kinds on garbage
                 raise RjcadError(f"{path}: not a readable STL ({type(e).__name__})") from None
         else:

@@ -27,7 +27,7 @@ import itertools
 
 import numpy as np
 
-from rjcad.errors import optional_import
+from rjcad.errors import RjcadError, optional_import
 from rjcad.physics.finger import Closure
 
 DT = 5e-4  # time step [s]
@@ -44,9 +44,29 @@ LONG_STEP_MM = 0.15  # one more correction and settle per this much tendon displ
 FIRST_SETTLE = 400  # time steps at t_d = 0 before the first reading
 
 
+#: MuJoCo's warnings since the last ``quiet_mujoco()``: kept here instead of printed and logged to MUJOCO_LOG.TXT
+#: in the current folder (MuJoCo's default handler).
+WARNINGS: list[str] = []
+
+
+def quiet_mujoco():
+    """The ``mujoco`` module with its warnings sent to WARNINGS (emptied): nothing printed, no log file."""
+    mujoco = optional_import("mujoco", "mujoco")
+    mujoco.set_mju_user_warning(WARNINGS.append)
+    WARNINGS.clear()
+    return mujoco
+
+
+def raise_warnings(source: str) -> None:
+    """RjcadError naming ``source`` with MuJoCo's first warning, if it gave one (its run is not to be trusted)."""
+    if WARNINGS:
+        first = " ".join(WARNINGS[0].split())
+        raise RjcadError(f"{source}: MuJoCo warned: {first} (the model is not one it can simulate)")
+
+
 def load(xml: str, assets: dict[str, bytes] | None = None):
     """A MuJoCo model from MJCF text and its mesh files (name → bytes)."""
-    mujoco = optional_import("mujoco", "mujoco")
+    mujoco = quiet_mujoco()
 
     return mujoco.MjModel.from_xml_string(xml, assets or {})
 

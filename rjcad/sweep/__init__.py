@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 import time
+from contextlib import suppress
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from rjcad.io.outputs import cannot_write, check_writable, output_set
+from rjcad.io.outputs import OutputError, cannot_write, check_writable, make_dirs, output_set, refuse_special, unmake
 from rjcad.progress import Progress
 from rjcad.progress import report as tell  # rjcad.sweep.report is a module
 from rjcad.sweep.analytic import analytic_rows
@@ -116,13 +118,24 @@ def _todo(points: list[dict], done: set[str]) -> list[dict]:
     return todo
 
 
-def _ends_a_line(path: Path) -> bool:
-    """True if the file is empty or ends with a line break."""
-    with path.open("rb") as f:
-        if f.seek(0, os.SEEK_END) == 0:
-            return True
-        f.seek(-1, os.SEEK_END)
-        return f.read(1) == b"\n"
+def _open_log(path: Path):
+    """The build log opened to append, never through a link nor on a FIFO or a device (``refuse_special``), with a
+    line break first where an interruption cut its last line."""
+    refuse_special(path)
+    flags = os.O_RDWR | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, flags, 0o644)
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OutputError(path, "not a regular file: rjcad does not append to it")
+        size = os.lseek(fd, 0, os.SEEK_END)
+        cut = size > 0 and os.pread(fd, 1, size - 1) != b"\n"
+    except BaseException:
+        os.close(fd)
+        raise
+    log = os.fdopen(fd, "a", encoding="utf-8")
+    if cut:
+        log.write("\n")  # after a line the interruption cut, so that the next row starts a line of its own
+    return log
 
 
 def _build_rows(
@@ -139,14 +152,15 @@ def _build_rows(
     interrupted run; an earlier interrupted run's rows stay in it too, until a run finishes)."""
     workers = (os.cpu_count() or 1) if workers is None else workers
     mesh_dir = check_writable(out / "meshes") if keep_meshes else None
+    made = make_dirs(out)
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        cut = log_path.exists() and not _ends_a_line(log_path)
-        log = log_path.open("a", encoding="utf-8")
-        if cut:
-            log.write("\n")  # after a line the interruption cut, so that the next row starts a line of its own
+        log = _open_log(log_path)
     except OSError as e:
+        unmake(made)
         raise cannot_write(log_path, e) from None
+    except BaseException:
+        unmake(made)
+        raise
 
     def keep(row):
         new_rows.append(row)
@@ -161,9 +175,18 @@ def _build_rows(
             run_tasks(
                 build_task, todo, workers, scheduler, progress, keep, mesh_dir=str(mesh_dir) if mesh_dir else None
             )
-    finally:
-        if log_path.exists() and log_path.stat().st_size == 0:
-            log_path.unlink()  # no row came: leave no empty log behind
+    except BaseException:
+        _drop_empty_log(log_path)
+        unmake(made)  # a folder this run made, left empty: no row came (a kept log keeps it)
+        raise
+    _drop_empty_log(log_path)
+
+
+def _drop_empty_log(log_path: Path) -> None:
+    """No row came: leave no empty log behind."""
+    with suppress(OSError):
+        if log_path.is_file() and not log_path.is_symlink() and log_path.stat().st_size == 0:
+            log_path.unlink()
 
 
 def _finish(

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from rjcad.io.config import write_atomic
+from rjcad.io.untrusted import read_text, regular_or_absent
 from rjcad.plotting import pyplot, save_png
 from rjcad.sweep.spec import INPUTS
 
@@ -17,10 +18,9 @@ from rjcad.sweep.spec import INPUTS
 def read_results(path: Path) -> list[dict]:
     """The rows of a results.csv as written (none if it does not exist); ``--resume`` reads an earlier run
     with ``rjcad.sweep.resume.read_earlier``, which keeps only intact rows."""
-    if not path.exists():
+    if not regular_or_absent(path):
         return []
-    with path.open(newline="") as f:
-        return list(csv.DictReader(f))
+    return list(csv.DictReader(io.StringIO(read_text(path, "CSV"), newline="")))
 
 
 def _columns(rows: list[dict]) -> list[str]:

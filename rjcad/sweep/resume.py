@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import re
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from rjcad.errors import RjcadError
+from rjcad.io.untrusted import parse_json_lines, read_bytes, regular_or_absent
 from rjcad.sweep.spec import INPUTS
 
 STATUSES = ("ok", "check_failed", "infeasible", "failed")
@@ -55,19 +55,16 @@ def read_earlier(csv_path: Path, log_path: Path) -> Earlier:
     """The intact rows of ``csv_path`` (results.csv) then of ``log_path`` (the build-mode JSON-lines log)."""
     earlier = Earlier()
     seen: set[str] = set()
-    if csv_path.exists():
+    if regular_or_absent(csv_path):
         _read_csv(csv_path, earlier, seen)
-    if log_path.exists():
+    if regular_or_absent(log_path):
         _read_log(log_path, earlier, seen)
     return earlier
 
 
 def _text(path: Path) -> str:
     """The file as text; UTF-16 (a spreadsheet's 'Unicode text') is refused, bad bytes become U+FFFD."""
-    try:
-        data = path.read_bytes()
-    except OSError as e:
-        raise RjcadError(f"{path}: cannot read: {e.strerror or e}") from None
+    data = read_bytes(path, "CSV")
     if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
         raise RjcadError(
             f"{path}: UTF-16 text, not a results file written by rjcad sweep (UTF-8); "
@@ -166,10 +163,7 @@ def _read_log(path: Path, earlier: Earlier, seen: set[str]) -> None:
     for line in _lines(_text(path), earlier):
         if not line.strip():
             continue
-        try:
-            row = json.loads(line)
-        except ValueError:
-            row = None
+        row = parse_json_lines(line, str(path))[0]  # the same depth and number guards as every JSON read
         if not isinstance(row, dict) or not _intact({**row, "feasible": str(row.get("feasible"))}):
             earlier.dropped[DAMAGED if "\0" in line or "\ufffd" in line else NOT_A_ROW] += 1
             continue

@@ -228,7 +228,15 @@ class SweepSpec:
         return list(zip(*cols)) if cols else [()] * n
 
 
+def _canonical(v):
+    """A number by its value (5, 5.0 and 5.00 are one design: a whole number hashes as an integer); anything
+    else as it is."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return v
+    return int(v) if float(v).is_integer() else float(v)
+
+
 def point_id(point: dict) -> str:
     """Stable id of a design point: a hash of its inputs (so that --resume matches rows)."""
-    key = json.dumps({k: point[k] for k in INPUTS}, sort_keys=True, default=float)
+    key = json.dumps({k: _canonical(point[k]) for k in INPUTS}, sort_keys=True, default=float)
     return hashlib.sha1(key.encode()).hexdigest()[:12]

@@ -1115,6 +1115,361 @@ def grammar_cases(sh: Shared) -> list[Case]:
     return cases
 
 
+# ------------------------------------------------------------------- 10. special files, links, locales
+
+
+def _special(path: Path, kind: str) -> None:
+    """Make ``path`` a FIFO, a link to a device, a socket or a link to itself (a loop)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "device":
+        path.symlink_to("/dev/zero")
+    elif kind == "socket":
+        import socket
+
+        with socket.socket(socket.AF_UNIX) as sock:
+            sock.bind(str(path))
+    else:  # a loop
+        path.symlink_to(path.name)
+
+
+#: What an input may be instead of a regular file.
+SPECIAL_KINDS = ("fifo", "device", "socket", "loop")
+
+
+def input_roles(sh: Shared) -> dict[str, tuple[list[str], str, Callable[[Path], None]]]:
+    """Every input a command reads, ``{f}`` the file made special: (argv, the file's path, setup of the rest)."""
+
+    def camp(d: Path) -> None:
+        copy_tree(sh.campaign, d / "camp")
+
+    def camp_csv(d: Path) -> None:
+        camp(d)
+        first = sorted((d / "camp").glob("*.csv"))[0]
+        first.rename(d / "camp" / "data.moved")
+        (d / "camp" / "name.txt").write_text(first.name)
+
+    def earlier(d: Path) -> None:
+        copy_tree(sh.sweep_out, d / "o")
+
+    def manifest_with(suffix: str):
+        def setup(d: Path) -> None:
+            shutil.copyfile(sh.joint / "joint.json", d / "m.json")
+            if suffix != ".3mf":
+                shutil.copyfile(sh.joint / "joint.3mf", d / "m.3mf")
+
+        return setup
+
+    none = lambda d: None  # noqa: E731
+    return {
+        "config": (["spring", "--config", "{f}"], "in.toml", none),
+        "joint-config": (["joint", "--config", "{f}", "--out", "o", "--no-png"], "in.toml", none),
+        "template": (["finger", "{f}", "--out", "o", "--no-png"], "in.toml", none),
+        "simfinger": (["simulate", "finger", "{f}", "--json"], "in.toml", none),
+        "sweep-file": (["sweep", "{f}", "--out", "o", "--workers", "0"], "in.toml", none),
+        "printer": (["spring", "--stiffness", "5.2", "--printer", "{f}"], "p.toml", none),
+        "material": (["spring", "--stiffness", "5.2", "--material", "{f}"], "m.toml", none),
+        "campaign": (["identify", "{f}", "--json"], "camp/campaign.toml", lambda d: (camp(d), (d / "camp" / "campaign.toml").unlink())),
+        "mesh-stl": (["check", "{f}"], "in.stl", none),
+        "mesh-3mf": (["check", "{f}"], "in.3mf", none),
+        "check-manifest": (["check", str(sh.joint / "joint.stl"), "--manifest", "{f}"], "m.json", none),
+        "manifest-sim": (["simulate", "finger", "{f}", "--json"], "m.json", none),
+        "manifest-urdf": (["urdf", "{f}", "--out", "o"], "m.json", none),
+        "manifest-view": (["view", "{f}", "--out", "o"], "m.json", none),
+        "beside-glb": (["view", "m.json", "--out", "o"], "m.glb", manifest_with(".glb")),
+        "beside-3mf": (["mjcf", "m.json", "--out", "o"], "m.3mf", manifest_with(".3mf")),
+        "mjcf-xml": (["simulate", "finger", "--engine", "mujoco", "{f}"], "in.xml", none),
+        "bench-source": (["bench", "--finger", "--source", "{f}", "--out", "o", "--samples", "200"], "in.toml", none),
+        "identified": (["mjcf", "m.json", "--identified", "{f}", "--out", "o"], "id.json", manifest_with(".json")),
+        "resume-csv": (["sweep", str(sh.sweep_file), "--out", "o", "--workers", "0", "--resume"], "o/results.csv", lambda d: (earlier(d), (d / "o" / "results.csv").unlink())),
+        "resume-log": (["sweep", str(sh.sweep_file), "--out", "o", "--workers", "0", "--resume"], "o/results.partial.jsonl", earlier),
+    }  # fmt: skip
+
+
+def special_input_cases(sh: Shared) -> list[Case]:
+    """Every input as a FIFO, a device, a socket or a link loop: refused in one line, before it is read (a FIFO
+    would block a reader for ever)."""
+    cases = []
+    for role, (argv, path, setup) in input_roles(sh).items():
+        for kind in SPECIAL_KINDS:
+
+            def mk(d, setup=setup, path=path, kind=kind):
+                setup(d)
+                _special(d / path, kind)
+
+            cases.append(
+                Case(
+                    f"special-{role}-{kind}",
+                    [a.replace("{f}", path) for a in argv],
+                    "error",
+                    mk,
+                    mention=(Path(path).name,),
+                    timeout=30,
+                )
+            )
+    return cases
+
+
+#: Writers of one file, and where ``{o}`` puts it.
+FILE_WRITERS = ("spring-plot", "simjoint-plot", "simfinger-plot", "life-plot", "check-junit")
+#: Writers of a set, and one member the place holds already.
+SET_MEMBERS = {"sweep": "results.csv", "bench": "campaign.toml", "design": "finger.toml", "view": "joint.html"}
+
+
+def special_output_cases(sh: Shared) -> list[Case]:
+    """An output that is a link (to a file outside, or dangling), a FIFO or a socket: never written through, never
+    replaced (one line naming it; the outside file unchanged); a legal long name (up to 255 bytes) written."""
+    cases = []
+    places = {
+        "link-outside": lambda f: (write(f.parent.parent / "outside.txt", "not rjcad's\n"), f.symlink_to("../outside.txt")),
+        "link-dangling": lambda f: f.symlink_to("../nowhere.txt"),
+        "fifo": lambda f: os.mkfifo(f),
+        "socket": lambda f: _special(f, "socket"),
+    }  # fmt: skip
+    all_writers = writers(sh)
+    for name in FILE_WRITERS:
+        argv = all_writers[name][0]
+        target = argv[-1].replace("{o}", "o")
+        for place, make in places.items():
+
+            def setup(d, make=make, target=target):
+                open_dir(d / "o")
+                make(d / target)
+
+            cases.append(
+                Case(
+                    f"special-out-{name}-{place}",
+                    [a.replace("{o}", "o") for a in argv],
+                    "error",
+                    setup,
+                    mention=(Path(target).name,),
+                    timeout=90,
+                )
+            )
+        for length in (245, 249, 255):  # the whole name, suffix included: every legal length works
+            stem, suffix = Path(target).stem, Path(target).suffix
+            long_name = "n" * (length - len(suffix)) + suffix
+            cases.append(
+                Case(
+                    f"special-out-{name}-name{length}",
+                    [a.replace("{o}", "o").replace(stem + suffix, long_name) for a in argv],
+                    "checked" if name == "check-junit" else "ok",
+                    lambda d: open_dir(d / "o"),
+                    timeout=90,
+                    post=lambda d, code, long_name=long_name: _only(d / "o", {long_name}),
+                )
+            )
+    for name, member in SET_MEMBERS.items():
+        argv = all_writers[name][0]
+        for place, make in places.items():
+
+            def setup(d, make=make, member=member):
+                open_dir(d / "o")
+                make(d / "o" / member)
+
+            cases.append(
+                Case(
+                    f"special-out-{name}-{place}",
+                    [a.replace("{o}", "o") for a in argv],
+                    "error",
+                    setup,
+                    mention=(member,),
+                    timeout=90,
+                )
+            )
+    return cases
+
+
+def _only(folder: Path, names: set[str]) -> None:
+    """``folder`` holds exactly ``names`` (no temporary file left beside them)."""
+    have = {p.name for p in folder.iterdir()}
+    assert have == names, f"{folder.name} holds {sorted(have)}, not {sorted(names)}"
+
+
+def _parts_3mf(sh: Shared, first: str | None, last: str | None) -> bytes:
+    """The joint's 3MF with its first part's firstid/lastid set to ``first``/``last`` (None: removed)."""
+    src = zipfile.ZipFile(sh.joint / "joint.3mf")
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as out:
+        for info in src.infolist():
+            data = src.read(info.filename)
+            if info.filename == "Metadata/Slic3r_PE_model.config":
+                text = data.decode()
+                head, rest = text.split("<volume ", 1)
+                attrs, tail = rest.split(">", 1)
+                kept = " ".join(a for a in attrs.split() if not a.startswith(("firstid=", "lastid=")))
+                new = [kept]
+                new += [f'firstid="{first}"'] if first is not None else []
+                new += [f'lastid="{last}"'] if last is not None else []
+                data = (head + "<volume " + " ".join(new) + ">" + tail).encode()
+            out.writestr(info.filename, data)
+    return buf.getvalue()
+
+
+def _bomb_3mf(members: int, inflated: int) -> bytes:
+    """A zip of ``members`` members, the first of ``inflated`` zero bytes (a zip bomb when large)."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as out:
+        with out.open("3D/3dmodel.model", "w", force_zip64=True) as f:
+            block = bytes(1 << 20)
+            for _ in range(inflated >> 20):
+                f.write(block)
+        for k in range(1, members):
+            out.writestr(f"m/{k}", b"")
+    return buf.getvalue()
+
+
+def container_cases(sh: Shared) -> list[Case]:
+    """3MF parts with broken ids, a zip bomb, too many members; JSON lines nested deep; a manifest's body named
+    with a path; the designs of a sweep whose values are one number spelt three ways."""
+    cases = []
+    ids = {
+        "text": ("a", "b"),
+        "float": ("0.5", "9.5"),
+        "missing-first": (None, "5"),
+        "missing-last": ("0", None),
+        "reversed": ("9", "3"),
+        "negative": ("-4", "3"),
+        "past-end": ("0", "99999999"),
+    }
+    for kind, (first, last) in ids.items():
+        cases.append(
+            Case(
+                f"container-3mf-ids-{kind}",
+                ["check", "in.3mf"],
+                "error",
+                lambda d, first=first, last=last: write(d / "in.3mf", _parts_3mf(sh, first, last)),
+                mention=("in.3mf",),
+            )
+        )
+    for kind, (members, inflated) in {"bomb": (1, 300 << 20), "members": (12_000, 0)}.items():
+        cases.append(
+            Case(
+                f"container-3mf-{kind}",
+                ["check", "in.3mf"],
+                "error",
+                lambda d, m=members, i=inflated: write(d / "in.3mf", _bomb_3mf(m, i)),
+                mention=("in.3mf",),
+                timeout=20,
+            )
+        )
+    for kind, name in {"slash": "a/b", "dotdot": "..", "backslash": "a\\b", "hidden": ".x"}.items():
+
+        def setup(d, name=name):
+            man = json.loads((sh.joint / "joint.json").read_text())
+            man["bodies"][0]["name"] = name
+            if man.get("moving_body") and man["moving_body"] == man["bodies"][0].get("name"):
+                man["moving_body"] = name
+            write(d / "m.json", json.dumps(man))
+            shutil.copyfile(sh.joint / "joint.3mf", d / "m.3mf")
+
+        cases.append(
+            Case(
+                f"container-mjcf-body-{kind}",
+                ["mjcf", "m.json", "--out", "o"],
+                "error",
+                setup,
+                mention=("m.json", "name"),
+            )
+        )
+
+    def huge_glb(d: Path) -> None:
+        shutil.copyfile(sh.joint / "joint.json", d / "m.json")
+        with (d / "m.glb").open("wb") as f:
+            f.truncate(3 << 29)  # 1.5 GB, sparse: refused by its size, before it is read
+
+    cases.append(
+        Case(
+            "container-view-huge-glb",
+            ["view", "m.json", "--out", "o"],
+            "error",
+            huge_glb,
+            mention=("m.glb",),
+            timeout=10,
+        )
+    )
+
+    def deep_log(d: Path) -> None:
+        copy_tree(sh.sweep_out, d / "o")
+        write(d / "o" / "results.partial.jsonl", "[" * 200_000 + "]" * 200_000 + "\n")
+
+    cases.append(
+        Case(
+            "container-resume-deep-line",
+            ["sweep", str(sh.sweep_file), "--out", "o", "--workers", "0", "--resume"],
+            "either",
+            deep_log,
+            mention=("results",),
+            post=_exactly_once(sh),
+        )
+    )
+    spelt = SWEEP_TOML.replace("preload_deg = 90\n", "").replace(
+        "[params.material]", "[params.preload_deg]\nvalues = [90, 90.0, 90.00]\n\n[params.material]"
+    )
+    assert spelt != SWEEP_TOML
+    cases.append(
+        Case(
+            "container-sweep-one-number-three-ways",
+            ["sweep", "s.toml", "--out", "o", "--workers", "0"],
+            "ok",
+            lambda d: write(d / "s.toml", spelt),
+            post=lambda d, code: _row_count(d / "o" / "results.csv", _row_count_of(sh)),
+        )
+    )
+    return cases
+
+
+def _row_count_of(sh: Shared) -> int:
+    with (sh.sweep_out / "results.csv").open(newline="") as f:
+        return len(list(csv.DictReader(f)))
+
+
+def _row_count(path: Path, n: int) -> None:
+    with path.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == n, f"{len(rows)} rows for {n} designs (one number spelt three ways is one design)"
+
+
+#: Commands whose output holds rjcad's symbols (→, °, θ, σ, ·), run on a terminal in ISO-8859-1 and in ASCII.
+LOCALE_COMMANDS = {
+    "simfinger": ["simulate", "finger"],
+    "simjoint": ["simulate", "joint", "--rotation", "90"],
+    "life": ["life"],
+    "spring": ["spring", "--stiffness", "5.2"],
+    "check": ["check", "{joint}/joint.stl", "--manifest", "{joint}/joint.json"],
+    "identify": ["identify", "{campaign}/campaign.toml"],
+}
+
+
+def locale_cases(sh: Shared) -> list[Case]:
+    """Every command that prints symbols, on streams that cannot encode them: exit 0 (1 for a check's verdict),
+    no traceback, ASCII stand-ins."""
+    cases = [
+        Case(
+            "locale-finger-latin-1",
+            ["finger", str(sh.finger_one), "--out", "o", "--no-png"],
+            "ok",
+            timeout=180,
+            tags={"encoding": "latin-1"},
+            post=lambda d, code: _exists(d / "o" / "finger.json"),
+        )
+    ]
+    for name, argv in LOCALE_COMMANDS.items():
+        for enc in ("latin-1", "ascii"):
+            line = [a.replace("{joint}", str(sh.joint)).replace("{campaign}", str(sh.campaign)) for a in argv]
+            cases.append(
+                Case(
+                    f"locale-{name}-{enc}",
+                    line,
+                    "checked" if name == "check" else "ok",
+                    timeout=120,
+                    tags={"encoding": enc},
+                )
+            )
+    return cases
+
+
 def _exists(path: Path) -> None:
     assert path.is_file(), f"{path.name} was not written"
 
@@ -1147,6 +1502,10 @@ def all_cases(sh: Shared) -> list[Case]:
         + identify_cases(sh)
         + long_cases(sh)
         + grammar_cases(sh)
+        + special_input_cases(sh)
+        + special_output_cases(sh)
+        + container_cases(sh)
+        + locale_cases(sh)
     )
     ids = [c.id for c in cases]
     dup = {i for i in ids if ids.count(i) > 1}

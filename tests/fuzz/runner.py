@@ -118,6 +118,9 @@ def _child(case: dict) -> None:
             resource.setrlimit(resource.RLIMIT_FSIZE, (case["fsize"], case["fsize"]))
         if case.get("read_only") and not _obey_permissions():
             os._exit(NO_CAPS)
+        if case.get("encoding"):  # a terminal in another locale (e.g. ISO-8859-1): its streams' encoding
+            for stream in (sys.stdout, sys.stderr):
+                stream.reconfigure(encoding=case["encoding"], errors="strict")
         from rjcad.cli import main
 
         try:

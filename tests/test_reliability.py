@@ -1,0 +1,162 @@
+"""Issue #38, the rules at their root (the fuzz corpus, tests/fuzz/, checks them command by command): inputs are
+regular files, outputs are never written through a link, a signal never leaves "terminated" with a new set in
+place, a killed run's leftovers are cleared, a locale or an environment that rjcad cannot use is worked around."""
+
+from __future__ import annotations
+
+import os
+import stat
+import subprocess
+import sys
+
+import pytest
+from conftest import ROOT
+
+from rjcad.errors import RjcadError
+from rjcad.io import outputs
+from rjcad.io.config import write_atomic
+from rjcad.io.outputs import OutputError, write_set
+from rjcad.io.untrusted import check_zip, parse_json_lines, read_bytes, read_text
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device", "directory"])
+def test_only_a_regular_file_is_read_and_nothing_blocks(tmp_path, kind):
+    path = tmp_path / "in.toml"
+    {"fifo": lambda: os.mkfifo(path), "device": lambda: path.symlink_to("/dev/zero"), "directory": path.mkdir}[kind]()
+    with pytest.raises(RjcadError, match=r"in\.toml: (not a regular file|is a directory)"):
+        read_text(path, "TOML")  # a FIFO without a writer: refused at once, not waited on
+
+
+def test_a_file_over_its_cap_is_refused_by_its_size_before_it_is_read(tmp_path):
+    big = tmp_path / "finger.glb"
+    with big.open("wb") as f:
+        f.truncate(1 << 31)  # 2 GB, sparse: refused by its size, nothing read
+    with pytest.raises(RjcadError, match="too large: a mesh file must be at most 256 MB"):
+        read_bytes(big, "mesh")
+
+
+def test_a_zip_bomb_is_refused_before_it_is_inflated():
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z, z.open("3D/3dmodel.model", "w", force_zip64=True) as f:
+        for _ in range(300):
+            f.write(bytes(1 << 20))
+    with pytest.raises(RjcadError, match="inflates to 300 MB"):
+        check_zip(buf.getvalue(), "bomb.3mf")
+
+
+def test_json_lines_keep_the_depth_guard():
+    rows = parse_json_lines('{"id": "a"}\n' + "[" * 200_000 + "]" * 200_000 + "\n[1]\n", "log")
+    assert rows == [{"id": "a"}, None, [1]]
+
+
+@pytest.mark.parametrize("kind", ["link", "fifo"])
+def test_an_output_is_never_written_through_a_link_nor_replaces_a_fifo(tmp_path, kind):
+    outside = tmp_path / "outside.txt"
+    outside.write_text("not rjcad's")
+    target = tmp_path / "o" / "r.json"
+    target.parent.mkdir()
+    target.symlink_to(outside) if kind == "link" else os.mkfifo(target)
+    with pytest.raises(OutputError, match=r"r\.json: cannot write: is a (symbolic link|FIFO)"):
+        write_atomic(target, "{}")
+    with pytest.raises(OutputError, match=r"r\.json: cannot write: is a (symbolic link|FIFO)"):
+        write_set(tmp_path / "o", {"r.json": "{}"})
+    assert outside.read_text() == "not rjcad's"
+    assert target.is_symlink() if kind == "link" else stat.S_ISFIFO(target.lstat().st_mode)
+    assert sorted(p.name for p in target.parent.iterdir()) == ["r.json"]  # no temporary left
+
+
+def test_any_legal_name_is_written_and_made_folders_go_on_failure(tmp_path):
+    name = "n" * 251 + ".png"  # 255 bytes: the temporary beside it must be shorter than the name
+    write_atomic(tmp_path / name, b"x")
+    assert [p.name for p in tmp_path.iterdir()] == [name]
+    with pytest.raises(OutputError):
+        write_atomic(tmp_path / "new" / "deeper" / ("n" * 256), b"x")  # too long: refused
+    assert not (tmp_path / "new").exists()  # the folders it made are gone
+
+
+def test_a_killed_runs_leftovers_are_cleared_by_the_next_run(tmp_path):
+    dead = tmp_path / ".rjcad-999999999-abc.tmp"  # no such pid
+    dead.mkdir()
+    (dead / "joint.stl").write_text("half")
+    live = tmp_path / f".rjcad-{os.getppid()}-def.tmp"  # a running process's stage: left alone
+    live.mkdir()
+    write_set(tmp_path, {"a.txt": "a"})
+    assert not dead.exists() and live.is_dir()
+
+
+def test_a_signal_after_the_set_is_in_place_lets_the_command_finish():
+    from rjcad.cli import Terminated, _on_sigint, _on_sigterm
+
+    try:
+        outputs.PLACED = False
+        with pytest.raises(Terminated):
+            _on_sigterm(15, None)
+        with pytest.raises(KeyboardInterrupt):
+            _on_sigint(2, None)
+        outputs.PLACED = True
+        _on_sigterm(15, None)  # ignored: the command finishes and exits 0
+        _on_sigint(2, None)
+    finally:
+        outputs.PLACED = False
+
+
+def test_one_number_spelt_three_ways_is_one_design():
+    from rjcad.sweep.spec import INPUTS, point_id
+
+    base = dict.fromkeys(INPUTS)
+    ids = {point_id({**base, "preload_deg": v, "stiffness_nmm_per_rad": 5.2}) for v in (90, 90.0, 90.00)}
+    assert len(ids) == 1
+    assert point_id({**base, "preload_deg": 90.5}) != point_id({**base, "preload_deg": 90})
+
+
+def test_mujoco_warnings_are_kept_not_printed_nor_logged(tmp_path, monkeypatch):
+    pytest.importorskip("mujoco")
+    import math
+
+    import mujoco
+
+    from rjcad.mjcf.simulate import WARNINGS, quiet_mujoco, raise_warnings
+
+    monkeypatch.chdir(tmp_path)
+    quiet_mujoco()
+    m = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body><joint type="hinge"/><geom size="0.1"/></body></worldbody></mujoco>'
+    )
+    d = mujoco.MjData(m)
+    d.qpos[0] = math.nan
+    mujoco.mj_step(m, d)
+    assert WARNINGS and not (tmp_path / "MUJOCO_LOG.TXT").exists()
+    with pytest.raises(RjcadError, match=r"bad\.xml: MuJoCo warned: Nan"):
+        raise_warnings("bad.xml")
+
+
+def _program(tmp_path, env: dict, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "rjcad", *args],
+        capture_output=True,
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": str(ROOT), **env},
+        timeout=120,
+    )
+
+
+def test_a_bad_backend_and_an_unwritable_home_are_worked_around(tmp_path):
+    home = "/sys/no-home"  # a read-only file system: not even root can make a folder there
+    temp = tmp_path / "temp"
+    temp.mkdir()
+    env = {"MPLBACKEND": "nonsense", "HOME": home, "XDG_CONFIG_HOME": "", "XDG_CACHE_HOME": "", "MPLCONFIGDIR": ""}
+    r = _program(tmp_path, {**env, "TMPDIR": str(temp)}, "simulate", "joint", "--rotation", "90", "--plot", "j.png")
+    assert r.returncode == 0 and r.stderr == b"", r.stderr.decode()
+    assert (tmp_path / "j.png").stat().st_size > 0
+    assert not any(temp.iterdir())  # Matplotlib's private folder was made there, and removed at exit
+
+
+@pytest.mark.parametrize("encoding", ["latin-1", "ascii"])
+def test_a_terminal_that_cannot_encode_the_symbols_gets_ascii(tmp_path, encoding):
+    r = _program(tmp_path, {"PYTHONIOENCODING": encoding}, "simulate", "finger")
+    assert r.returncode == 0 and r.stderr == b"", r.stderr.decode()
+    out = r.stdout.decode("latin-1" if encoding == "latin-1" else "utf-8")  # click writes UTF-8 on plain ASCII
+    assert "theta = (" in out or "θ = (" in out
