@@ -15,6 +15,7 @@ import functools
 import json
 import math
 import shutil
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -168,16 +169,23 @@ class _Bundle:
 @functools.lru_cache(maxsize=64)
 def _parsed(path: str, mtime_ns: int, size: int) -> _Bundle:
     """The bundle at ``path``, parsed once per version of the file (its mtime and size are the cache key)."""
+    from rjcad.io.untrusted import read_bytes
+
     file = Path(path)
-    return _Bundle(file, _parse(file.read_text(encoding="utf-8-sig", errors="replace"), file.name))
+    text = read_bytes(file, "text").decode("utf-8", errors="replace").removeprefix("\ufeff")
+    return _Bundle(file, _parse(text, file.name))
 
 
 def _bundles(folder: str | Path | None) -> list[_Bundle]:
     """Every bundle of the profiles folder (:func:`profiles_dir`), by file name."""
     out = []
     for path in sorted(profiles_dir(folder).glob("*.ini")):
-        st = path.stat()
-        out.append(_parsed(str(path), st.st_mtime_ns, st.st_size))
+        try:
+            st = path.stat()
+        except OSError:  # a dangling link, a loop: not a bundle
+            continue
+        if stat.S_ISREG(st.st_mode):  # a FIFO or a device named *.ini is no bundle (and would block a reader)
+            out.append(_parsed(str(path), st.st_mtime_ns, st.st_size))
     return out
 
 

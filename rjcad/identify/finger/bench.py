@@ -147,10 +147,10 @@ def write_finger_campaign(
         finger_name, finger_bytes = "finger.toml", _template_text(DEFAULT_FINGER).encode()
         design = as_designed(model_from_template(DEFAULT_FINGER), finger_name).model
     else:
+        from rjcad.io.untrusted import read_bytes
+
         src = Path(finger)
-        if not src.is_file():
-            raise RjcadError(f"--source: {finger}: not found")
-        finger_name, finger_bytes = "finger" + src.suffix.lower(), src.read_bytes()
+        finger_name, finger_bytes = "finger" + src.suffix.lower(), read_bytes(src, "text", f"--source: {finger}")
         design = design_from_file(src, finger, "--source").model
     cat = {e.id: e for e in catalogue(design)}
     unknown = [e for e in effects if e not in cat]
