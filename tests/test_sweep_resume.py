@@ -275,6 +275,7 @@ def test_a_stopped_build_sweep_leaves_no_process_and_resumes_each_design_once(tm
     while any(_alive(q) for q in tree) and time.monotonic() < deadline:
         time.sleep(0.2)
     assert not [q for q in tree if _alive(q)], [" ".join(q.cmdline())[:80] for q in tree if _alive(q)]
+    assert "leaked" not in (tmp_path / "stderr").read_text()  # the resource tracker cleans up without a word
     assert _rows_logged(out) >= 2 and not (out / "results.csv").exists()  # the finished rows are kept
     r = _start(tmp_path, out, "--resume")
     assert r.wait(timeout=300) == 0, (tmp_path / "stderr").read_text()[-2000:]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -70,6 +71,10 @@ def run_tasks(
     _pool_tasks(fn, points, workers, progress, on_row, **kw)
 
 
+#: The -W option that keeps the resource tracker's leaked-semaphore warning off stderr.
+TRACKER_QUIET = "ignore::UserWarning:multiprocessing.resource_tracker"
+
+
 def _pool_tasks(
     fn: Callable, points: list[dict], workers: int, progress: DesignCounter, on_row: Callable[[dict], None], **kw
 ) -> None:
@@ -93,6 +98,10 @@ def _pool_tasks(
         ctx: BaseContext = forkserver
     else:
         ctx = mp.get_context("spawn")
+    # the resource tracker starts with this interpreter's -W options: after a SIGKILL it still unlinks the pool's
+    # semaphores, without its "leaked semaphore objects" warning on the user's terminal
+    if TRACKER_QUIET not in sys.warnoptions:
+        sys.warnoptions.append(TRACKER_QUIET)
     lifeline_r, lifeline_w = ctx.Pipe(duplex=False)
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_start, initargs=(lifeline_r,))
     try:
