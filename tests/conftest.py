@@ -270,8 +270,6 @@ LONGEST = {
     "tests/test_benchmarks.py::test_benchmark_reports_its_keys_and_targets": 15,
     "tests/test_finger.py::test_default_finger_passes_every_check_with_supports_off": 20,
     "tests/test_identify_finger.py::test_hidden_pairs": 14,
-    # each case 8-19 s: a finger campaign identified, a term proposed, identified again beside it
-    "tests/test_identify_finger_propose.py::test_a_hidden_effect_outside_the_finger_catalogue_is_proposed": 13,
 }
 
 
