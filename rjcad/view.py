@@ -68,14 +68,15 @@ def tendon_owner(path_mm: list[list[float]], joints: list[dict]) -> list[str]:
     return [next((joints[i]["parent"] for i, x in enumerate(xs) if p[0] < x), joints[-1]["child"]) for p in path_mm]
 
 
-def read_built(manifest_path: str | Path) -> tuple[dict, bytes]:
-    """A built finger's (or joint's) manifest (JSON object) and the GLB beside it (same stem)."""
+def read_built(manifest_path: str | Path, allow_outside: bool = False) -> tuple[dict, bytes]:
+    """A built finger's (or joint's) manifest (JSON object) and the GLB beside it (same stem; inside the manifest's
+    folder, symlinks followed, unless ``allow_outside``)."""
     from rjcad.io.manifest import Manifest
     from rjcad.io.untrusted import confined, read_bytes, regular_or_absent
 
     path = Path(manifest_path)
     man = Manifest.read(str(path)).to_json()
-    glb = confined(path.parent, path.with_suffix(".glb").name, str(path))
+    glb = confined(path.parent, path.with_suffix(".glb").name, str(path), allow_outside)
     if not regular_or_absent(glb):
         raise ViewerError(
             f"{glb}: not found (the GLB that `rjcad finger` writes beside {path.name}; rebuild to get it)"
@@ -176,11 +177,13 @@ def finger_page(b: Any, files: Mapping[str, bytes | str]) -> dict[str, str]:
     }
 
 
-def write_viewer(manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0) -> Path:
+def write_viewer(
+    manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0, allow_outside=False
+) -> Path:
     """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path."""
     from rjcad.io.config import write_atomic
 
     vendored_three()  # before the simulation: a missing three.js is the first thing to say
-    man, glb = read_built(manifest_path)
+    man, glb = read_built(manifest_path, allow_outside)
     title = f"rjcad {man.get('kind', 'finger')}: {Path(manifest_path).name}"
     return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t))

@@ -36,15 +36,8 @@ def test_a_file_over_its_cap_is_refused_by_its_size_before_it_is_read(tmp_path):
 
 
 def test_a_zip_bomb_is_refused_before_it_is_inflated():
-    import io
-    import zipfile
-
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z, z.open("3D/3dmodel.model", "w", force_zip64=True) as f:
-        for _ in range(300):
-            f.write(bytes(1 << 20))
     with pytest.raises(RjcadError, match="inflates to 300 MB"):
-        check_zip(buf.getvalue(), "bomb.3mf")
+        check_zip(_zip_bomb(300), "bomb.3mf")
 
 
 def test_json_lines_keep_the_depth_guard():
@@ -160,3 +153,70 @@ def test_a_terminal_that_cannot_encode_the_symbols_gets_ascii(tmp_path, encoding
     assert r.returncode == 0 and r.stderr == b"", r.stderr.decode()
     out = r.stdout.decode("latin-1" if encoding == "latin-1" else "utf-8")  # click writes UTF-8 on plain ASCII
     assert "theta = (" in out or "θ = (" in out
+
+
+def test_files_beside_a_manifest_stay_in_its_folder_unless_allowed(tmp_path):
+    from rjcad.view import ViewerError, read_built
+
+    folder = tmp_path / "built"
+    folder.mkdir()
+    man = folder / "finger.json"
+    man.write_bytes((ROOT / "tests" / "data" / "manifest_v0_finger.json").read_bytes())
+    (tmp_path / "elsewhere.glb").write_bytes(b"not a GLB")
+    (folder / "finger.glb").symlink_to("../elsewhere.glb")
+    with pytest.raises(RjcadError, match=r"is outside .* \(symlinks followed\)"):
+        read_built(man)
+    with pytest.raises(ViewerError, match="not a GLB"):  # allowed: read, and refused for what it holds
+        read_built(man, allow_outside=True)
+
+
+#: Runs ``rjcad ARGS`` and writes its peak resident memory [kB] and its time [s] at exit to the first argument.
+MEASURED = """
+import atexit, resource, sys, time
+t0 = time.monotonic()
+out = sys.argv[1]
+atexit.register(lambda: open(out, "w").write(f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss} {time.monotonic() - t0}"))
+sys.argv = ["rjcad", *sys.argv[2:]]
+from rjcad.cli import main
+main()
+"""
+
+
+def _huge(path, size):
+    with path.open("wb") as f:
+        f.truncate(size)
+
+
+@pytest.mark.parametrize(
+    ("name", "make", "args"),
+    [
+        ("bomb.3mf", lambda p: p.write_bytes(_zip_bomb(300)), ["check", "bomb.3mf"]),
+        ("huge.stl", lambda p: _huge(p, 300 << 20), ["check", "huge.stl"]),
+        ("finger.glb", lambda p: _huge(p, 3 << 29), ["view", "finger.json", "--out", "o"]),
+    ],
+)
+def test_a_rejected_input_costs_under_500_mb_and_5_s(tmp_path, name, make, args):
+    make(tmp_path / name)
+    if name == "finger.glb":
+        (tmp_path / "finger.json").write_bytes((ROOT / "tests" / "data" / "manifest_v0_finger.json").read_bytes())
+    r = subprocess.run(
+        [sys.executable, "-c", MEASURED, str(tmp_path / "usage"), *args],
+        capture_output=True,
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=60,
+    )
+    assert r.returncode == 2 and name in r.stderr.decode() and len(r.stderr.splitlines()) == 1, r.stderr
+    peak_kb, seconds = (float(x) for x in (tmp_path / "usage").read_text().split())
+    assert peak_kb < 500 * 1024 and seconds < 5.0, (peak_kb, seconds)
+
+
+def _zip_bomb(mb: int) -> bytes:
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z, z.open("3D/3dmodel.model", "w", force_zip64=True) as f:
+        for _ in range(mb):
+            f.write(bytes(1 << 20))
+    return buf.getvalue()

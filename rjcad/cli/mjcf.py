@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from rjcad.cli.options import OutDir
+from rjcad.cli.options import OutDir, allow_outside_option
 from rjcad.errors import RjcadError
 
 GRAVITY_HELP = (
@@ -16,7 +16,9 @@ GRAVITY_HELP = (
 )
 
 
-def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str | None, pull: str) -> dict:
+def build_files(
+    manifest_path: str, xml_name: str, gravity: str, identified: str | None, pull: str, allow_outside: bool = False
+) -> dict:
     """The MJCF folder (the model ``xml_name``, scene.xml, meshes/<body>.stl) for the manifest at ``manifest_path``,
     in memory."""
     from rjcad.io.manifest import Manifest
@@ -27,7 +29,7 @@ def build_files(manifest_path: str, xml_name: str, gravity: str, identified: str
     check_manifest(man, Path(manifest_path).name)
     ident = check_identified(read_json(identified), man, identified) if identified else None
     grav = gravity_of(gravity)
-    meshes = read_meshes(mesh_sources(manifest_path, man))
+    meshes = read_meshes(mesh_sources(manifest_path, man, allow_outside))
     return mjcf_files(man, meshes, xml_name, manifest_path, gravity=grav, identified=ident, pull=pull)
 
 
@@ -67,7 +69,8 @@ def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str]:
     help="What the `pull` actuator acts on: the fixed tendon of rjcad's model (constant moment arms) or "
     "the spatial tendon through the built path.",
 )
-def mjcf(manifest, out_path, identified, gravity, pull):
+@allow_outside_option
+def mjcf(manifest, out_path, identified, gravity, pull, allow_outside):
     """Write the MuJoCo model (MJCF, SI units) of a finger built by `rjcad finger` (its manifest FINGER.json and,
     beside it, its 3MF): a folder with the model, scene.xml and the body meshes."""
     from rjcad.io.outputs import check_writable, write_set
@@ -75,7 +78,9 @@ def mjcf(manifest, out_path, identified, gravity, pull):
 
     folder, xml_name = out_folder(manifest, out_path)
     check_writable(folder)
-    files = build_files(manifest, xml_name, gravity, identified, PATH_TENDON if pull == "path" else GROOVE_TENDON)
+    files = build_files(
+        manifest, xml_name, gravity, identified, PATH_TENDON if pull == "path" else GROOVE_TENDON, allow_outside
+    )
     write_set(folder, files)
     n = len([f for f in files if f.endswith(".stl")])
     click.echo(f"MJCF written to {folder / xml_name} (open {folder / 'scene.xml'}; {n} body meshes in meshes/)")

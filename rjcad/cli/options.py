@@ -172,3 +172,12 @@ def echo_profiles(*profiles) -> None:
         if not prof.builtin:
             kind = "printer" if hasattr(prof, "nozzle_mm") else "material"
             click.echo(f"{kind} {prof.key}: your profile {prof.file}")
+
+
+#: ``--allow-outside`` of the commands that read files beside a manifest (its GLB, STLs or 3MF).
+allow_outside_option = click.option(
+    "--allow-outside",
+    is_flag=True,
+    help="Read the files beside the manifest even where they resolve outside its folder (default: refused, "
+    "symlinks followed).",
+)

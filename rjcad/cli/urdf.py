@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from rjcad.cli.options import OutDir
+from rjcad.cli.options import OutDir, allow_outside_option
 
 
 @click.command()
@@ -19,7 +19,8 @@ from rjcad.cli.options import OutDir
     show_default=True,
     help="Directory to write <manifest stem>.urdf and meshes/<body>.stl into (its meshes/ is replaced whole).",
 )
-def urdf(manifest, out_dir):
+@allow_outside_option
+def urdf(manifest, out_dir, allow_outside):
     """Write the URDF (SI units) of a finger or joint built by `rjcad finger` or `rjcad joint`: its manifest
     MANIFEST.json and, beside it, its per-body STLs or its 3MF. URDF holds no springs and no tendon: they are
     written as comments (the MJCF of `rjcad mjcf` has them)."""
@@ -32,7 +33,7 @@ def urdf(manifest, out_dir):
     check_manifest(man, Path(manifest).name)
     check_names(man, Path(manifest).name)
     check_writable(out_dir)
-    meshes = read_meshes(mesh_sources(manifest, man))
+    meshes = read_meshes(mesh_sources(manifest, man, allow_outside))
     name = robot_name(manifest, man)
     files = urdf_files(man, meshes, name, manifest)
     write_set(out_dir, files)

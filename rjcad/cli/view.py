@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from rjcad.cli.options import OutDir, out_file
+from rjcad.cli.options import OutDir, allow_outside_option, out_file
 from rjcad.paper import FINGER
 from rjcad.view import DEFAULT_STEPS
 
@@ -43,7 +43,8 @@ def check_view_options(stroke: float, mu_t: float) -> None:
     help="Samples of the closure over the stroke.",
 )
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
-def view(manifest, out_dir, stroke, steps, mu_t):
+@allow_outside_option
+def view(manifest, out_dir, stroke, steps, mu_t, allow_outside):
     """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over
     the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`."""
     from pathlib import Path
@@ -54,5 +55,5 @@ def view(manifest, out_dir, stroke, steps, mu_t):
     folder, name = out_file(out_dir, HTML, name) if out_dir is not None else (str(Path(manifest).parent), name)
     check_view_options(stroke, mu_t)
     out = Path(folder) / name
-    write_viewer(manifest, out, stroke, steps, mu_t)
+    write_viewer(manifest, out, stroke, steps, mu_t, allow_outside)
     click.echo(f"viewer written to {out} (open it in a browser; no network needed)")

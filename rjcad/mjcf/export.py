@@ -139,8 +139,9 @@ def check_manifest(man: Manifest, source: str) -> None:
 MESHDIR = "meshes"
 
 
-def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
-    """Where each body's mesh is: ``<stem>_<body>.stl`` beside the manifest, else ``<stem>.3mf``."""
+def mesh_sources(manifest_path: str | Path, man: Manifest, allow_outside: bool = False) -> dict[str, Path]:
+    """Where each body's mesh is: ``<stem>_<body>.stl`` beside the manifest, else ``<stem>.3mf``; each must resolve
+    (symlinks followed) inside the manifest's folder unless ``allow_outside``."""
     from rjcad.io.untrusted import confined, regular_or_absent
 
     p = Path(manifest_path)
@@ -151,10 +152,10 @@ def mesh_sources(manifest_path: str | Path, man: Manifest) -> dict[str, Path]:
             raise ParameterError(
                 f"{p}: bodies[{k}].name", b.name, "must be a plain name (no '/', '\\' or leading '.'): it names a file"
             )
-        stl = confined(p.parent, f"{p.stem}_{b.name}.stl", str(p))
+        stl = confined(p.parent, f"{p.stem}_{b.name}.stl", str(p), allow_outside)
         if regular_or_absent(stl):
             out[b.name] = stl
-        elif regular_or_absent(confined(p.parent, threemf.name, str(p))):
+        elif regular_or_absent(confined(p.parent, threemf.name, str(p), allow_outside)):
             out[b.name] = threemf
         else:
             raise RjcadError(
