@@ -220,3 +220,18 @@ def _zip_bomb(mb: int) -> bytes:
         for _ in range(mb):
             f.write(bytes(1 << 20))
     return buf.getvalue()
+
+
+def test_an_append_only_folder_is_refused_and_left_as_it_was(tmp_path):
+    folder = tmp_path / "ap"
+    folder.mkdir()
+    if subprocess.run(["chattr", "+a", str(folder)], capture_output=True).returncode != 0:
+        pytest.skip("chattr +a is not available here")
+    try:
+        with pytest.raises(OutputError, match="append-only"):
+            write_atomic(folder / "s.png", b"x")
+        with pytest.raises(OutputError, match="append-only"):
+            write_set(folder, {"a.txt": "a"})
+        assert not any(folder.iterdir())  # no temporary left (it could not have been removed)
+    finally:
+        subprocess.run(["chattr", "-a", str(folder)], capture_output=True)

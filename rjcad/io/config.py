@@ -11,7 +11,7 @@ from typing import Any
 
 from rjcad.errors import ParameterError
 from rjcad.io import outputs
-from rjcad.io.outputs import cannot_write, make_dirs, refuse_special, restore_times, unmake
+from rjcad.io.outputs import OutputError, cannot_write, make_dirs, refuse_special, restore_times, unmake
 from rjcad.io.untrusted import read_toml
 
 #: Known keys and the type (or types) each takes.
@@ -51,6 +51,11 @@ def write_atomic(path: str | os.PathLike, data: bytes | str) -> Path:
     raw = data.encode("utf-8") if isinstance(data, str) else data
     refuse_special(path)
     made = make_dirs(path.parent)
+    try:
+        outputs.refuse_append_only(path.parent)
+    except OutputError:
+        unmake(made)
+        raise
     try:
         parent = os.stat(path.parent)  # its times come back if the write fails: an earlier run untouched
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=outputs.stage_prefix(), suffix=".tmp")

@@ -15,6 +15,7 @@ import re
 import shutil
 import signal
 import stat
+import sys
 import tempfile
 import threading
 from collections.abc import Iterator, Mapping
@@ -121,6 +122,32 @@ def refuse_special(path: str | os.PathLike) -> None:
         raise OutputError(path, f"is a {kind}, not a regular file: rjcad does not replace it")
 
 
+#: Linux's FS_IOC_GETFLAGS (``lsattr``), and its append-only and immutable flags.
+_GETFLAGS, _APPEND_ONLY, _IMMUTABLE = 0x80086601, 0x20, 0x10
+
+
+def refuse_append_only(folder: str | os.PathLike) -> None:
+    """OutputError if ``folder`` is append-only or immutable (``chattr +a``/``+i``): a file written there could not
+    be renamed into place nor its temporary removed, so nothing is written (Linux; elsewhere nothing is checked)."""
+    try:
+        import fcntl
+
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except (OSError, ImportError, ValueError):
+        return
+    try:
+        flags = int.from_bytes(fcntl.ioctl(fd, _GETFLAGS, bytes(8))[:4], sys.byteorder)
+    except OSError:
+        return  # a file system without these flags
+    finally:
+        os.close(fd)
+    if flags & (_APPEND_ONLY | _IMMUTABLE):
+        kind = "append-only" if flags & _APPEND_ONLY else "immutable"
+        raise OutputError(
+            folder, f"the folder is {kind} (chattr): rjcad writes by renaming into place, which it forbids"
+        )
+
+
 def check_writable(out_dir: str | os.PathLike) -> Path:
     """Refuse, before a long computation, an output directory that cannot be made or written; creates nothing.
 
@@ -130,6 +157,7 @@ def check_writable(out_dir: str | os.PathLike) -> Path:
     near = next(a for a in (out, *out.parents, Path(".")) if a.exists() or a.is_symlink())
     if not near.is_dir():
         raise OutputError(out, "not a directory" if near == out else f"{near} is not a directory")
+    refuse_append_only(near)
     if not os.access(near, os.W_OK | os.X_OK):
         read_only = bool(os.statvfs(near).f_flag & getattr(os, "ST_RDONLY", 1))
         raise OutputError(out, os.strerror(errno.EROFS if read_only else errno.EACCES))
@@ -150,6 +178,7 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
     made = make_dirs(out)
     held = _hold()  # until the clean-up below is armed: a signal in between would leave the stage behind
     try:
+        refuse_append_only(out)
         clear_stale(out)
         times = os.stat(out)
         stage = Path(tempfile.mkdtemp(dir=out, prefix=stage_prefix(), suffix=".tmp"))
@@ -157,6 +186,10 @@ def output_set(out_dir: str | os.PathLike, remove: tuple[str, ...] = ()) -> Iter
         _release(held)
         unmake(made)
         raise cannot_write(out, e) from None
+    except BaseException:
+        _release(held)
+        unmake(made)
+        raise
     done = False
     try:
         _release(held)
