@@ -235,3 +235,33 @@ def test_an_append_only_folder_is_refused_and_left_as_it_was(tmp_path):
         assert not any(folder.iterdir())  # no temporary left (it could not have been removed)
     finally:
         subprocess.run(["chattr", "-a", str(folder)], capture_output=True)
+
+
+@pytest.mark.parametrize("delay_ms", [0, 3, 10, 30])
+def test_a_signal_as_the_set_is_staged_stops_before_it_or_finishes_it(tmp_path, delay_ms):
+    """SIGTERM ``delay_ms`` after the stage appears: either the command stops (143) and the folder it made is gone,
+    or the whole set is in place and it exits 0; never "terminated" with new files in place."""
+    import signal
+    import time
+
+    out = tmp_path / "o"
+    p = subprocess.Popen(
+        [sys.executable, "-m", "rjcad", "bench", "--out", str(out), "--samples", "200"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    deadline = time.monotonic() + 60
+    while p.poll() is None and time.monotonic() < deadline and not (out.is_dir() and any(out.glob(".rjcad-*"))):
+        time.sleep(0.0005)
+    time.sleep(delay_ms / 1000)
+    if p.poll() is None:
+        p.send_signal(signal.SIGTERM)
+    code = p.wait(timeout=60)
+    err = p.stderr.read().decode() if p.stderr else ""
+    files = sorted(f.name for f in out.iterdir()) if out.exists() else []
+    if code == 143:
+        assert files == [] and err.strip() == "rjcad: terminated", (files, err)
+    else:
+        assert code == 0 and "campaign.toml" in files and "truth.json" in files, (code, files, err)
+        assert not [f for f in files if f.startswith(".rjcad-")]
