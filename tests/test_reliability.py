@@ -265,3 +265,28 @@ def test_a_signal_as_the_set_is_staged_stops_before_it_or_finishes_it(tmp_path, 
     else:
         assert code == 0 and "campaign.toml" in files and "truth.json" in files, (code, files, err)
         assert not [f for f in files if f.startswith(".rjcad-")]
+
+
+def test_a_build_sweep_stopped_early_leaves_no_empty_folder(tmp_path):
+    """SIGTERM as soon as a fresh build sweep makes its output folder: the folder goes unless it keeps rows."""
+    import signal
+    import time
+
+    from fuzz.corpus import SWEEP_TOML
+
+    (tmp_path / "s.toml").write_text(SWEEP_TOML)
+    out = tmp_path / "o"
+    p = subprocess.Popen(
+        [sys.executable, "-m", "rjcad", "sweep", "s.toml", "--out", str(out), "--build", "--workers", "2"],
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    deadline = time.monotonic() + 60
+    while p.poll() is None and not out.exists() and time.monotonic() < deadline:
+        time.sleep(0.001)
+    p.send_signal(signal.SIGTERM)
+    assert p.wait(timeout=60) == 143
+    left = sorted(f.name for f in out.iterdir()) if out.exists() else []
+    assert left in ([], ["results.partial.jsonl"]), left  # a log only with the rows it holds
