@@ -290,3 +290,23 @@ def test_a_build_sweep_stopped_early_leaves_no_empty_folder(tmp_path):
     assert p.wait(timeout=60) == 143
     left = sorted(f.name for f in out.iterdir()) if out.exists() else []
     assert left in ([], ["results.partial.jsonl"]), left  # a log only with the rows it holds
+
+
+def test_a_file_size_limit_on_a_single_file_leaves_no_folder_it_made(tmp_path):
+    import resource
+    import signal
+
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
+
+    r = subprocess.run(
+        [sys.executable, "-m", "rjcad", "spring", "--stiffness", "5.2", "--plot", "new/deeper/s.png"],
+        cwd=tmp_path,
+        capture_output=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        preexec_fn=limit,
+        timeout=120,
+    )
+    assert r.returncode == 2 and b"s.png" in r.stderr and len(r.stderr.splitlines()) == 1, r.stderr
+    assert not (tmp_path / "new").exists()
