@@ -27,6 +27,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
+from rjcad.validate import in_range
 
 #: The tendon's stiffness where the model's is infinite [N/mm] (a braided line of ~1 mm over ~200 mm).
 TENDON_STIFFNESS = 200.0
@@ -49,11 +50,9 @@ class Cylinder:
     diameter: float
 
     def __post_init__(self) -> None:
-        for name in ("x", "y", "diameter"):
-            if not math.isfinite(getattr(self, name)):
-                raise ParameterError(f"cylinder {name}", getattr(self, name), "must be a finite number [mm]")
-        if not 0 < self.diameter < 1e4:
-            raise ParameterError("cylinder diameter", self.diameter, "must be in (0, 10000) mm")
+        in_range("cylinder x", self.x, limit="must be a finite number [mm]")
+        in_range("cylinder y", self.y, limit="must be a finite number [mm]")
+        in_range("cylinder diameter", self.diameter, 0.0, 1e4, lo_open=True, hi_open=True, unit="mm")
 
     @property
     def radius(self) -> float:

@@ -1228,9 +1228,10 @@ def special_output_cases(sh: Shared) -> list[Case]:
         "socket": lambda f: _special(f, "socket"),
     }  # fmt: skip
     all_writers = writers(sh)
-    for name in FILE_WRITERS:
-        argv = all_writers[name][0]
-        target = argv[-1].replace("{o}", "o")
+    # (writer, its command line, the file the place is made at): a single file's, or a set's member
+    targets = [(n, all_writers[n][0], all_writers[n][0][-1].replace("{o}", "o")) for n in FILE_WRITERS]
+    targets += [(n, all_writers[n][0], f"o/{member}") for n, member in SET_MEMBERS.items()]
+    for name, argv, target in targets:
         for place, make in places.items():
 
             def setup(d, make=make, target=target):
@@ -1247,8 +1248,10 @@ def special_output_cases(sh: Shared) -> list[Case]:
                     timeout=90,
                 )
             )
+    for name in FILE_WRITERS:
+        argv = all_writers[name][0]
+        stem, suffix = Path(argv[-1]).stem, Path(argv[-1]).suffix
         for length in (245, 255):  # the whole name, suffix included: up to the longest legal one
-            stem, suffix = Path(target).stem, Path(target).suffix
             long_name = "n" * (length - len(suffix)) + suffix
             cases.append(
                 Case(
@@ -1258,24 +1261,6 @@ def special_output_cases(sh: Shared) -> list[Case]:
                     lambda d: open_dir(d / "o"),
                     timeout=90,
                     post=lambda d, code, long_name=long_name: _only(d / "o", {long_name}),
-                )
-            )
-    for name, member in SET_MEMBERS.items():
-        argv = all_writers[name][0]
-        for place, make in places.items():
-
-            def setup(d, make=make, member=member):
-                open_dir(d / "o")
-                make(d / "o" / member)
-
-            cases.append(
-                Case(
-                    f"special-out-{name}-{place}",
-                    [a.replace("{o}", "o") for a in argv],
-                    "error",
-                    setup,
-                    mention=(member,),
-                    timeout=90,
                 )
             )
     return cases

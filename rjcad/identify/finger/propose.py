@@ -19,7 +19,7 @@ import numpy as np
 from rjcad import DEG
 from rjcad.identify.finger.catalogue import actuator_tension, model_of
 from rjcad.identify.finger.problem import Channel, identify_finger, tendon_path
-from rjcad.identify.propose import Basis, Term, play
+from rjcad.identify.propose import Basis, Lag, Term, play
 from rjcad.physics.finger import simulate_angles
 
 #: Relative step of a stiffness, and step of a preload [deg], for the sensitivities (central differences).
@@ -119,11 +119,8 @@ class PreloadDrift(_Joints):
         return f"joint {self.joint}'s preload drifts over each run by {coef:+.3g}° (a zero that wanders, or warm-up)"
 
 
-class FingerLag(Term):
-    key, expression, unit = "lag", "−c·dŷ/dt", "s"
-
-    def column(self, c):
-        return -np.gradient(c.prediction, c.t)
+class FingerLag(Lag):
+    """The joint's lag (its column reads the same ``prediction`` and ``t``), in a finger's words."""
 
     def words(self, coef, q, k):
         return f"the measured angles and tension lagging the tendon's path by {coef * 1e3:.3g} ms"
