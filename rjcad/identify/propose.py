@@ -367,7 +367,7 @@ def fitted(
     """(coefficients, their 95 % intervals (2, k), held-out RMSE without and with the terms) of the chosen terms on
     ``data`` (default: the measured data) minus ``ident``'s prediction at ``values`` (default: its final)."""
     coef, _, d = solve(basis, ident, chosen, values, data)
-    return coef, _interval(d, chosen), _heldout(_data(basis, ident, values, data), []), _heldout(d, chosen)
+    return coef, _interval(d, chosen), _heldout(d, []), _heldout(d, chosen)  # without terms: the same residual
 
 
 def terms_json(
