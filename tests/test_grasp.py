@@ -110,7 +110,7 @@ def _touch_and_force(m: FingerModel, resist, share: float):
     for k, T in enumerate(g.tension_n):  # before the touch: the free law; after: held at θ*
         if T < T_touch - 1e-9:
             pull = ARM * share * T
-            free = 0.0 if pull <= law(0.0) else brentq(lambda th: law(th) - pull, 0.0, THETA_STAR, xtol=1e-14)
+            free = 0.0 if pull <= law(0.0) else brentq(lambda th, p=pull: law(th) - p, 0.0, THETA_STAR, xtol=1e-14)
             assert g.theta[k][0] == pytest.approx(free, abs=1e-6)
     assert g.tension_n[down[0]] >= T_touch - 1e-9 and g.tension_n[down[0] - 1] < T_touch + 1e-9
     return g
