@@ -41,11 +41,15 @@ def crossing_max_y(
     out = np.full(len(stations), -np.inf)
     for k in range(0, len(stations), _CHUNK):
         s = stations[k : k + _CHUNK, None]
-        t = np.where(flat, 0.0, s - x0)
-        y = np.where(flat, top[:, 1], segments[:, 0, 1] + t * d[:, 1])
-        hit = (lo <= s) & (s <= hi)
+        near = (lo <= s.max()) & (hi >= s.min())  # the segments that reach these stations
+        if not near.any():
+            continue
+        seg, x0n, fl = segments[near], x0[near], flat[near]
+        t = np.where(fl, 0.0, s - x0n)
+        y = np.where(fl, top[near, 1], seg[:, 0, 1] + t * d[near, 1])
+        hit = (lo[near] <= s) & (s <= hi[near])
         if segments.shape[2] == 3:
-            z = np.where(flat, top[:, 2], segments[:, 0, 2] + t * d[:, 2])
+            z = np.where(fl, top[near, 2], seg[:, 0, 2] + t * d[near, 2])
             hit &= (z >= z_range[0]) & (z <= z_range[1])
         out[k : k + _CHUNK] = np.where(hit, y, -np.inf).max(axis=1, initial=-np.inf)
     return np.where(np.isfinite(out), out, np.nan)
