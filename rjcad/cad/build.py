@@ -371,6 +371,7 @@ def build_finger_model(fp, progress: Progress | None = None) -> FingerBuild:
     from rjcad.cad import export as ex
     from rjcad.cad.finger import build_finger, tendon_path  # OCP
     from rjcad.cad.measure import body_entries
+    from rjcad.cad.outline import outline_points
 
     t0 = time.perf_counter()
     solids = build_finger(fp, progress)
@@ -383,12 +384,14 @@ def build_finger_model(fp, progress: Progress | None = None) -> FingerBuild:
     names = fp.body_names
     joints = []
     for i, p in enumerate(fp.joints):
-        report(progress, f"measuring joint {i + 1}'s tendon", i, fp.n)
+        report(progress, f"measuring joint {i + 1}'s tendon and its link's outline", i, fp.n)
         entry = joint_entry(p, names[i], names[i + 1], [fp.axis_x[i], 0.0, 0.0], [0.0, 0.0, 1.0])
         entry.tendon_moment_arm_mm = ex.measure_moment_arm(
             solids[names[i + 1]], p.z_mid, p.tendon_line_diameter, axis_point=entry.axis_point_mm
         )
         entry.tendon_wrap_angle_rad = ex.measure_wrap_angle(solids[names[i]], p.tendon_diameter / 2)
+        child = meshes[names[i + 1]]
+        entry.palmar_outline_mm = outline_points(child.vertices, child.faces, fp.axis_x[i])
         joints.append(entry)
     path = np.array(tendon_path(fp))
     p0 = fp.joints[0]
@@ -414,6 +417,7 @@ def build_finger_model(fp, progress: Progress | None = None) -> FingerBuild:
         material=p0.material_spec.key,
         printer=p0.printer_spec.key,
         clearance_mm=p0.clearance_mm,
+        base_palmar_outline_mm=outline_points(meshes["base"].vertices, meshes["base"].faces),
         extra=extra | profile_entries(p0.printer_spec, p0.material_spec),
     )
     t3 = time.perf_counter()

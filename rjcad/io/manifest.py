@@ -9,7 +9,10 @@ Schema versions:
 * 0 (no ``schema_version`` key; rjcad before the manifest type): a joint's keys flat at the top
   (``moving_body``, ``axis_point_mm``, ``rotation_deg`` …), or a finger's ``joints`` list;
 * 1: the same keys and order, plus ``schema_version`` first and, for a joint, its one entry in
-  ``joints`` last (the flat keys stay, mirrored from that entry).
+  ``joints`` last (the flat keys stay, mirrored from that entry). A finger's manifest may also hold (since
+  #40; optional, so the version stays 1 and files without them still load) each joint's child body's palmar
+  outline ``joints[i].palmar_outline_mm`` (link frame: origin at the joint's axis, x along the link, y towards
+  the palm) and the base's ``base_palmar_outline_mm`` (finger frame): ``[[x, y], ...]`` [mm], x increasing.
 
 Keys the readers do not need (``spring`` at the top, ``frame``, ``gaps_mm``, ``mesh``, ``print`` …)
 round-trip through ``extra``. ``None`` in a typed field means the key is absent. Lengths in mm,
@@ -21,6 +24,7 @@ read through ``Manifest.read`` (rjcad.io.untrusted): every error names the file 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import os
 from collections.abc import Callable
@@ -92,6 +96,7 @@ KEY_ORDER = {
         "safety_factor",
         "end",
         "base_length_mm",
+        "base_palmar_outline_mm",
         "joints",
         "bodies",
         "tendon_length_mm",
@@ -124,6 +129,15 @@ LIMITS: dict[str, tuple[float, float | None, bool, str]] = {
 }
 
 
+#: The manifest's typed top-level keys and their kinds (``_KINDS``).
+_TOP_TYPED = (
+    ("material", "str"),
+    ("printer", "str"),
+    ("clearance_mm", "float"),
+    ("base_palmar_outline_mm", "list[list[float]]"),
+)
+
+
 class ManifestError(ParameterError):
     """A manifest key is missing, has the wrong type or is out of range: ``<source>: <key path> <problem>``
     (``source`` is the file, or "manifest" for an object given in memory)."""
@@ -152,6 +166,15 @@ def _vector(v: object) -> bool:
     return isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v)
 
 
+def _polyline(v: object) -> bool:
+    """At least two [x, y] points of finite numbers, x increasing (an outline ordered along its link)."""
+    if not isinstance(v, (list, tuple)) or len(v) < 2:
+        return False
+    if not all(isinstance(p, (list, tuple)) and len(p) == 2 and all(_is_number(c) for c in p) for p in v):
+        return False
+    return all(a[0] < b[0] for a, b in itertools.pairwise(v))
+
+
 #: annotation (without "| None") → (test, what the error says it must be). The annotations are read as
 #: strings (``from __future__ import annotations`` above): a field's type is its JSON schema.
 _KINDS: dict[str, tuple[Callable[[Any], bool], str]] = {
@@ -159,6 +182,7 @@ _KINDS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "float": (_is_number, "must be a finite number"),
     "list[float]": (_vector, "must be a list of 3 numbers"),
     "dict[str, Any]": (lambda v: isinstance(v, dict), "must be an object"),
+    "list[list[float]]": (_polyline, "must be a list of at least 2 [x, y] points, x increasing"),
 }
 
 
@@ -187,6 +211,8 @@ def _check(kind: str, value: Any, path: str) -> Any:
             raise ManifestError(path, value, f"{default_limit(lo, hi, unit, lo_open=lo_open)}, not {quote(value)}")
     if name == "axis_dir" and math.hypot(*value) < 1e-9:
         raise ManifestError(path, value, f"must be a non-zero direction, not {quote(value)}")
+    if kind == "list[list[float]]":
+        return [[float(c) for c in p] for p in value]
     return list(value) if kind == "list[float]" else value
 
 
@@ -257,7 +283,8 @@ class BodyEntry(_Entry):
 @dataclass
 class JointEntry(_Entry):
     """One joint: parent and child bodies, the axis at rest (point, direction), the spring and its angles,
-    and the tendon's measured moment arm and wrap angle (in the channel that feeds the joint)."""
+    and the tendon's measured moment arm and wrap angle (in the channel that feeds the joint); in a finger, the
+    child body's palmar outline."""
 
     parent: str | None = None
     child: str | None = None
@@ -273,6 +300,8 @@ class JointEntry(_Entry):
     height_mm: float | None = None
     tendon_moment_arm_mm: float | None = None
     tendon_wrap_angle_rad: float | None = None
+    #: the child body's palmar outline in the flexion plane, in the link's frame (rjcad.cad.outline) [mm]
+    palmar_outline_mm: list[list[float]] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     _PATH = "joint."
 
@@ -287,6 +316,8 @@ class Manifest:
     material: str | None = None
     printer: str | None = None
     clearance_mm: float | None = None
+    #: a finger's base's palmar outline in the flexion plane, in the finger's frame [mm]
+    base_palmar_outline_mm: list[list[float]] | None = None
     extra: dict[str, Any] = field(default_factory=dict)
     #: the schema version it was read from (0: a joint's keys were flat at the top)
     read_version: int = field(default=SCHEMA_VERSION, compare=False, repr=False)
@@ -298,7 +329,7 @@ class Manifest:
     # --- writing ---------------------------------------------------------------
     def to_json(self) -> JSONObject:
         """The JSON object: ``schema_version`` first, then the keys in ``KEY_ORDER``, then any others."""
-        values = {k: getattr(self, k) for k in ("material", "printer", "clearance_mm") if getattr(self, k) is not None}
+        values = {k: getattr(self, k) for k, _ in _TOP_TYPED if getattr(self, k) is not None}
         values.update(self.extra)
         if self.bodies is not None:
             values["bodies"] = [b.to_json() for b in self.bodies]
@@ -352,10 +383,7 @@ class Manifest:
             raise ManifestError("joints", None, f"is required (schema_version {version})")
         kind = "joint" if "moving_body" in data or "joints" not in data else "finger"
         rest = {k: v for k, v in data.items() if k not in ("schema_version", "joints", "bodies")}
-        typed = {
-            k: _check(kind_, rest.pop(k, None), k)
-            for k, kind_ in (("material", "str"), ("printer", "str"), ("clearance_mm", "float"))
-        }
+        typed = {k: _check(kind_, rest.pop(k, None), k) for k, kind_ in _TOP_TYPED}
         bodies = _bodies(data.get("bodies"))
         if kind == "joint" and "joints" not in data:
             joints = [_flat_joint(rest, bodies)]

@@ -8,6 +8,8 @@ from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
+
 from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
@@ -68,6 +70,27 @@ def model_from_manifest(
         gravity=gravity,
         link_com=link_com,
     )
+
+
+def outlines_from_manifest(manifest: Any) -> list[np.ndarray] | None:
+    """Each link's palmar outline (joint i's child body, proximal first) from a finger manifest (a ``Manifest``
+    or its JSON object): arrays of rows (x, y) in the link's frame (origin at axis i, x along the link, y
+    towards the palm) [mm]; None if any joint lacks ``palmar_outline_mm`` (a manifest written before #40)."""
+    from rjcad.io.manifest import Manifest
+
+    joints = Manifest.coerce(manifest).joints
+    if not joints or any(j.palmar_outline_mm is None for j in joints):
+        return None
+    return [np.array(j.palmar_outline_mm, dtype=float) for j in joints]
+
+
+def base_outline_from_manifest(manifest: Any) -> np.ndarray | None:
+    """The base's palmar outline (rows x, y in the finger's frame, mm) from a finger manifest, or None when it
+    has none (a joint's manifest, or one written before #40): usable as a palm."""
+    from rjcad.io.manifest import Manifest
+
+    outline = Manifest.coerce(manifest).base_palmar_outline_mm
+    return None if outline is None else np.array(outline, dtype=float)
 
 
 def model_from_template(data: dict[str, Any], default_arm: float = 6.0) -> FingerModel:
