@@ -52,6 +52,12 @@ TOUCH_MM = 1e-4
 MAX_TENSION_N, STEPS = 10.0, 60
 #: Largest turn of a joint or an object [rad] and move of an object [mm] per move of the minimiser; moves per reading.
 TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 1.0, 200
+#: A free object's drag on a move [N/mm, N·mm/rad]: it moves only as far as it is pushed (without it, an object
+#: that nothing holds may sit anywhere it does not block a link, and the minimiser takes any of those places).
+DRAG = 1e-6
+#: Pairs whose bounding circles are farther apart than this [mm] take that distance as their gap (more than any
+#: move: TURN_RAD × the finger's length, a few mm).
+FAR_MM = 20.0
 #: Solves of one move at most, friction's weights taken again at its end each time.
 FIXED_POINT = 8
 
@@ -105,6 +111,10 @@ class _Scene:
                     a, b = (k, j) if p.free and not o.free else (j, k)
                     self.pairs.append(_Pair(None, a, b, max(o.mu, p.mu)))
         self.weights = np.asarray(m.link_mass, dtype=float) * G
+        self.link_circles = []
+        for line in self.outlines:
+            mid = (line.min(axis=0) + line.max(axis=0)) / 2
+            self.link_circles.append((mid, float(np.hypot(*(line - mid).T).max())))
         self.g = np.asarray(m.gravity if m.gravity is not None else (0.0, 0.0), dtype=float)
 
     def start(self) -> np.ndarray:
@@ -134,10 +144,24 @@ class _Scene:
         out: np.ndarray = a[i] + self.outlines[i] @ np.array([[c, s], [-s, c]])
         return out
 
+    def _bound(self, q: np.ndarray, p: _Pair, frames: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, float]:
+        """A circle [mm] about A: centre and radius."""
+        if p.a_link is not None:
+            centre, radius = self.link_circles[p.a_link]
+            a, ang = frames
+            c, s = math.cos(ang[p.a_link]), math.sin(ang[p.a_link])
+            return a[p.a_link] + np.array([c * centre[0] - s * centre[1], s * centre[0] + c * centre[1]]), radius
+        k = p.a_obj or 0
+        return np.array(self.pose(q, k)[:2]), self.objects[k].radius
+
     def gap(self, q: np.ndarray, p: _Pair, frames: tuple[np.ndarray, np.ndarray]) -> geo.Gap:
         ob = self.objects[p.b_obj]
         x, y, t = self.pose(q, p.b_obj)
         cb = np.array([x, y])
+        ca, ra = self._bound(q, p, frames)
+        far = geo.circles(ca, ra, cb, ob.radius)
+        if far[0] > FAR_MM:  # the circles about the two are apart by more than any move: that gap will do
+            return far
         if p.a_link is not None:
             line = self.outline(q, p.a_link, frames)
             if isinstance(ob, Cylinder):
@@ -149,7 +173,7 @@ class _Scene:
         if isinstance(oa, Cylinder) and isinstance(ob, Cylinder):
             return geo.circles(ca, oa.radius, cb, ob.radius)
         if isinstance(oa, Box) and isinstance(ob, Box):
-            return geo.polygons(oa.corners(xa, ya, ta), True, ob.corners(x, y, t), True)
+            return geo.polygons(oa.corners(xa, ya, ta), ob.corners(x, y, t))
         if isinstance(oa, Box):
             return geo.polygon_circle(oa.corners(xa, ya, ta), cb, ob.radius)
         g, pb, pa, nrm = geo.polygon_circle(ob.corners(x, y, t), ca, oa.radius)  # type: ignore[union-attr]
@@ -259,9 +283,11 @@ class _Step:
         return self._cache[1]
 
     def objective(self, z: np.ndarray) -> tuple[float, np.ndarray]:
-        nq = self.scene.nq
+        nq, n = self.scene.nq, self.scene.n
         E, grad = self.scene.potential(z[:nq], self.T, self.pull)
-        return E + float(self.w @ z[nq:]), np.concatenate([grad, self.w])
+        dx = z[n:nq] - self.q0[n:]
+        grad[n:] += DRAG * dx
+        return E + 0.5 * DRAG * float(dx @ dx) + float(self.w @ z[nq:]), np.concatenate([grad, self.w])
 
     def solve(self, bounds: list[tuple[float, float]]) -> Any:
         from scipy.optimize import minimize

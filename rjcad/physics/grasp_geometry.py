@@ -1,14 +1,13 @@
-"""Distances between the shapes of a grasp in the flexion plane [mm]: links' outlines (polylines), cylinders
-(circles) and boxes (convex polygons).
+"""Distances between the shapes of a grasp in the flexion plane [mm]: links' outlines (polylines, one-sided: an
+object is on their palm side, the left of their direction of increasing x), cylinders (circles) and boxes (convex
+polygons, counter-clockwise).
 
 Every function returns (gap, point on A, point on B, unit normal from A towards B). The gap is the distance where
-the shapes are apart and minus the depth of overlap where they overlap (along the axis of least overlap, the
-separating-axis test), so it is continuous through contact and zero there.
+the shapes are apart and negative where they overlap (how far the deepest point is in), so it is continuous
+through contact and zero there.
 """
 
 from __future__ import annotations
-
-from itertools import pairwise
 
 import numpy as np
 
@@ -20,86 +19,87 @@ def _unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
     return v / d if d > 1e-12 else fallback
 
 
-def closest_on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The point of segment ab nearest p."""
-    ab = b - a
-    den = float(ab @ ab)
-    u = 0.0 if den == 0 else min(1.0, max(0.0, float((p - a) @ ab) / den))
-    out: np.ndarray = a + u * ab
-    return out
+def to_segments(points: np.ndarray, points_s: np.ndarray, points_e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distances (k, m) from k points to m segments (starts, ends), and the nearest points (k, m, 2)."""
+    ab = points_e - points_s
+    den = np.einsum("ij,ij->i", ab, ab)
+    rel = points[:, None, :] - points_s[None, :, :]
+    u = np.clip(np.einsum("kmj,mj->km", rel, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    near = points_s[None, :, :] + u[..., None] * ab[None, :, :]
+    return np.hypot(*(points[:, None, :] - near).transpose(2, 0, 1)), near
 
 
-def _left_normal(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    d = _unit(b - a, np.array([1.0, 0.0]))
-    return np.array([-d[1], d[0]])
+def _left(s: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """Unit normals (m, 2) to the left of segments s → e."""
+    d = e - s
+    n = np.column_stack([-d[:, 1], d[:, 0]])
+    return n / np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-12)[:, None]
+
+
+def to_polyline(points: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Signed distances (k,) of points to a one-sided polyline (positive on its left), the nearest points (k, 2),
+    and the unit normals from the line towards each point (k, 2)."""
+    s, e = line[:-1], line[1:]
+    d, near = to_segments(points, s, e)
+    j = np.argmin(d, axis=1)
+    k = np.arange(len(points))
+    p, dist = near[k, j], d[k, j]
+    left = _left(s, e)[j]
+    away = points - p
+    side = np.where(np.einsum("ij,ij->i", away, left) >= 0, 1.0, -1.0)
+    normal = np.where(dist[:, None] > 1e-9, away * side[:, None] / np.maximum(dist, 1e-12)[:, None], left)
+    return side * dist, p, normal
+
+
+def to_polygon(points: np.ndarray, poly: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Signed distances (k,) of points to a convex polygon's boundary (negative inside), the nearest boundary
+    points (k, 2), and the unit outward normals there (k, 2)."""
+    ring = np.vstack([poly, poly[:1]])
+    d, near = to_segments(points, ring[:-1], ring[1:])
+    j = np.argmin(d, axis=1)
+    k = np.arange(len(points))
+    p, dist = near[k, j], d[k, j]
+    outward = -_left(ring[:-1], ring[1:])[j]  # counter-clockwise: the outside is on the right
+    edges = ring[1:] - ring[:-1]
+    rel = points[:, None, :] - ring[None, :-1, :]
+    inside = np.all(edges[None, :, 0] * rel[..., 1] - edges[None, :, 1] * rel[..., 0] > 0, axis=1)
+    side = np.where(inside, -1.0, 1.0)
+    away = points - p
+    normal = np.where(dist[:, None] > 1e-9, away * side[:, None] / np.maximum(dist, 1e-12)[:, None], outward)
+    return side * dist, p, normal
 
 
 def polyline_circle(line: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
-    """A polyline (k, 2) against a circle: the nearest of its segments; the normal from the line to the centre."""
-    best: Gap | None = None
-    for a, b in pairwise(line):
-        p = closest_on_segment(centre, a, b)
-        n = _unit(centre - p, _left_normal(a, b))
-        gap = float(np.hypot(*(centre - p))) - radius
-        if best is None or gap < best[0]:
-            best = (gap, p, centre - radius * n, n)
-    assert best is not None
-    return best
-
-
-def polygon_circle(poly: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
-    """A convex polygon (k, 2), counter-clockwise, against a circle; negative inside."""
-    closed = np.vstack([poly, poly[:1]])
-    gap, p, q, n = polyline_circle(closed, centre, radius)
-    edges = closed[1:] - closed[:-1]
-    rel = centre - closed[:-1]
-    if np.all(edges[:, 0] * rel[:, 1] - edges[:, 1] * rel[:, 0] > 0):  # the centre is inside
-        d = gap + radius
-        return -d - radius, p, centre + radius * n, -n
-    return gap, p, q, n
-
-
-def _axes(poly: np.ndarray, closed: bool) -> list[np.ndarray]:
-    pts = np.vstack([poly, poly[:1]]) if closed else poly
-    out = []
-    for a, b in pairwise(pts):
-        n = _left_normal(a, b)
-        out += [n, -n]
-    return out
-
-
-def polygons(a: np.ndarray, a_closed: bool, b: np.ndarray, b_closed: bool) -> Gap:
-    """Two convex shapes (a segment is one: two points, not closed): the exact distance where apart, the
-    separating-axis overlap where not."""
-    best_sep, axis, own = -np.inf, np.array([0.0, 1.0]), True
-    for u, of_a in [(u, True) for u in _axes(a, a_closed)] + [(u, False) for u in _axes(b, b_closed)]:
-        sep = float((b @ u).min() - (a @ u).max())
-        if sep > best_sep:
-            best_sep, axis, own = sep, u, of_a
-    if best_sep <= 0:  # overlap: the other shape's deepest vertex across the face of least overlap
-        if own:
-            pb = b[int(np.argmin(b @ axis))]
-            return best_sep, pb - best_sep * axis, pb, axis
-        pa = a[int(np.argmax(a @ axis))]
-        return best_sep, pa, pa + best_sep * axis, axis
-    best: Gap | None = None
-    for pts, other, other_closed, flip in ((a, b, b_closed, False), (b, a, a_closed, True)):
-        ring = np.vstack([other, other[:1]]) if other_closed else other
-        for v in pts:
-            for s, e in pairwise(ring):
-                q = closest_on_segment(v, s, e)
-                d = float(np.hypot(*(v - q)))
-                if best is None or d < best[0]:
-                    pa, pb = (q, v) if flip else (v, q)
-                    best = (d, pa, pb, _unit(pb - pa, axis))
-    assert best is not None
-    return best
+    """A link's outline against a circle."""
+    sd, p, n = to_polyline(centre[None, :], line)
+    return float(sd[0]) - radius, p[0], centre - radius * n[0], n[0]
 
 
 def polyline_polygon(line: np.ndarray, poly: np.ndarray) -> Gap:
-    """A polyline against a convex polygon: the nearest of its segments."""
-    gaps = [polygons(line[k : k + 2], False, poly, True) for k in range(len(line) - 1)]
-    return min(gaps, key=lambda g: g[0])
+    """A link's outline against a convex polygon: the nearer of the polygon's corners to the outline and the
+    outline's corners to the polygon."""
+    sd_v, p_v, n_v = to_polyline(poly, line)
+    sd_u, p_u, n_u = to_polygon(line, poly)
+    i, j = int(np.argmin(sd_v)), int(np.argmin(sd_u))
+    if sd_v[i] <= sd_u[j]:
+        return float(sd_v[i]), p_v[i], poly[i], n_v[i]
+    return float(sd_u[j]), line[j], p_u[j], -n_u[j]
+
+
+def polygon_circle(poly: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
+    """A convex polygon against a circle; the normal from the polygon to the circle."""
+    sd, p, n = to_polygon(centre[None, :], poly)
+    return float(sd[0]) - radius, p[0], centre - radius * n[0], n[0]
+
+
+def polygons(a: np.ndarray, b: np.ndarray) -> Gap:
+    """Two convex polygons: the nearer of b's corners to a and a's corners to b."""
+    sd_b, p_b, n_b = to_polygon(b, a)
+    sd_a, p_a, n_a = to_polygon(a, b)
+    i, j = int(np.argmin(sd_b)), int(np.argmin(sd_a))
+    if sd_b[i] <= sd_a[j]:
+        return float(sd_b[i]), p_b[i], b[i], n_b[i]
+    return float(sd_a[j]), a[j], p_a[j], -n_a[j]
 
 
 def circles(ca: np.ndarray, ra: float, cb: np.ndarray, rb: float) -> Gap:
