@@ -192,3 +192,12 @@ def _make(kind: str, values: dict[str, float], free: bool | None, where: str) ->
             raise ParameterError(f"{where} angle", values["angle"], "a cylinder has no angle")
         return Cylinder(diameter=values["diameter"], **common)
     return Box(w=values["w"], h=values["h"], **common)
+
+
+def objects_from_template(data: dict[str, Any], name: str = "") -> list[Object]:
+    """A finger template's ``[[object]]`` tables as objects (none: []), each checked by ``object_from_table``."""
+    tables = data.get("object", [])
+    prefix = f"{name}: " if name else ""
+    if not isinstance(tables, list):
+        raise ParameterError(f"{prefix}object", tables, "must be [[object]] tables")
+    return [object_from_table(t, f"{prefix}object[{i}]") for i, t in enumerate(tables, start=1)]
