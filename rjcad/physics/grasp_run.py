@@ -55,18 +55,22 @@ def grasp_outlines(source: str | Path | None, model: FingerModel) -> list[np.nda
     them, else the template's simplified pads (``rjcad.physics.grasp.template_outlines``)."""
     from rjcad.physics.grasp import template_outlines
 
-    if _is_manifest(source):
-        try:
-            from rjcad.physics.finger_sources import outlines_from_manifest  # type: ignore[attr-defined, unused-ignore]
-        except ImportError:  # a checkout without the manifest's outlines
-            outlines_from_manifest = None
-        if outlines_from_manifest is not None:
-            from rjcad.io.manifest import Manifest
+    if not _is_manifest(source):
+        return template_outlines(model)
+    from rjcad.io.manifest import Manifest
 
-            lines = outlines_from_manifest(Manifest.read(str(source)).to_json())
-            if lines is not None:
-                return [np.asarray(o, dtype=float) for o in lines]
-    return template_outlines(model)
+    return grasp_outlines_of(Manifest.read(str(source)).to_json(), model)
+
+
+def grasp_outlines_of(manifest: dict[str, Any], model: FingerModel) -> list[np.ndarray]:
+    """The outlines of a manifest's JSON object (``rjcad.physics.finger_sources.outlines_from_manifest``), or
+    the template's pads where it has none (or this rjcad cannot read them)."""
+    from rjcad.physics import finger_sources
+    from rjcad.physics.grasp import template_outlines
+
+    reader = getattr(finger_sources, "outlines_from_manifest", None)
+    lines = reader(manifest) if reader is not None else None
+    return template_outlines(model) if lines is None else [np.asarray(o, dtype=float) for o in lines]
 
 
 def run_grasp(
