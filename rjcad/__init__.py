@@ -19,7 +19,11 @@ __version__ = "0.1.0"
 
 #: The API's names here → the module that defines them (imported on first use) and their name there.
 API = {
+    "Box": ("rjcad.api", "Box"),
     "Closure": ("rjcad.api", "Closure"),
+    "Cylinder": ("rjcad.api", "Cylinder"),
+    "Grasp": ("rjcad.api", "Grasp"),
+    "grasp": ("rjcad.api", "grasp"),
     "Finger": ("rjcad.api", "Finger"),
     "Joint": ("rjcad.api", "Joint"),
     "Spring": ("rjcad.api", "Spring"),

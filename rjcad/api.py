@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -22,6 +22,9 @@ import numpy as np
 from rjcad.errors import MissingExtra, ParameterError
 from rjcad.fields import JOINT_FIELDS, SPRING_FIELDS, from_keywords, merge_config, spring_kwargs
 from rjcad.paper import FINGER
+from rjcad.physics.grasp_result import Grasp
+from rjcad.physics.objects import Box as _Box
+from rjcad.physics.objects import Cylinder, Object
 
 if TYPE_CHECKING:
     import trimesh
@@ -34,14 +37,18 @@ if TYPE_CHECKING:
     from rjcad.spring import SpringDesign
 
 __all__ = [
+    "Box",
     "Closure",
+    "Cylinder",
     "Finger",
+    "Grasp",
     "Joint",
     "Spring",
     "build_finger",
     "build_joint",
     "design_spring",
     "finger_params",
+    "grasp",
     "joint_params",
 ]
 
@@ -416,5 +423,92 @@ class Finger(_Built):
             c.tendon_mm, np.degrees(c.theta), c.tension, c.joint_tension, c.state.astype(int), tuple(c.phase)
         )
 
+    def grasp(
+        self,
+        objects: Object | Sequence[Object],
+        *,
+        max_tension_n: float = 10.0,
+        stroke_mm: float | None = None,
+        steps: int = 60,
+        engine: str = "rjcad",
+        mu_t: float = 0.0,
+    ) -> Grasp:
+        """Close this finger on ``objects`` (``Cylinder``, ``Box``) as ``rjcad simulate finger finger.json
+        --object``: the tension ramped from 0 to ``max_tension_n`` [N] in ``steps`` readings (stopped at
+        ``stroke_mm`` of tendon travel if given), by ``engine`` ("rjcad" or "mujoco"), the links' outlines from
+        the manifest where it has them; returns a ``Grasp`` (``verdict()``, ``to_dict()``)."""
+        from rjcad.physics.finger import model_from_manifest
+        from rjcad.physics.grasp_run import grasp_outlines_of
+
+        model = model_from_manifest(self._build.manifest, mu_t=mu_t)
+        outlines = grasp_outlines_of(self._build.manifest.to_json(), model)
+        return _grasp(model, objects, outlines, max_tension_n, stroke_mm, steps, engine, None)
+
     def __repr__(self) -> str:
         return f"Finger({self.params.n} joints, source={self.params.source!r})"
+
+
+# --------------------------------------------------------------------------- grasp
+
+
+def Box(
+    x: float, y: float, w: float, h: float, *, angle_deg: float = 0.0, mu: float = 0.0, free: bool = False,
+    mass_g: float = 0.0,
+) -> _Box:  # fmt: skip
+    """A box object: centre (``x``, ``y``) [mm] in the finger base's frame, ``w`` × ``h`` [mm], turned by
+    ``angle_deg`` about +z; ``mu`` its contact friction; ``free`` with a mass ``mass_g`` [g], or fixed."""
+    import math
+
+    from rjcad.validate import in_range
+
+    in_range("angle_deg", angle_deg, -720.0, 720.0)
+    return _Box(x, y, w, h, angle=math.radians(angle_deg), mu=mu, free=free, mass_g=mass_g)
+
+
+def grasp(
+    source: PathLike | None,
+    objects: Object | Sequence[Object] = (),
+    *,
+    max_tension_n: float = 10.0,
+    stroke_mm: float | None = None,
+    steps: int = 60,
+    engine: str = "rjcad",
+    mu_t: float = 0.0,
+) -> Grasp:
+    """Close a finger given by a file, without building it, as ``rjcad simulate finger SOURCE --object``: a
+    manifest (.json: its outlines) or a template (.toml: its ``[[object]]`` tables too), None for the paper's
+    finger; the other arguments as ``Finger.grasp``."""
+    from rjcad.physics.grasp_run import grasp_model, grasp_outlines, template_objects
+
+    path = None if source is None else os.fspath(source)
+    model = grasp_model(path, mu_t)
+    given = [objects] if isinstance(objects, (Cylinder, _Box)) else list(objects)
+    both = [*template_objects(path), *given]
+    return _grasp(model, both, grasp_outlines(path, model), max_tension_n, stroke_mm, steps, engine, path)
+
+
+def _grasp(
+    model: Any,
+    objects: Object | Sequence[Object],
+    outlines: Any,
+    max_tension_n: float,
+    stroke_mm: float | None,
+    steps: int,
+    engine: str,
+    source: str | None,
+) -> Grasp:
+    """``run_grasp`` with the API's checks: the objects are ``Cylinder`` or ``Box``, ``steps`` an integer."""
+    from rjcad.physics.grasp_run import run_grasp
+    from rjcad.validate import in_range
+
+    objs = [objects] if isinstance(objects, (Cylinder, _Box)) else list(objects)
+    for k, o in enumerate(objs, start=1):
+        if not isinstance(o, (Cylinder, _Box)):
+            raise ParameterError(f"objects[{k}]", o, "must be a Cylinder or a Box (rjcad.api)")
+    if isinstance(steps, bool) or not isinstance(steps, int):
+        raise ParameterError("steps", steps, "must be an integer")
+    in_range("steps", steps, 2, STEPS[1])
+    return run_grasp(
+        engine, model, objs, max_tension_n=max_tension_n, stroke=stroke_mm, outlines=outlines, steps=steps,
+        source=source,
+    )  # fmt: skip

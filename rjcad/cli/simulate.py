@@ -307,15 +307,33 @@ MAX_MU_T = 2.0
     help="Gravity relative to the finger, on the links' weights (a manifest's masses), as rjcad mjcf --gravity "
     "[default: off; an MJCF has its own].",
 )
-def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity):
-    """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's)."""
+@click.option(
+    "--object",
+    "object_specs",
+    multiple=True,
+    metavar="SPEC",
+    help="An object to close on (repeatable; a template's [[object]] tables too), in the base's frame: "
+    "cylinder:diameter=40,x=20,y=25 or box:w=30,h=20,x=..,y=..,angle=DEG; options mu=0.5, fixed or free with "
+    "mass=GRAMS. The drive is then the tension ramp (--max-tension), --stroke stops it only if given.",
+)
+@click.option(
+    "--max-tension",
+    type=float,
+    default=None,
+    help="With objects: the tendon's tension is ramped from 0 to this [N] (default 10).",
+)
+def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, object_specs, max_tension):
+    """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's).
+    With objects (--object, or a template's [[object]] tables): the closure on them as the tension rises."""
     import numpy as np
 
     from rjcad.cli.progress import progress_line
     from rjcad.validate import in_range
 
-    in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
+    if _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity):
+        return
+    in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     grav = _finger_gravity(source, gravity)
     runs = {}
     with progress_line("simulate finger") as progress:
@@ -339,6 +357,29 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare,
                 f"deg, tension {run.tension[steps]:.2f} N"
             )
     _echo_sag(runs, source, gravity)
+
+
+def _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity) -> bool:
+    """``simulate finger`` with objects (``--object``, a template's tables): run it and say True; else False."""
+    from rjcad.cli.grasp_out import simulate_grasp
+    from rjcad.physics.grasp_run import GRASP_STEPS, template_objects
+    from rjcad.physics.objects import parse_object
+
+    objects = [*template_objects(source), *(parse_object(s) for s in object_specs)]
+    if not objects:
+        if max_tension is not None:
+            raise click.BadParameter(
+                "only with objects (--object, or a template's [[object]] tables)", param_hint="--max-tension"
+            )
+        return False
+    given = click.get_current_context().get_parameter_source
+    simulate_grasp(
+        source, objects, engine=engine, compare=compare, max_tension_n=10.0 if max_tension is None else max_tension,
+        stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None,
+        steps=steps if given("steps") is ParameterSource.COMMANDLINE else GRASP_STEPS, mu_t=mu_t,
+        gravity=_finger_gravity(source, gravity), as_json=as_json, plot=plot,
+    )  # fmt: skip
+    return True
 
 
 def _plot_closure(plot: str, runs: dict, compare: bool) -> None:

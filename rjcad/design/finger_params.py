@@ -39,7 +39,10 @@ class FingerParams:
     @classmethod
     def from_dict(cls, data: dict[str, Any], source: str = "<dict>") -> FingerParams:
         """Check keys and ranges of a finger template (see templates/finger.toml)."""
+        from rjcad.physics.objects import objects_from_template
+
         built, requested = cls.joints_from_dict(data)
+        objects_from_template(data)  # checked here, used by the simulation only (the build has no object)
         # a link whose length is not given: 40 mm, or the shortest whole mm that holds its joints if longer
         for i, (p, req) in enumerate(zip(built, requested)):
             if "link_length_mm" not in req:

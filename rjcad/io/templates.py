@@ -14,6 +14,7 @@ FINGER_KEYS: dict[str, type | tuple[type, ...]] = {
     "layout": str,
     "defaults": dict,
     "joint": list,
+    "object": list,
 }
 #: Keys of ``[defaults]`` and of each ``[[joint]]``.
 FINGER_JOINT_KEYS: dict[str, type | tuple[type, ...]] = {

@@ -123,6 +123,7 @@ def check_template_keys(data: dict[str, Any], name: str) -> None:
     """Every key of a finger template known and of its type, as the builder requires (ParameterError)."""
     from rjcad.io.config import check_key
     from rjcad.io.templates import FINGER_JOINT_KEYS, FINGER_KEYS
+    from rjcad.physics.objects import objects_from_template
 
     for key, value in data.items():
         check_key(f"{name}: ", key, value, FINGER_KEYS)
@@ -131,6 +132,7 @@ def check_template_keys(data: dict[str, Any], name: str) -> None:
     for where, table in tables:
         for key, value in table.items():
             check_key(f"{name}: {where}", key, value, FINGER_JOINT_KEYS)
+    objects_from_template(data, name)
 
 
 def load_finger_model(source: str | None, mu_t: float = 0.0) -> FingerModel:

@@ -166,6 +166,9 @@ def object_from_table(table: Any, where: str = "object") -> Object:
     unknown = sorted(set(table) - set(keys) - {"kind", "free"})
     if unknown:
         raise ParameterError(f"{where}.{unknown[0]}", table[unknown[0]], f"is not a key of a {kind}")
+    for key in set(keys) & set(table):  # a template's numbers are TOML numbers, as its other keys
+        if isinstance(table[key], bool) or not isinstance(table[key], (int, float)):
+            raise ParameterError(f"{where}.{key}", table[key], "must be a number")
     values = {short: in_range(f"{where}.{key}", table[key]) for key, short in keys.items() if key in table}
     free = table.get("free")
     if free is not None and not isinstance(free, bool):
@@ -187,8 +190,20 @@ def _make(kind: str, values: dict[str, float], free: bool | None, where: str) ->
     }
     if not free and "mass" in values:
         raise ParameterError(f"{where} mass", values["mass"], "only a free object has a mass: add free")
-    if kind == "cylinder":
-        if "angle" in values:
-            raise ParameterError(f"{where} angle", values["angle"], "a cylinder has no angle")
-        return Cylinder(diameter=values["diameter"], **common)
-    return Box(w=values["w"], h=values["h"], **common)
+    if kind == "cylinder" and "angle" in values:
+        raise ParameterError(f"{where} angle", values["angle"], "a cylinder has no angle")
+    try:
+        if kind == "cylinder":
+            return Cylinder(diameter=values["diameter"], **common)
+        return Box(w=values["w"], h=values["h"], **common)
+    except ParameterError as e:  # a range: named after where the object was given (--object, object[2])
+        raise ParameterError(f"{where} {e.parameter}", e.value, e.limit, e.unit) from None
+
+
+def objects_from_template(data: dict[str, Any], name: str = "") -> list[Object]:
+    """A finger template's ``[[object]]`` tables as objects (none: []), each checked by ``object_from_table``."""
+    tables = data.get("object", [])
+    prefix = f"{name}: " if name else ""
+    if not isinstance(tables, list):
+        raise ParameterError(f"{prefix}object", tables, "must be [[object]] tables")
+    return [object_from_table(t, f"{prefix}object[{i}]") for i, t in enumerate(tables, start=1)]

@@ -227,7 +227,7 @@ NUMERIC = {
             "--rotation",
         ],
     ),
-    "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity"]),
+    "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity", "--max-tension"]),
     "simbearing": (["simulate", "joint", "--rotation", "90", "--friction", "bearing"], ["--mu", "--rotation"]),
     "design": (
         ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "d"],
@@ -1489,11 +1489,70 @@ def locale_cases(sh: Shared) -> list[Case]:
     return cases
 
 
+# ------------------------------------------------------------------------ objects (simulate finger --object)
+
+#: Malformed ``--object`` specs (rjcad.physics.objects.parse_object): each is one error line naming --object.
+BAD_OBJECTS = {
+    "empty": "",
+    "no-kind": "diameter=20,x=30,y=25",
+    "unknown-kind": "sphere:diameter=20,x=30,y=25",
+    "kind-only": "cylinder:",
+    "no-equals": "cylinder:diameter,x=30,y=25",
+    "unknown-key": "cylinder:diameter=20,x=30,y=25,z=3",
+    "duplicate-key": "cylinder:diameter=20,x=30,y=25,x=31",
+    "fixed-free": "cylinder:diameter=20,x=30,y=25,fixed,free",
+    "free-no-mass": "cylinder:diameter=20,x=30,y=25,free",
+    "mass-fixed": "cylinder:diameter=20,x=30,y=25,mass=5",
+    "nan": "cylinder:diameter=nan,x=30,y=25",
+    "inf": "box:w=inf,h=10,x=30,y=25",
+    "huge": "cylinder:diameter=1e300,x=30,y=25",
+    "big-int": f"cylinder:diameter=20,x={BIG},y=25",
+    "negative": "box:w=-10,h=10,x=30,y=25",
+    "zero": "cylinder:diameter=0,x=30,y=25",
+    "mu-huge": "cylinder:diameter=20,x=30,y=25,mu=1e9",
+    "angle-huge": "box:w=10,h=10,x=30,y=25,angle=1e20",
+    "cylinder-angle": "cylinder:diameter=20,x=30,y=25,angle=10",
+    "text": "cylinder:diameter=abc,x=30,y=25",
+    "long": "cylinder:" + "x=1," * 50_000,
+    "overlap": "cylinder:diameter=20,x=30,y=0",
+}
+#: Damaged ``[[object]]`` tables in a template (after a valid one-joint finger).
+BAD_OBJECT_TABLES = {
+    "unknown-key": 'kind = "cylinder"\ndiameter_mm = 20\nx_mm = 30\ny_mm = 25\nz_mm = 1',
+    "no-kind": "diameter_mm = 20\nx_mm = 30\ny_mm = 25",
+    "bad-kind": 'kind = "cone"\ndiameter_mm = 20\nx_mm = 30\ny_mm = 25',
+    "string-number": 'kind = "cylinder"\ndiameter_mm = "20"\nx_mm = 30\ny_mm = 25',
+    "free-text": 'kind = "box"\nw_mm = 20\nh_mm = 20\nx_mm = 30\ny_mm = 25\nfree = "yes"',
+    "nan": 'kind = "cylinder"\ndiameter_mm = nan\nx_mm = 30\ny_mm = 25',
+    "missing": 'kind = "box"\nw_mm = 20\nx_mm = 30\ny_mm = 25',
+}
+OBJECT_FINGER = 'material = "absplus-p430"\n[[joint]]\nstiffness_nmm_per_rad = 5.2\nlink_length_mm = 44\n'
+
+
+def object_cases(sh: Shared) -> list[Case]:
+    """``simulate finger --object`` with malformed specs, and templates with damaged ``[[object]]`` tables."""
+    cases = [
+        Case(f"obj-spec-{kind}", ["simulate", "finger", "--object", spec], mention=("object",))
+        for kind, spec in BAD_OBJECTS.items()
+    ]
+    cases.append(Case("obj-spec-max-tension-nan", ["simulate", "finger", "--object", "cylinder:diameter=20,x=30,y=25",
+                                                   "--max-tension", "nan"], mention=("max-tension",)))  # fmt: skip
+    for kind, table in BAD_OBJECT_TABLES.items():
+
+        def setup(d: Path, table: str = table) -> None:
+            write(d / "t.toml", OBJECT_FINGER + "\n[[object]]\n" + table + "\n")
+
+        cases.append(
+            Case(f"obj-toml-{kind}", ["simulate", "finger", "t.toml"], setup=setup, mention=("t.toml", "object"))
+        )
+    return cases
+
+
 def _exists(path: Path) -> None:
     assert path.is_file(), f"{path.name} was not written"
 
 
-PARSE_CLASSES = ("num", "int")
+PARSE_CLASSES = ("num", "int", "obj")
 
 
 def parse_only(case: Case) -> bool:
@@ -1525,6 +1584,7 @@ def all_cases(sh: Shared) -> list[Case]:
         + special_output_cases(sh)
         + container_cases(sh)
         + locale_cases(sh)
+        + object_cases(sh)
     )
     ids = [c.id for c in cases]
     dup = {i for i in ids if ids.count(i) > 1}
