@@ -83,3 +83,31 @@ def test_cylinders_shorthand():
     for bad in ("55:25:10", "25:55", "25:55:0", "a,b", "0", "1:1000:1"):
         with pytest.raises(ParameterError):
             gd.parse_diameters(bad)
+
+
+@pytest.mark.slow
+def test_targets_25_to_55_give_a_finger_that_builds_grasps_every_target_and_prints(tmp_path, cli):
+    """Issue #40's acceptance: design for 25-55 mm, build the template, close the built finger (its manifest's
+    model) on each target where the design placed it: enveloping; `rjcad check` with the slicer passes."""
+    import json
+    import shutil
+
+    from rjcad.physics.finger_sources import model_from_manifest
+    from rjcad.physics.grasp import close_on
+
+    design, built = tmp_path / "design", tmp_path / "built"
+    r = cli("finger-design", "--cylinders", "25:55:10", "--out", design, "--json")
+    assert r.code == 0, r.err
+    rep = json.loads(r.out)
+    assert [t["object"]["diameter_mm"] for t in rep["targets"]] == [25, 35, 45, 55]
+    assert all(t["enveloping"] and not t["ejected"] for t in rep["targets"])
+    assert cli("finger", design / "finger.toml", "--out", built).code == 0
+    model = model_from_manifest(json.loads((built / "finger.json").read_text()))
+    assert model.link_length == tuple(rep["link_length_mm"])
+    for t in rep["targets"]:
+        o = t["object"]
+        g = close_on(model, [Cylinder(o["x_mm"], o["y_mm"], diameter=o["diameter_mm"])], max_tension_n=10.0)
+        assert g.verdict().enveloping, (o, g.verdict())
+    if shutil.which("prusa-slicer") is not None:
+        r = cli("check", built / "finger.3mf", "--manifest", built / "finger.json", "--slicer", "prusa")
+        assert r.code == 0, r.out + r.err
