@@ -40,7 +40,7 @@ PAD_MM = 5.0  # the template's straight pad [mm]
 ANGLE_MARGIN = 4 * DEG  # a wrapped joint stays this far from its stop [rad]
 EDGE_MARGIN = 2.0  # a tangent point stays this far from its link's ends [mm]
 SCALES = (5.2, 3.9, 2.6)  # the softest joint's stiffness [N·mm/rad]: the paper's, then softer (shorter springs)
-RATIOS = ((1.5, 2.0), (1.0, 1.5), (1.25, 2.5), (1.0, 2.0))  # (K2/K1, K3/K1): the paper's first
+RATIOS = ((1.5, 2.0), (1.0, 2.0), (1.0, 3.0), (1.0, 4.0), (1.5, 5.0))  # (K2/K1, K3/K1): the paper's first
 ROTATIONS = (90 * DEG, 110 * DEG)  # the distal joints' range; 110°: the builder's largest
 PRELOAD = 90 * DEG
 ARM_MM = 6.0  # the joint builder's default moment arm [mm]
@@ -70,14 +70,11 @@ Target = Cylinder | Held
 
 
 def held_position(model: FingerModel, diameter: float) -> tuple[float, float]:
-    """The held position [mm]: the solver's if it has one, else (L1 − L2/2, pad + D/2)."""
+    """The held position [mm] (``rjcad.physics.grasp.held_position``, the template's pads)."""
     from rjcad.physics import grasp
 
-    if hasattr(grasp, "held_position"):
-        x, y = grasp.held_position(model, diameter)
-        return float(x), float(y)
-    L = model.link_length
-    return L[0] - (L[1] if len(L) > 1 else L[0]) / 2, PAD_MM + diameter / 2
+    x, y = grasp.held_position(model, diameter)
+    return float(x), float(y)
 
 
 def label(t: Target) -> str:
@@ -159,6 +156,25 @@ def predicted_contacts(lengths: Sequence[float], w: Wrap, pad: float = PAD_MM) -
         p = axis + w.along[i] * d + pad * n
         out.append(Contact(f"link{i + 1}", 1, (float(p[0]), float(p[1])), (float(n[0]), float(n[1])), 1.0))
         axis = axis + L * d
+    return out
+
+
+def contact_forces(c: Candidate, w: Wrap, tension: float, pad: float = PAD_MM) -> np.ndarray:
+    """Each link's normal force [N] in the wrapped pose at ``tension`` [N], from the joints' balance
+    Σ_{j≥i} N_j·((p_j − a_i) × n_j)_z = r_i·T − K_i·(θ_i + θ0_i) (solved distal first); negative: it lifts off."""
+    contacts = predicted_contacts(c.link_length, w, pad)
+    axes, heading = [np.zeros(2)], 0.0
+    for th, L in zip(w.theta, c.link_length):
+        heading += th
+        axes.append(axes[-1] + L * np.array([math.cos(heading), math.sin(heading)]))
+    n = len(contacts)
+    A = np.zeros((n, n))
+    for i in range(n):
+        for j in range(i, n):
+            arm, nj = np.asarray(contacts[j].point_mm) - axes[i], contacts[j].normal
+            A[i, j] = arm[0] * nj[1] - arm[1] * nj[0]
+    K, th0, r = (np.asarray(v) for v in (c.stiffness, c.preload, c.moment_arm))
+    out: np.ndarray = np.linalg.solve(A, r * tension - K * (w.theta + th0))
     return out
 
 
@@ -352,7 +368,7 @@ def design_for_targets(
         raise ParameterError("joints", joints, "a finger to design has 2 to 6 joints")
     in_range("max_tension_n", max_tension_n, 0.0, 1e3, lo_open=True, unit="N")
     order = sorted(range(len(targets)), key=lambda i: targets[i].diameter)  # the smallest binds most often
-    ranked, failures = _rank(targets, joints, material, printer)
+    ranked, failures = _rank(targets, joints, material, printer, max_tension_n)
     if not ranked:
         raise InfeasibleDesign("grasp", _geometric_binding(targets, failures, joints, material, printer))
     start, runs = time.monotonic(), 0
@@ -389,26 +405,36 @@ def design_for_targets(
     return d
 
 
-def _rank(targets: Sequence[Target], n: int, material: str, printer: str
+def _rank(targets: Sequence[Target], n: int, material: str, printer: str, tension: float
           ) -> tuple[list[tuple[tuple[float, float, float], Candidate, list[Cylinder]]], dict[int, list[str]]]:  # fmt: skip
-    """The candidates that wrap every target, best predicted (worst ε, mean ε, softest) first; per target, why
-    the others do not."""
+    """The candidates that wrap every target with every contact pressing, best predicted (worst ε, then the
+    smallest contact force [N] over the targets, then mean ε) first; per target, why the others do not."""
     ranked: list[tuple[tuple[float, float, float], Candidate, list[Cylinder]]] = []
     failures: dict[int, list[str]] = {}
     for cand in candidates(targets, n, material, printer):
         places = [t.place(cand.model()) if isinstance(t, Held) else t for t in targets]
         cand = _lengthen_distal(cand, places)
         places = [t.place(cand.model()) if isinstance(t, Held) else t for t in targets]
-        eps, bad = [], False
+        eps, grip, bad = [], [], False
         for i, p in enumerate(places):
             w = wrap(cand.link_length, cand.rotation, (p.x, p.y), p.radius)
             if w.reason is not None:
                 failures.setdefault(i, []).append(w.reason)
                 bad = True
-            else:
-                eps.append(predicted_epsilon(cand.link_length, w, p))
+                continue
+            N = contact_forces(cand, w, tension)
+            if np.any(N <= 0):
+                k = int(np.argmin(N))
+                failures.setdefault(i, []).append(
+                    f"link {k + 1} lifts off at {tension:g} N (its balance needs {N[k]:.2f} N of contact): "
+                    "the distal joints' springs are too soft against the tendon"
+                )
+                bad = True
+                continue
+            eps.append(predicted_epsilon(cand.link_length, w, p))
+            grip.append(float(N.min()))
         if not bad:
-            ranked.append(((min(eps), float(np.mean(eps)), -sum(cand.stiffness)), cand, places))
+            ranked.append(((min(eps), min(grip), float(np.mean(eps))), cand, places))
     ranked.sort(key=lambda r: r[0], reverse=True)
     return ranked, failures
 
