@@ -483,8 +483,24 @@ TEMPLATE = "finger.toml"
 
 
 @click.command("finger-design")
-@click.option("--target", required=True, help="End angles per joint [deg], e.g. 65,50,50.")
-@click.option("--stroke", type=float, required=True, help="Tendon displacement at the end [mm].")
+@click.option("--target", help="End angles per joint [deg], e.g. 65,50,50 (a free closure; with --stroke).")
+@click.option("--stroke", type=float, help="Tendon displacement at the end [mm] (with --target).")
+@click.option(
+    "--object",
+    "objects",
+    multiple=True,
+    help="A target cylinder to grasp, e.g. cylinder:diameter=40,x=20,y=25,mu=0.5 (mm; repeatable): design for "
+    "grasps instead of a free closure.",
+)
+@click.option(
+    "--cylinders",
+    help="Target cylinders at the held position (docs/grasp.md): diameters START:STOP:STEP [mm] "
+    "(25:55:10 = 25, 35, 45, 55) or a list (25,40,55).",
+)
+@click.option("--mu", type=float, default=0.0, show_default=True, help="Contact friction of the --cylinders.")
+@click.option(
+    "--max-tension", type=float, default=10.0, show_default=True, help="Tendon tension each grasp ends at [N]."
+)
 @click.option(
     "--sequence", type=click.Choice(["simultaneous", "proximal-first"]), default="simultaneous", show_default=True
 )
@@ -517,8 +533,11 @@ TEMPLATE = "finger.toml"
     help=f"The folder to write the finger template {TEMPLATE} into (rjcad finger DIR/{TEMPLATE} builds it).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object (the design's report).")
-def finger_design(target, stroke, sequence, base_stiffness, material, printer, out_dir, as_json):
-    """Choose stiffnesses, preloads and moment arms for a desired free closure; write a finger template."""
+def finger_design(
+    target, stroke, objects, cylinders, mu, max_tension, sequence, base_stiffness, material, printer, out_dir, as_json
+):
+    """Choose stiffnesses, preloads and moment arms for a desired free closure, or stiffnesses, ranges and link
+    lengths that grasp target cylinders; write a finger template."""
     from pathlib import Path
 
     from rjcad.io.config import write_atomic
@@ -526,6 +545,14 @@ def finger_design(target, stroke, sequence, base_stiffness, material, printer, o
 
     folder, name = out_file(out_dir, (".toml",), TEMPLATE)
     out_path = str(Path(folder) / name)
+    if objects or cylinders:
+        from rjcad.cli.grasp_design import grasp_design
+
+        if target is not None or stroke is not None:
+            raise click.UsageError("give --target/--stroke (a free closure) or --object/--cylinders (grasps)")
+        return grasp_design(objects, cylinders, mu, max_tension, material, printer, out_path, as_json)
+    if target is None or stroke is None:
+        raise click.UsageError("give --target and --stroke (a free closure), or --object/--cylinders (grasps)")
 
     try:
         angles = [float(v) for v in target.split(",")]
