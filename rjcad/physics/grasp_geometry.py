@@ -33,7 +33,8 @@ def _left(s: np.ndarray, e: np.ndarray) -> np.ndarray:
     """Unit normals (m, 2) to the left of segments s → e."""
     d = e - s
     n = np.column_stack([-d[:, 1], d[:, 0]])
-    return n / np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-12)[:, None]
+    out: np.ndarray = n / np.maximum(np.hypot(n[:, 0], n[:, 1]), 1e-12)[:, None]
+    return out
 
 
 def to_polyline(points: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
