@@ -54,7 +54,7 @@ MAX_TENSION_N, STEPS = 10.0, 60
 TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 1.0, 200
 #: A free object's drag on a move [N/mm, N·mm/rad]: it moves only as far as it is pushed (without it, an object
 #: that nothing holds may sit anywhere it does not block a link, and the minimiser takes any of those places).
-DRAG = 1e-6
+DRAG = 1e-3
 #: Pairs whose bounding circles are farther apart than this [mm] take that distance as their gap (more than any
 #: move: TURN_RAD × the finger's length, a few mm).
 FAR_MM = 20.0
@@ -310,7 +310,7 @@ class _Step:
         z0 = np.concatenate([self.q0, np.zeros(2 * nd)])
         return minimize(
             self.objective, z0, jac=True, method="SLSQP", bounds=bounds + [(0.0, None)] * (2 * nd),
-            constraints=cons, options={"ftol": 1e-15, "maxiter": 500},
+            constraints=cons, options={"ftol": 1e-12, "maxiter": 300},
         )  # fmt: skip
 
 

@@ -38,8 +38,8 @@ def _left(s: np.ndarray, e: np.ndarray) -> np.ndarray:
 
 
 def to_polyline(points: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Signed distances (k,) of points to a one-sided polyline (positive on its left), the nearest points (k, 2),
-    and the unit normals from the line towards each point (k, 2)."""
+    """Signed distances (k,) of points to a one-sided polyline (positive on its left, and past its ends), the nearest
+    points (k, 2), and the unit normals from the line towards each point (k, 2)."""
     s, e = line[:-1], line[1:]
     d, near = to_segments(points, s, e)
     j = np.argmin(d, axis=1)
@@ -47,7 +47,9 @@ def to_polyline(points: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, np.nd
     p, dist = near[k, j], d[k, j]
     left = _left(s, e)[j]
     away = points - p
-    side = np.where(np.einsum("ij,ij->i", away, left) >= 0, 1.0, -1.0)
+    # behind the line only where the nearest point is not one of its two ends (a point past an end is beside it)
+    at_end = np.all(np.isclose(p, line[0]), axis=1) | np.all(np.isclose(p, line[-1]), axis=1)
+    side = np.where((np.einsum("ij,ij->i", away, left) >= 0) | at_end, 1.0, -1.0)
     normal = np.where(dist[:, None] > 1e-9, away * side[:, None] / np.maximum(dist, 1e-12)[:, None], left)
     return side * dist, p, normal
 
