@@ -429,7 +429,7 @@ class Finger(_Built):
         *,
         max_tension_n: float = 10.0,
         stroke_mm: float | None = None,
-        steps: int = 60,
+        steps: int = 40,
         engine: str = "rjcad",
         mu_t: float = 0.0,
     ) -> Grasp:
@@ -438,11 +438,14 @@ class Finger(_Built):
         ``stroke_mm`` of tendon travel if given), by ``engine`` ("rjcad" or "mujoco"), the links' outlines from
         the manifest where it has them; returns a ``Grasp`` (``verdict()``, ``to_dict()``)."""
         from rjcad.physics.finger import model_from_manifest
-        from rjcad.physics.grasp_run import grasp_outlines_of
+        from rjcad.physics.grasp_run import base_outline_of, grasp_outlines_of
 
         model = model_from_manifest(self._build.manifest, mu_t=mu_t)
-        outlines = grasp_outlines_of(self._build.manifest.to_json(), model)
-        return _grasp(model, objects, outlines, max_tension_n, stroke_mm, steps, engine, None)
+        manifest = self._build.manifest.to_json()
+        outlines = grasp_outlines_of(manifest, model)
+        return _grasp(
+            model, objects, outlines, max_tension_n, stroke_mm, steps, engine, None, base_outline_of(manifest)
+        )
 
     def __repr__(self) -> str:
         return f"Finger({self.params.n} joints, source={self.params.source!r})"
@@ -471,7 +474,7 @@ def grasp(
     *,
     max_tension_n: float = 10.0,
     stroke_mm: float | None = None,
-    steps: int = 60,
+    steps: int = 40,
     engine: str = "rjcad",
     mu_t: float = 0.0,
 ) -> Grasp:
@@ -496,6 +499,7 @@ def _grasp(
     steps: int,
     engine: str,
     source: str | None,
+    base_outline: Any = None,
 ) -> Grasp:
     """``run_grasp`` with the API's checks: the objects are ``Cylinder`` or ``Box``, ``steps`` an integer."""
     from rjcad.physics.grasp_run import run_grasp
@@ -510,5 +514,5 @@ def _grasp(
     in_range("steps", steps, 2, STEPS[1])
     return run_grasp(
         engine, model, objs, max_tension_n=max_tension_n, stroke=stroke_mm, outlines=outlines, steps=steps,
-        source=source,
+        source=source, base_outline=base_outline,
     )  # fmt: skip

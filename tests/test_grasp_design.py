@@ -88,12 +88,13 @@ def test_cylinders_shorthand():
 @pytest.mark.slow
 def test_targets_25_to_55_give_a_finger_that_builds_grasps_every_target_and_prints(tmp_path, cli):
     """Issue #40's acceptance: design for 25-55 mm, build the template, close the built finger (its manifest's
-    model) on each target where the design placed it: enveloping; `rjcad check` with the slicer passes."""
+    model and the links' outlines measured on its solids) on each target, held where the docs hold it on that
+    built finger: enveloping; `rjcad check` with the slicer passes."""
     import json
     import shutil
 
-    from rjcad.physics.finger_sources import model_from_manifest
-    from rjcad.physics.grasp import close_on
+    from rjcad.physics.finger_sources import model_from_manifest, outlines_from_manifest
+    from rjcad.physics.grasp import close_on, held_position
 
     design, built = tmp_path / "design", tmp_path / "built"
     r = cli("finger-design", "--cylinders", "25:55:10", "--out", design, "--json")
@@ -102,12 +103,13 @@ def test_targets_25_to_55_give_a_finger_that_builds_grasps_every_target_and_prin
     assert [t["object"]["diameter_mm"] for t in rep["targets"]] == [25, 35, 45, 55]
     assert all(t["enveloping"] and not t["ejected"] for t in rep["targets"])
     assert cli("finger", design / "finger.toml", "--out", built).code == 0
-    model = model_from_manifest(json.loads((built / "finger.json").read_text()))
-    assert model.link_length == tuple(rep["link_length_mm"])
+    manifest = json.loads((built / "finger.json").read_text())
+    model, outlines = model_from_manifest(manifest), outlines_from_manifest(manifest)
+    assert model.link_length == tuple(rep["link_length_mm"]) and outlines is not None
     for t in rep["targets"]:
-        o = t["object"]
-        g = close_on(model, [Cylinder(o["x_mm"], o["y_mm"], diameter=o["diameter_mm"])], max_tension_n=10.0)
-        assert g.verdict().enveloping, (o, g.verdict())
+        D = t["object"]["diameter_mm"]
+        g = close_on(model, [Cylinder(*held_position(model, D, outlines), D)], outlines=outlines, max_tension_n=10.0)
+        assert g.verdict().enveloping, (D, g.verdict())
     if shutil.which("prusa-slicer") is not None:
         r = cli("check", built / "finger.3mf", "--manifest", built / "finger.json", "--slicer", "prusa")
         assert r.code == 0, r.out + r.err

@@ -22,12 +22,14 @@ Lagrange multipliers, the friction forces those of the slips' definitions. Each 
 TURN_RAD and moves an object by at most MOVE_MM, so that a link sweeps onto an object and never jumps through it.
 
 A free object is ejected when it is pushed out of the finger's reach (its centre farther from joint 1 than the
-links' length, the outlines' depth and its radius: the closure then goes on without it), or when at the end it is
-farther than its radius from where it was placed and no link presses it (pushed, and not held).
+links' length, the outlines' depth and its radius), when under gravity it has left its place by more than its
+radius and nothing touches it (it falls; the closure then goes on without it), or when at the end it is farther
+than its radius from where it was placed and no link presses it (pushed, and not held).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -46,10 +48,12 @@ __all__ = ["Box", "Cylinder", "Grasp", "close_on", "held_position", "template_ou
 
 #: Offset of a link's palmar surface from its axis line in a template's outline [mm].
 PAD_MM = 5.0
+#: The held cylinder's clearance above the open finger [mm].
+CLEAR_MM = 0.01
 #: A contact is active when its gap is below this [mm].
 TOUCH_MM = 1e-4
 #: Default largest tension [N] and readings of a closure.
-MAX_TENSION_N, STEPS = 10.0, 60
+MAX_TENSION_N, STEPS = 10.0, 40
 #: Largest turn of a joint or an object [rad] and move of an object [mm] per move of the minimiser; moves per reading.
 TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 1.0, 200
 #: A free object's drag on a move [N/mm, N·mm/rad]: it moves only as far as it is pushed (without it, an object
@@ -67,16 +71,31 @@ def template_outlines(m: FingerModel, pad: float = PAD_MM) -> list[np.ndarray]:
     return [np.array([[0.0, pad], [float(L), pad]]) for L in m.link_length]
 
 
-def held_position(m: FingerModel, diameter: float, outlines: Sequence[np.ndarray] | None = None) -> tuple[float, float]:
-    """Where the docs hold a cylinder of ``diameter`` [mm]: resting on link 1's outline, its centre half of link 2
-    before joint 2, (L1 − L2/2, y1 + D/2) with y1 the outline's height there (the middle of link 1 for one link).
-    The closed finger then wraps it evenly: links 2 and 3 reach it at the same turn when every link touches."""
+def held_position(
+    m: FingerModel,
+    diameter: float,
+    outlines: Sequence[np.ndarray] | None = None,
+    base_outline: np.ndarray | None = None,
+) -> tuple[float, float]:
+    """Where the docs hold a cylinder of ``diameter`` [mm]: its centre half of link 2 before joint 2,
+    x = L1 − L2/2 (the middle of link 1 for one link), resting on the open finger: as low as the outlines of the
+    links (and of the base, if given) let it, plus CLEAR_MM. With straight pads the closed finger then wraps it
+    evenly: links 2 and 3 reach it at the same turn when every link touches."""
     lines = template_outlines(m) if outlines is None else [np.asarray(o, dtype=float) for o in outlines]
-    L = m.link_length
-    x = L[0] - L[1] / 2 if m.n > 1 else L[0] / 2
-    line = lines[0]
-    y1 = float(np.interp(x, line[:, 0], line[:, 1]))
-    return float(x), y1 + diameter / 2
+    L = np.asarray(m.link_length, dtype=float)
+    x = float(L[0] - L[1] / 2 if m.n > 1 else L[0] / 2)
+    shapes = [line + [start, 0.0] for line, start in zip(lines, np.r_[0.0, np.cumsum(L)[:-1]])]
+    if base_outline is not None:
+        shapes.append(np.asarray(base_outline, dtype=float))
+    R, top = diameter / 2, -np.inf
+    for line in shapes:  # the lowest centre above each segment: sampled every 0.05 mm along it
+        for a, b in itertools.pairwise(line):
+            k = max(2, math.ceil(float(np.hypot(*(b - a))) / 0.05) + 1)
+            pts = a + np.linspace(0.0, 1.0, k)[:, None] * (b - a)
+            near = np.abs(pts[:, 0] - x) < R
+            if near.any():
+                top = max(top, float(np.max(pts[near, 1] + np.sqrt(R**2 - (pts[near, 0] - x) ** 2))))
+    return x, (top if math.isfinite(top) else R) + CLEAR_MM
 
 
 @dataclass
@@ -87,24 +106,36 @@ class _Pair:
     a_obj: int | None  # object index (0-based) or None
     b_obj: int
     mu: float
+    a_base: bool = False  # A is the base (fixed): a_link and a_obj are None
 
     @property
     def body(self) -> str:
+        if self.a_base:
+            return "base"
         return f"link{self.a_link + 1}" if self.a_link is not None else f"object{(self.a_obj or 0) + 1}"
 
 
 class _Scene:
     """The finger and the objects as functions of the state q = (θ_1…θ_n, then x, y, turn of each free object)."""
 
-    def __init__(self, m: FingerModel, objects: Sequence[Object], outlines: Sequence[np.ndarray]) -> None:
+    def __init__(
+        self,
+        m: FingerModel,
+        objects: Sequence[Object],
+        outlines: Sequence[np.ndarray],
+        base_outline: np.ndarray | None = None,
+    ) -> None:
         self.m, self.objects = m, list(objects)
         self.outlines = [np.asarray(o, dtype=float) for o in outlines]
+        self.base = None if base_outline is None else np.asarray(base_outline, dtype=float)
         self.n = m.n
         self.free = [k for k, o in enumerate(self.objects) if o.free]
         self.slot = {k: self.n + 3 * i for i, k in enumerate(self.free)}
         self.nq = self.n + 3 * len(self.free)
         self.gone: set[int] = set()  # ejected objects
         self.pairs = [_Pair(i, None, k, o.mu) for k, o in enumerate(self.objects) for i in range(self.n)]
+        if self.base is not None:
+            self.pairs += [_Pair(None, None, k, o.mu, a_base=True) for k, o in enumerate(self.objects) if o.free]
         for k, o in enumerate(self.objects):
             for j, p in enumerate(self.objects[:k]):
                 if o.free or p.free:
@@ -112,7 +143,7 @@ class _Scene:
                     self.pairs.append(_Pair(None, a, b, max(o.mu, p.mu)))
         self.weights = np.asarray(m.link_mass, dtype=float) * G
         self.link_circles = []
-        for line in self.outlines:
+        for line in self.outlines + ([self.base] if self.base is not None else []):
             mid = (line.min(axis=0) + line.max(axis=0)) / 2
             self.link_circles.append((mid, float(np.hypot(*(line - mid).T).max())))
         self.g = np.asarray(m.gravity if m.gravity is not None else (0.0, 0.0), dtype=float)
@@ -146,6 +177,8 @@ class _Scene:
 
     def _bound(self, q: np.ndarray, p: _Pair, frames: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, float]:
         """A circle [mm] about A: centre and radius."""
+        if p.a_base:
+            return self.link_circles[-1]
         if p.a_link is not None:
             centre, radius = self.link_circles[p.a_link]
             a, ang = frames
@@ -162,8 +195,9 @@ class _Scene:
         far = geo.circles(ca, ra, cb, ob.radius)
         if far[0] > FAR_MM:  # the circles about the two are apart by more than any move: that gap will do
             return far
-        if p.a_link is not None:
-            line = self.outline(q, p.a_link, frames)
+        if p.a_link is not None or p.a_base:
+            line = self.base if p.a_base else self.outline(q, p.a_link or 0, frames)
+            assert line is not None
             if isinstance(ob, Cylinder):
                 return geo.polyline_circle(line, cb, ob.radius)
             return geo.polyline_polygon(line, ob.corners(x, y, t))
@@ -376,9 +410,12 @@ def close_on(
     stroke: float | None = None,
     outlines: Sequence[np.ndarray] | None = None,
     steps: int = STEPS,
+    base_outline: np.ndarray | None = None,
 ) -> Grasp:
     """The finger ``m`` pulled by a tension ramped from 0 to ``max_tension_n`` [N] in ``steps`` readings (stopped
-    when the tendon's travel Σ r_i θ_i + T/k_t reaches ``stroke`` [mm]) against ``objects``: a ``Grasp``."""
+    when the tendon's travel Σ r_i θ_i + T/k_t reaches ``stroke`` [mm]) against ``objects``: a ``Grasp``.
+    ``outlines``: the links' (default: ``template_outlines``); ``base_outline``: the base's, in the base's frame,
+    which then supports free objects."""
     in_range("max tension", max_tension_n, 0.0, 1e4, lo_open=True, unit="N")
     if stroke is not None:
         in_range("stroke", stroke, 0.0, 1e4, lo_open=True, unit="mm")
@@ -387,7 +424,7 @@ def close_on(
     lines = template_outlines(m) if outlines is None else list(outlines)
     if len(lines) != m.n or any(np.asarray(o).ndim != 2 or len(o) < 2 or np.asarray(o).shape[1] != 2 for o in lines):
         raise ParameterError("outlines", len(lines), f"needs {m.n} polylines of (x, y) points, one per link")
-    scene = _Scene(m, objects, lines)
+    scene = _Scene(m, objects, lines, base_outline)
     q = scene.start()
     for p, g, _ in scene.gaps(q):
         if g[0] < -TOUCH_MM:
@@ -404,9 +441,16 @@ def close_on(
     reach = float(sum(m.link_length)) + max((float(np.abs(o).max()) for o in lines), default=0.0)
     for k, T in enumerate(np.linspace(0.0, max_tension_n, int(steps))):
         q, contacts, normal = _settle(scene, q, float(T), pull, normal)
-        for j in scene.free:  # pushed out of the finger's reach on the way: gone
+        for j in scene.free:  # out of the finger's reach, or falling free of everything: gone
             o = objects[j]
-            if j not in scene.gone and math.hypot(*q[scene.slot[j] : scene.slot[j] + 2]) > reach + o.radius:
+            xy = q[scene.slot[j] : scene.slot[j] + 2]
+            out_of_reach = math.hypot(*xy) > reach + o.radius
+            falling = (
+                scene.g.any()
+                and math.hypot(*(xy - o.centre)) > o.radius
+                and not any(c.object == j + 1 for c in contacts)
+            )
+            if j not in scene.gone and (out_of_reach or falling):
                 scene.gone.add(j)
                 out.ejected_at = k if out.ejected_at is None else out.ejected_at
         travel = float(r @ q[: m.n]) + T * stretch

@@ -19,14 +19,18 @@ def _unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
     return v / d if d > 1e-12 else fallback
 
 
-def to_segments(points: np.ndarray, points_s: np.ndarray, points_e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Distances (k, m) from k points to m segments (starts, ends), and the nearest points (k, m, 2)."""
+def to_segments(
+    points: np.ndarray, points_s: np.ndarray, points_e: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distances (k, m) from k points to m segments (starts, ends), the nearest points (k, m, 2), and where they
+    lie along each segment (k, m) (0 at its start, 1 at its end)."""
     ab = points_e - points_s
     den = np.einsum("ij,ij->i", ab, ab)
     rel = points[:, None, :] - points_s[None, :, :]
     u = np.clip(np.einsum("kmj,mj->km", rel, ab) / np.where(den > 0, den, 1.0), 0.0, 1.0)
     near = points_s[None, :, :] + u[..., None] * ab[None, :, :]
-    return np.hypot(*(points[:, None, :] - near).transpose(2, 0, 1)), near
+    diff = points[:, None, :] - near
+    return np.sqrt(diff[..., 0] ** 2 + diff[..., 1] ** 2), near, u
 
 
 def _left(s: np.ndarray, e: np.ndarray) -> np.ndarray:
@@ -41,14 +45,14 @@ def to_polyline(points: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, np.nd
     """Signed distances (k,) of points to a one-sided polyline (positive on its left, and past its ends), the nearest
     points (k, 2), and the unit normals from the line towards each point (k, 2)."""
     s, e = line[:-1], line[1:]
-    d, near = to_segments(points, s, e)
+    d, near, u = to_segments(points, s, e)
     j = np.argmin(d, axis=1)
     k = np.arange(len(points))
-    p, dist = near[k, j], d[k, j]
-    left = _left(s, e)[j]
+    p, dist, at = near[k, j], d[k, j], u[k, j]
+    left = _left(s[j], e[j])
     away = points - p
     # behind the line only where the nearest point is not one of its two ends (a point past an end is beside it)
-    at_end = np.all(np.isclose(p, line[0]), axis=1) | np.all(np.isclose(p, line[-1]), axis=1)
+    at_end = ((j == 0) & (at <= 0.0)) | ((j == len(s) - 1) & (at >= 1.0))
     side = np.where((np.einsum("ij,ij->i", away, left) >= 0) | at_end, 1.0, -1.0)
     normal = np.where(dist[:, None] > 1e-9, away * side[:, None] / np.maximum(dist, 1e-12)[:, None], left)
     return side * dist, p, normal
@@ -58,7 +62,7 @@ def to_polygon(points: np.ndarray, poly: np.ndarray) -> tuple[np.ndarray, np.nda
     """Signed distances (k,) of points to a convex polygon's boundary (negative inside), the nearest boundary
     points (k, 2), and the unit outward normals there (k, 2)."""
     ring = np.vstack([poly, poly[:1]])
-    d, near = to_segments(points, ring[:-1], ring[1:])
+    d, near, _ = to_segments(points, ring[:-1], ring[1:])
     j = np.argmin(d, axis=1)
     k = np.arange(len(points))
     p, dist = near[k, j], d[k, j]

@@ -18,7 +18,7 @@ from rjcad.physics.grasp_result import Grasp
 from rjcad.physics.objects import Object, objects_from_template
 
 #: Readings of a closure on objects (the tension ramp) unless told, and the largest tension accepted [N].
-GRASP_STEPS = 60
+GRASP_STEPS = 40
 MAX_TENSION_N = 1e3
 ENGINES = ("rjcad", "mujoco")
 
@@ -57,9 +57,23 @@ def grasp_outlines(source: str | Path | None, model: FingerModel) -> list[np.nda
 
     if not _is_manifest(source):
         return template_outlines(model)
+
+    return grasp_outlines_of(_manifest_json(source), model)
+
+
+def _manifest_json(source: str | Path | None) -> dict[str, Any]:
     from rjcad.io.manifest import Manifest
 
-    return grasp_outlines_of(Manifest.read(str(source)).to_json(), model)
+    out: dict[str, Any] = Manifest.read(str(source)).to_json()
+    return out
+
+
+def base_outline_of(manifest: dict[str, Any]) -> np.ndarray | None:
+    """The base's palmar outline of a manifest's JSON object (the base's frame, mm), or None: it supports free
+    objects in rjcad's solver."""
+    from rjcad.physics.finger_sources import base_outline_from_manifest
+
+    return base_outline_from_manifest(manifest)
 
 
 def grasp_outlines_of(manifest: dict[str, Any], model: FingerModel) -> list[np.ndarray]:
@@ -83,6 +97,7 @@ def run_grasp(
     outlines: Sequence[np.ndarray] | None = None,
     steps: int = GRASP_STEPS,
     source: str | Path | None = None,
+    base_outline: np.ndarray | None = None,
 ) -> Grasp:
     """The closure of ``model`` on ``objects`` by ``engine`` ("rjcad" or "mujoco"), the tension ramped from 0 to
     ``max_tension_n`` [N] in ``steps`` readings, stopped early at ``stroke`` [mm] of tendon travel if given."""
@@ -99,7 +114,9 @@ def run_grasp(
     if engine == "rjcad":
         from rjcad.physics.grasp import close_on
 
-        return close_on(model, list(objects), **kw)
+        if base_outline is None and _is_manifest(source):
+            base_outline = base_outline_of(_manifest_json(source))
+        return close_on(model, list(objects), base_outline=base_outline, **kw)
     from rjcad.mjcf.grasp import close_on_mujoco  # type: ignore[import-not-found, unused-ignore]
 
     out: Grasp = close_on_mujoco(model, list(objects), source=None if source is None else str(source), **kw)
