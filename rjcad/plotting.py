@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import io
 import os
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -66,3 +67,12 @@ def save_png(fig: Figure, path: str | os.PathLike[str], dpi: float | str = 100) 
     from rjcad.io.config import write_atomic
 
     return write_atomic(path, png_bytes(fig, dpi))
+
+
+def axes_png(path: str | os.PathLike[str], draw: Callable[[Any], None]) -> Path:
+    """Write a 7 × 5 in, 100 dpi PNG of one axes that ``draw(ax)`` fills (a light grid added)."""
+    fig, ax = pyplot().subplots(figsize=(7, 5))
+    draw(ax)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return save_png(fig, path, dpi=100)

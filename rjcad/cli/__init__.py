@@ -42,7 +42,7 @@ COMMANDS = {
     "sweep": "sweep:sweep",
     "check": "check:check",
     "simulate": "simulate:simulate",
-    "finger-design": "simulate:finger_design",
+    "finger-design": "finger_design:finger_design",
     "paper-finger": "simulate:paper_finger",
     "life": "life:life",
     "bench": "identify:bench",

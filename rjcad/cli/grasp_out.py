@@ -117,9 +117,9 @@ def draw_grasp(ax, runs: dict[str, Grasp], model: FingerModel, outlines: Sequenc
 
 def plot_grasp(path: str, runs: dict[str, Grasp], model: FingerModel, outlines: Sequence[np.ndarray]) -> None:
     """Write ``draw_grasp``'s figure as a PNG."""
-    from rjcad.cli.simulate import _plot
+    from rjcad.plotting import axes_png
 
-    _plot(path, lambda ax: draw_grasp(ax, runs, model, outlines))
+    axes_png(path, lambda ax: draw_grasp(ax, runs, model, outlines))
 
 
 def simulate_grasp(
