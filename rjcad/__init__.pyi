@@ -1,13 +1,17 @@
 # Types of rjcad/__init__.py for type checkers: with the API's names that it imports on first use (PEP 562).
 from rjcad.api import (
+    Box,
     Closure,
+    Cylinder,
     Finger,
+    Grasp,
     Joint,
     Spring,
     build_finger,
     build_joint,
     design_spring,
     finger_params,
+    grasp,
     joint_params,
 )
 from rjcad.check.report import CheckResult
@@ -20,10 +24,13 @@ API: dict[str, tuple[str, str]]
 
 __all__ = [
     "DEG",
+    "Box",
     "CheckReport",
     "CheckResult",
     "Closure",
+    "Cylinder",
     "Finger",
+    "Grasp",
     "InfeasibleDesign",
     "Joint",
     "MissingExtra",
@@ -35,5 +42,6 @@ __all__ = [
     "build_joint",
     "design_spring",
     "finger_params",
+    "grasp",
     "joint_params",
 ]
