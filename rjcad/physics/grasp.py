@@ -1,198 +1,403 @@
-"""A finger closing on fixed cylinders in its flexion plane: quasi-static, with frictionless unilateral contacts
-(issue #40, its first part: no contact friction, no free object, no MuJoCo yet).
+"""A finger closing on objects in its flexion plane, quasi-static: unilateral contacts with Coulomb friction,
+solved together with the springs, the bearings' friction, the tendon's capstan losses and gravity.
 
 Frame: the base's, in mm; the straight finger along +x from joint 1 at the origin, flexion about +z (towards +y,
-the palm). Link i runs from axis i to axis i + 1 (the tip for the last) along its direction d_i (the angle
-Σ_{k≤i} θ_k); its palmar surface is the segment offset by ``pad`` [mm] towards the palm, n_i = d_i rotated +90°.
-A cylinder (centre c, radius R) touches link i where the distance from c to that segment is R.
+the palm). Link i runs from axis i to axis i + 1 (the tip for the last); its outline is a polyline in its own frame
+(x along the link from axis i, y towards the palm): the surface that touches objects (``template_outlines``: a
+straight pad PAD_MM from the axis line; a built finger's manifest has the measured ones). Objects: cylinders and
+boxes (``rjcad.physics.objects``), fixed, or free in the plane (x, y, turn) with a mass.
 
-At tendon travel t_d the angles minimise the stored energy E(θ) = Σ ½ K_i (θ_i + θ0_i)² + ½ k_t s², with the
-tendon's stretch s = max(0, t_d − Σ r_i θ_i) (tension T = k_t s), over 0 ≤ θ_i ≤ θmax_i and every gap ≥ 0: the
-minimum is the equilibrium with frictionless contacts, whose normal forces are then found from the joints'
-balance, K_i (θ_i + θ0_i) = r_i T + Σ_c ((p_c − a_i) × N_c n_c)_z over the contacts c on links j ≥ i (a_i: axis
-i; p_c: the contact point, n_c the normal from the cylinder's centre), with a joint stop's reaction where a joint
-sits at a limit; all non-negative (non-negative least squares). The closure is followed in small steps of t_d
-from the open finger, each minimum started from the last, so that a link meets a cylinder and is never moved
-through it. An inextensible tendon (``tendon_stiffness`` = inf) is taken as TENDON_STIFFNESS: against an object
-it is the tendon's stretch that sets the grip.
+Drive: the tendon's tension T, ramped from 0 to ``max_tension_n``. Joint i feels T·c_i, c_i = exp(−μ_t Σ_{k≤i} α_k)
+(the capstan while pulling). The state q (angles, free objects' poses) at each reading minimises, from the last
+state q⁻, the incremental potential
+
+    Φ(q) = Σ ½K_i(θ_i + θ0_i)² − T Σ c_i r_i θ_i + V_g(q) + Σ_j w_j |a_j·(q − q⁻)|
+
+subject to every gap ≥ 0 and the joints' ranges. V_g: the links' and free objects' weight. The last sum is the
+work of friction on the step (rate-independent, Coulomb): for each joint, its bearing band
+w = f0_i + γ±_i(θ_i + θ0_i) on Δθ_i; for each touching contact, μ·N on its tangential slip t·(J_A − J_B)(q − q⁻),
+N the normal force of the last state. Its stationary point is the equilibrium: a joint sticks within its band, a
+contact within its cone, and slips at the band's or cone's edge. The normal forces are the gap constraints'
+Lagrange multipliers, the friction forces those of the slips' definitions. Each move turns a joint by at most
+TURN_RAD and moves an object by at most MOVE_MM, so that a link sweeps onto an object and never jumps through it.
+
+A free object is ejected when it is pushed out of the finger's reach (its centre farther from joint 1 than the
+links' length, the outlines' depth and its radius: the closure then goes on without it), or when at the end it is
+farther than its radius from where it was placed and no link presses it (pushed, and not held).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from rjcad.errors import ParameterError
-from rjcad.physics.finger_model import FingerModel
+from rjcad.physics import grasp_geometry as geo
+from rjcad.physics.finger_model import FingerModel, G
+from rjcad.physics.grasp_result import Contact, Grasp
+from rjcad.physics.objects import Box, Cylinder, Object
 from rjcad.validate import in_range
 
-#: The tendon's stiffness where the model's is infinite [N/mm] (a braided line of ~1 mm over ~200 mm).
-TENDON_STIFFNESS = 200.0
-#: Default offset of a link's palmar surface from its axis line [mm] (the template's simplified outline).
+__all__ = ["Box", "Cylinder", "Grasp", "close_on", "held_position", "template_outlines"]
+
+#: Offset of a link's palmar surface from its axis line in a template's outline [mm].
 PAD_MM = 5.0
 #: A contact is active when its gap is below this [mm].
 TOUCH_MM = 1e-4
-#: Tendon travel per step of the closure [mm].
-STEP_MM = 0.25
-#: Largest turn of a joint per move of the minimiser [rad], and moves per step: the links sweep, not jump.
-TURN_RAD, MAX_MOVES = 0.03, 50
+#: Default largest tension [N] and readings of a closure.
+MAX_TENSION_N, STEPS = 10.0, 60
+#: Largest turn of a joint or an object [rad] and move of an object [mm] per move of the minimiser; moves per reading.
+TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 1.0, 200
+#: Solves of one move at most, friction's weights taken again at its end each time.
+FIXED_POINT = 8
 
 
-@dataclass(frozen=True)
-class Cylinder:
-    """A fixed cylinder in the flexion plane: centre (x, y) [mm] in the base's frame, diameter [mm]."""
+def template_outlines(m: FingerModel, pad: float = PAD_MM) -> list[np.ndarray]:
+    """Per link, the straight palmar pad from (0, pad) to (L_i, pad) in its own frame [mm]."""
+    return [np.array([[0.0, pad], [float(L), pad]]) for L in m.link_length]
 
-    x: float
-    y: float
-    diameter: float
 
-    def __post_init__(self) -> None:
-        in_range("cylinder x", self.x, limit="must be a finite number [mm]")
-        in_range("cylinder y", self.y, limit="must be a finite number [mm]")
-        in_range("cylinder diameter", self.diameter, 0.0, 1e4, lo_open=True, hi_open=True, unit="mm")
+def held_position(m: FingerModel, diameter: float, outlines: Sequence[np.ndarray] | None = None) -> tuple[float, float]:
+    """Where the docs hold a cylinder of ``diameter`` [mm]: resting on link 1's outline, its centre half of link 2
+    before joint 2, (L1 − L2/2, y1 + D/2) with y1 the outline's height there (the middle of link 1 for one link).
+    The closed finger then wraps it evenly: links 2 and 3 reach it at the same turn when every link touches."""
+    lines = template_outlines(m) if outlines is None else [np.asarray(o, dtype=float) for o in outlines]
+    L = m.link_length
+    x = L[0] - L[1] / 2 if m.n > 1 else L[0] / 2
+    line = lines[0]
+    y1 = float(np.interp(x, line[:, 0], line[:, 1]))
+    return float(x), y1 + diameter / 2
+
+
+@dataclass
+class _Pair:
+    """A pair that may touch: body A (a link, or an object) and object B (never both fixed)."""
+
+    a_link: int | None  # link index (0-based) or None
+    a_obj: int | None  # object index (0-based) or None
+    b_obj: int
+    mu: float
 
     @property
-    def radius(self) -> float:
-        return self.diameter / 2.0
+    def body(self) -> str:
+        return f"link{self.a_link + 1}" if self.a_link is not None else f"object{(self.a_obj or 0) + 1}"
 
 
-@dataclass
-class Contact:
-    """One contact of a reading: the link (1…N), the point [mm] and the normal force [N] the object applies."""
+class _Scene:
+    """The finger and the objects as functions of the state q = (θ_1…θ_n, then x, y, turn of each free object)."""
 
-    link: int
-    point_mm: tuple[float, float]
-    normal_force_n: float
+    def __init__(self, m: FingerModel, objects: Sequence[Object], outlines: Sequence[np.ndarray]) -> None:
+        self.m, self.objects = m, list(objects)
+        self.outlines = [np.asarray(o, dtype=float) for o in outlines]
+        self.n = m.n
+        self.free = [k for k, o in enumerate(self.objects) if o.free]
+        self.slot = {k: self.n + 3 * i for i, k in enumerate(self.free)}
+        self.nq = self.n + 3 * len(self.free)
+        self.gone: set[int] = set()  # ejected objects
+        self.pairs = [_Pair(i, None, k, o.mu) for k, o in enumerate(self.objects) for i in range(self.n)]
+        for k, o in enumerate(self.objects):
+            for j, p in enumerate(self.objects[:k]):
+                if o.free or p.free:
+                    a, b = (k, j) if p.free and not o.free else (j, k)
+                    self.pairs.append(_Pair(None, a, b, max(o.mu, p.mu)))
+        self.weights = np.asarray(m.link_mass, dtype=float) * G
+        self.g = np.asarray(m.gravity if m.gravity is not None else (0.0, 0.0), dtype=float)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"body": f"link{self.link}", "point_mm": list(self.point_mm), "normal_force_n": self.normal_force_n}
+    def start(self) -> np.ndarray:
+        q = np.zeros(self.nq)
+        for k in self.free:
+            o = self.objects[k]
+            q[self.slot[k] : self.slot[k] + 3] = (o.x, o.y, o.angle)
+        return q
+
+    def pose(self, q: np.ndarray, k: int) -> tuple[float, float, float]:
+        if k in self.slot:
+            s = self.slot[k]
+            return float(q[s]), float(q[s + 1]), float(q[s + 2])
+        o = self.objects[k]
+        return o.x, o.y, o.angle
+
+    def frames(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Axes a_i (n + 1, 2) [mm] (the last: the tip) and the links' absolute angles (n,) [rad]."""
+        ang = np.cumsum(q[: self.n])
+        d = np.column_stack([np.cos(ang), np.sin(ang)])
+        a = np.vstack([np.zeros(2), np.cumsum(d * np.asarray(self.m.link_length)[:, None], axis=0)])
+        return a, ang
+
+    def outline(self, q: np.ndarray, i: int, frames: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+        a, ang = frames
+        c, s = math.cos(ang[i]), math.sin(ang[i])
+        out: np.ndarray = a[i] + self.outlines[i] @ np.array([[c, s], [-s, c]])
+        return out
+
+    def gap(self, q: np.ndarray, p: _Pair, frames: tuple[np.ndarray, np.ndarray]) -> geo.Gap:
+        ob = self.objects[p.b_obj]
+        x, y, t = self.pose(q, p.b_obj)
+        cb = np.array([x, y])
+        if p.a_link is not None:
+            line = self.outline(q, p.a_link, frames)
+            if isinstance(ob, Cylinder):
+                return geo.polyline_circle(line, cb, ob.radius)
+            return geo.polyline_polygon(line, ob.corners(x, y, t))
+        oa = self.objects[p.a_obj or 0]
+        xa, ya, ta = self.pose(q, p.a_obj or 0)
+        ca = np.array([xa, ya])
+        if isinstance(oa, Cylinder) and isinstance(ob, Cylinder):
+            return geo.circles(ca, oa.radius, cb, ob.radius)
+        if isinstance(oa, Box) and isinstance(ob, Box):
+            return geo.polygons(oa.corners(xa, ya, ta), True, ob.corners(x, y, t), True)
+        if isinstance(oa, Box):
+            return geo.polygon_circle(oa.corners(xa, ya, ta), cb, ob.radius)
+        g, pb, pa, nrm = geo.polygon_circle(ob.corners(x, y, t), ca, oa.radius)  # type: ignore[union-attr]
+        return g, pa, pb, -nrm
+
+    def point_jac(
+        self, q: np.ndarray, p: np.ndarray, link: int | None, obj: int | None, frames: tuple[np.ndarray, np.ndarray]
+    ) -> np.ndarray:
+        """∂(the material point at p of a link or an object)/∂q (2, nq)."""
+        J = np.zeros((2, self.nq))
+        if link is not None:
+            a = frames[0]
+            r = p - a[: link + 1]
+            J[0, : link + 1], J[1, : link + 1] = -r[:, 1], r[:, 0]
+        elif obj is not None and obj in self.slot:
+            s = self.slot[obj]
+            x, y, _ = self.pose(q, obj)
+            J[:, s : s + 2] = np.eye(2)
+            J[0, s + 2], J[1, s + 2] = -(p[1] - y), p[0] - x
+        return J
+
+    def gaps(self, q: np.ndarray) -> list[tuple[_Pair, geo.Gap, np.ndarray]]:
+        """Every live pair with its gap and the gap's gradient in q (n·(J_B − J_A))."""
+        fr = self.frames(q)
+        out = []
+        for p in self.pairs:
+            if p.b_obj in self.gone or p.a_obj in self.gone:
+                continue
+            g = self.gap(q, p, fr)
+            n = g[3]
+            grad = n @ (self.point_jac(q, g[2], None, p.b_obj, fr) - self.point_jac(q, g[1], p.a_link, p.a_obj, fr))
+            out.append((p, g, grad))
+        return out
+
+    def potential(self, q: np.ndarray, T: float, pull: np.ndarray) -> tuple[float, np.ndarray]:
+        """(E, ∂E/∂q): springs, the tendon's work at tension T (``pull`` = c_i r_i), the weights."""
+        m = self.m
+        th = q[: self.n]
+        K, th0 = np.asarray(m.stiffness), np.asarray(m.preload)
+        k3 = np.asarray(m.cubic)
+        w = th + th0
+        E = float(0.5 * K @ w**2 + 0.25 * k3 @ w**4 - T * pull @ th)
+        grad = np.zeros(self.nq)
+        grad[: self.n] = K * w + k3 * w**3 - T * pull
+        if self.g.any():
+            fr = self.frames(q)
+            a, ang = fr
+            com = np.asarray(m.link_com, dtype=float)
+            for j in range(self.n):
+                c, s = math.cos(ang[j]), math.sin(ang[j])
+                pc = a[j] + np.array([c * com[j, 0] - s * com[j, 1], s * com[j, 0] + c * com[j, 1]])
+                E -= self.weights[j] * float(self.g @ pc)
+                grad -= self.weights[j] * (self.g @ self.point_jac(q, pc, j, None, fr))
+            for k in self.free:
+                if k in self.gone:
+                    continue
+                wk = self.objects[k].mass_g * G
+                s_ = self.slot[k]
+                E -= wk * float(self.g @ q[s_ : s_ + 2])
+                grad[s_ : s_ + 2] -= wk * self.g
+        return E, grad
 
 
-@dataclass
-class Grasp:
-    """The closure on the objects: per reading the tendon travel [mm], angles [rad], tension [N], contacts; the
-    order in which the links first touched; and ``blocked`` when the objects stop the tendon from being pulled
-    (every joint held)."""
-
-    tendon_mm: list[float] = field(default_factory=list)
-    theta: list[np.ndarray] = field(default_factory=list)
-    tension_n: list[float] = field(default_factory=list)
-    contacts: list[list[Contact]] = field(default_factory=list)
-    touch_order: list[int] = field(default_factory=list)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "tendon_mm": self.tendon_mm,
-            "theta_deg": [[math.degrees(a) for a in th] for th in self.theta],
-            "tension_n": self.tension_n,
-            "contacts": [[c.to_dict() for c in cs] for cs in self.contacts],
-            "touch_order": [f"link{i}" for i in self.touch_order],
-            "phalanges_in_contact": sorted({c.link for c in self.contacts[-1]}) if self.contacts else [],
-        }
+def _capstan(m: FingerModel) -> np.ndarray:
+    """c_i r_i: each joint's share of the tension while pulling (capstan), times its moment arm [mm]."""
+    c = np.exp(-m.mu_t * np.cumsum(np.asarray(m.wrap, dtype=float)))
+    out: np.ndarray = c * np.asarray(m.moment_arm, dtype=float)
+    return out
 
 
-def frames(m: FingerModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The axes a_i (n + 1, 2) [mm] (the last: the tip) and the links' directions d_i (n, 2) at ``theta``."""
-    lengths = np.asarray(m.link_length, dtype=float)
-    ang = np.cumsum(theta)
-    d = np.column_stack([np.cos(ang), np.sin(ang)])
-    a = np.vstack([np.zeros(2), np.cumsum(d * lengths[:, None], axis=0)])
-    return a, d
+class _Step:
+    """One move of the minimiser from q0 at tension T: Φ over z = (q, p, n) with p − n = A(q − q0), p, n ≥ 0."""
+
+    def __init__(
+        self, scene: _Scene, q0: np.ndarray, T: float, pull: np.ndarray, normal: dict[int, float], at: np.ndarray
+    ) -> None:
+        """Friction's weights from the state ``at`` (the bands) and the normal forces ``normal`` (pair id → N)."""
+        self.scene, self.q0, self.T, self.pull = scene, q0, T, pull
+        m, n = scene.m, scene.n
+        rows, w_pos, w_neg, self.friction_of = [], [], [], {}
+        band = np.asarray(m.friction) + np.asarray(m.gamma_pos) * (at[:n] + np.asarray(m.preload))
+        band_neg = np.asarray(m.friction) + np.asarray(m.gamma_neg) * (at[:n] + np.asarray(m.preload))
+        for i in np.flatnonzero((band > 0) | (band_neg > 0)):
+            rows.append(np.eye(scene.nq)[i])
+            w_pos.append(band[i])
+            w_neg.append(band_neg[i])
+        fr = scene.frames(q0)
+        for p, g, _ in scene.gaps(q0):
+            N = normal.get(id(p), 0.0)
+            if p.mu > 0 and N > 0 and g[0] < TOUCH_MM:
+                t = np.array([-g[3][1], g[3][0]])
+                ja = scene.point_jac(q0, g[1], p.a_link, p.a_obj, fr)
+                jb = scene.point_jac(q0, g[2], None, p.b_obj, fr)
+                self.friction_of[id(p)] = len(rows)
+                rows.append(t @ (ja - jb))
+                w_pos.append(p.mu * N)
+                w_neg.append(p.mu * N)
+        self.A = np.asarray(rows, dtype=float).reshape(-1, scene.nq)
+        self.w = np.concatenate([w_pos, w_neg]).astype(float)
+        self.nd = len(rows)
+        self._cache: tuple[bytes, list[Any]] | None = None
+
+    def _gaps(self, q: np.ndarray) -> list[Any]:
+        key = q.tobytes()
+        if self._cache is None or self._cache[0] != key:
+            self._cache = (key, self.scene.gaps(q))
+        return self._cache[1]
+
+    def objective(self, z: np.ndarray) -> tuple[float, np.ndarray]:
+        nq = self.scene.nq
+        E, grad = self.scene.potential(z[:nq], self.T, self.pull)
+        return E + float(self.w @ z[nq:]), np.concatenate([grad, self.w])
+
+    def solve(self, bounds: list[tuple[float, float]]) -> Any:
+        from scipy.optimize import minimize
+
+        nq, nd = self.scene.nq, self.nd
+        eye = np.eye(nd)
+        cons = [
+            {
+                "type": "eq",
+                "fun": lambda z: z[nq : nq + nd] - z[nq + nd :] - self.A @ (z[:nq] - self.q0),
+                "jac": lambda z: np.hstack([-self.A, eye, -eye]),
+            }
+        ] if nd else []  # fmt: skip
+        if self.scene.pairs:
+            cons.append({
+                "type": "ineq",
+                "fun": lambda z: np.array([g[0] for _, g, _ in self._gaps(z[:nq])]),
+                "jac": lambda z: np.array([np.concatenate([gr, np.zeros(2 * nd)]) for _, _, gr in self._gaps(z[:nq])]),
+            })  # fmt: skip
+        z0 = np.concatenate([self.q0, np.zeros(2 * nd)])
+        return minimize(
+            self.objective, z0, jac=True, method="SLSQP", bounds=bounds + [(0.0, None)] * (2 * nd),
+            constraints=cons, options={"ftol": 1e-15, "maxiter": 500},
+        )  # fmt: skip
 
 
-def closest(m: FingerModel, theta: np.ndarray, c: Cylinder, pad: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per link: the point of its palmar segment nearest the cylinder's centre (n, 2) [mm], and its gap (n,) [mm]
-    (distance − radius)."""
-    a, d = frames(m, theta)
-    n = np.column_stack([-d[:, 1], d[:, 0]])  # towards the palm
-    start, end = a[:-1] + pad * n, a[1:] + pad * n
-    centre = np.array([c.x, c.y])
-    seg = end - start
-    u = np.clip(np.einsum("ij,ij->i", centre - start, seg) / np.einsum("ij,ij->i", seg, seg), 0.0, 1.0)
-    p = start + u[:, None] * seg
-    return p, np.linalg.norm(centre - p, axis=1) - c.radius
+def _bounds(scene: _Scene, q0: np.ndarray) -> tuple[list[tuple[float, float]], np.ndarray, np.ndarray]:
+    """The trust box of one move (and its edges that are not the joints' own limits)."""
+    thmax = np.asarray(scene.m.rotation, dtype=float)
+    lo, hi = q0 - TURN_RAD, q0 + TURN_RAD
+    lo[: scene.n], hi[: scene.n] = np.maximum(lo[: scene.n], 0.0), np.minimum(hi[: scene.n], thmax)
+    for s in scene.slot.values():
+        lo[s : s + 2], hi[s : s + 2] = q0[s : s + 2] - MOVE_MM, q0[s : s + 2] + MOVE_MM
+    limit_lo = np.r_[np.zeros(scene.n), np.full(scene.nq - scene.n, -np.inf)]
+    limit_hi = np.r_[thmax, np.full(scene.nq - scene.n, np.inf)]
+    return list(zip(lo, hi)), np.where(lo > limit_lo + 1e-12, lo, np.nan), np.where(hi < limit_hi - 1e-12, hi, np.nan)
 
 
-def _tendon_stiffness(m: FingerModel) -> float:
-    return TENDON_STIFFNESS if math.isinf(m.tendon_stiffness) else float(m.tendon_stiffness)
+def _normals(scene: _Scene, q: np.ndarray, lam_in: np.ndarray) -> dict[int, float]:
+    """Pair id → normal force [N] of the pairs touching at q (the gap constraints' multipliers)."""
+    return {id(p): float(lam) for (p, g, _), lam in zip(scene.gaps(q), lam_in) if g[0] < TOUCH_MM and lam > 0}
 
 
-def _equilibrium(
-    m: FingerModel, theta: np.ndarray, t_d: float, objects: list[Cylinder], pad: float
-) -> tuple[float, list[Contact]]:
-    """(tension [N], contacts) at ``theta``: T from the tendon's stretch, the contacts' normal forces and the stops'
-    reactions from the joints' balance (non-negative least squares)."""
-    from scipy.optimize import nnls
-
-    K, th0, thmax, r = (np.asarray(v, dtype=float) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
-    T = _tendon_stiffness(m) * max(0.0, t_d - float(r @ theta))
-    a, _ = frames(m, theta)
-    need = K * (theta + th0) - r * T  # what the contacts and the stops must add, flexing positive
-    cols, touching = [], []
-    for c in objects:
-        p, gap = closest(m, theta, c, pad)
-        for j in np.flatnonzero(gap < TOUCH_MM):
-            normal = (p[j] - np.array([c.x, c.y])) / max(np.linalg.norm(p[j] - np.array([c.x, c.y])), 1e-12)
-            col = np.zeros(len(K))
-            for i in range(j + 1):
-                arm = p[j] - a[i]
-                col[i] = arm[0] * normal[1] - arm[1] * normal[0]
-            cols.append(col)
-            touching.append((int(j) + 1, p[j]))
-    stops = [np.eye(len(K))[i] * (-1.0 if theta[i] >= thmax[i] - 1e-9 else 1.0)
-             for i in range(len(K)) if theta[i] >= thmax[i] - 1e-9 or theta[i] <= 1e-9]  # fmt: skip
-    A = np.column_stack(cols + stops) if cols or stops else np.zeros((len(K), 0))
-    forces = nnls(A, need)[0] if A.shape[1] else np.zeros(0)
-    contacts = [Contact(j, (float(p[0]), float(p[1])), float(f)) for (j, p), f in zip(touching, forces)]
-    return T, contacts
+def _settle(
+    scene: _Scene, q: np.ndarray, T: float, pull: np.ndarray, normal: dict[int, float]
+) -> tuple[np.ndarray, list[Contact], dict[int, float]]:
+    """The state at tension T from q, in moves that each stay in the trust box, and its contacts. Friction's
+    weights (the bearings' bands, μ·N) are taken at the move's end: each move is solved again with them until
+    its end stays within 1e-12 (at most FIXED_POINT times)."""
+    for _ in range(MAX_MOVES):
+        bounds, lo, hi = _bounds(scene, q)
+        at = q
+        for _ in range(FIXED_POINT):
+            step = _Step(scene, q, T, pull, normal, at)
+            res = step.solve(bounds)
+            new = np.clip(res.x[: scene.nq], [b[0] for b in bounds], [b[1] for b in bounds])
+            before = dict(normal)
+            normal = _normals(scene, new, np.asarray(res.multipliers, dtype=float)[step.nd :])
+            settled = np.abs(new - at).max() < 1e-12 and all(
+                abs(normal.get(k, 0.0) - before.get(k, 0.0)) < 1e-10 for k in normal.keys() | before.keys()
+            )
+            at = new
+            if settled or (step.nd == 0 and not any(p.mu for p in scene.pairs)):
+                break
+        at_edge = np.any(np.abs(new - lo) < 1e-9) or np.any(np.abs(new - hi) < 1e-9)
+        q = new
+        if not at_edge:
+            break
+    mult = np.asarray(res.multipliers, dtype=float)
+    lam_eq, lam_in = mult[: step.nd], mult[step.nd :]
+    contacts = []
+    for (p, g, _), lam in zip(scene.gaps(q), lam_in):
+        if g[0] < TOUCH_MM and lam > 0:
+            row = step.friction_of.get(id(p))
+            tang = float(lam_eq[row]) if row is not None else 0.0
+            point, nrm = (float(g[1][0]), float(g[1][1])), (float(g[3][0]), float(g[3][1]))
+            contacts.append(Contact(p.body, p.b_obj + 1, point, nrm, float(lam), tang))
+    return q, contacts, normal
 
 
 def close_on(
-    m: FingerModel, objects: list[Cylinder], stroke: float, step: float = STEP_MM, pad: float = PAD_MM
+    m: FingerModel,
+    objects: Sequence[Object],
+    *,
+    max_tension_n: float = MAX_TENSION_N,
+    stroke: float | None = None,
+    outlines: Sequence[np.ndarray] | None = None,
+    steps: int = STEPS,
 ) -> Grasp:
-    """The finger ``m`` pulled from 0 to ``stroke`` [mm] of tendon travel against fixed ``objects``: a ``Grasp``."""
-    from scipy.optimize import minimize
-
-    K, th0, thmax, r = (np.asarray(v, dtype=float) for v in (m.stiffness, m.preload, m.rotation, m.moment_arm))
-    kt = _tendon_stiffness(m)
-    for c in objects:
-        if np.any(closest(m, np.zeros(len(K)), c, pad)[1] < 0):
-            raise ParameterError("object", c, "overlaps the open finger")
-    out = Grasp()
-    theta = np.zeros(len(K))
-    for t_d in np.linspace(0.0, stroke, max(2, math.ceil(stroke / step) + 1)):
-
-        def energy(th: np.ndarray, t_d: float = t_d) -> float:
-            s = max(0.0, t_d - float(r @ th))
-            return 0.5 * float(K @ (th + th0) ** 2) + 0.5 * kt * s * s
-
-        def gradient(th: np.ndarray, t_d: float = t_d) -> np.ndarray:
-            s = max(0.0, t_d - float(r @ th))
-            return np.asarray(K * (th + th0) - kt * s * r, dtype=float)
-
-        gaps = [{"type": "ineq", "fun": lambda th, c=c: closest(m, th, c, pad)[1]} for c in objects]
-        for _ in range(MAX_MOVES):  # within TURN_RAD of where it was: a link never jumps through an object
-            lo, hi = np.maximum(theta - TURN_RAD, 0.0), np.minimum(theta + TURN_RAD, thmax)
-            res = minimize(
-                energy, theta, jac=gradient, method="SLSQP", bounds=list(zip(lo, hi)),
-                constraints=gaps, options={"ftol": 1e-14, "maxiter": 500},
-            )  # fmt: skip
-            new = np.clip(res.x, lo, hi)
-            moved_to_edge = np.any((np.abs(new - lo) < 1e-9) & (lo > 0)) or np.any(
-                (np.abs(new - hi) < 1e-9) & (hi < thmax)
+    """The finger ``m`` pulled by a tension ramped from 0 to ``max_tension_n`` [N] in ``steps`` readings (stopped
+    when the tendon's travel Σ r_i θ_i + T/k_t reaches ``stroke`` [mm]) against ``objects``: a ``Grasp``."""
+    in_range("max tension", max_tension_n, 0.0, 1e4, lo_open=True, unit="N")
+    if stroke is not None:
+        in_range("stroke", stroke, 0.0, 1e4, lo_open=True, unit="mm")
+    if not 2 <= int(steps) <= 100000:
+        raise ParameterError("steps", steps, "must be 2 to 100000")
+    lines = template_outlines(m) if outlines is None else list(outlines)
+    if len(lines) != m.n or any(np.asarray(o).ndim != 2 or len(o) < 2 or np.asarray(o).shape[1] != 2 for o in lines):
+        raise ParameterError("outlines", len(lines), f"needs {m.n} polylines of (x, y) points, one per link")
+    scene = _Scene(m, objects, lines)
+    q = scene.start()
+    for p, g, _ in scene.gaps(q):
+        if g[0] < -TOUCH_MM:
+            raise ParameterError(
+                f"object {p.b_obj + 1}",
+                objects[p.b_obj].to_dict(),
+                f"overlaps {p.body.replace('link', 'link ')} of the open finger",
             )
-            theta = new
-            if not moved_to_edge:
-                break
-        T, contacts = _equilibrium(m, theta, float(t_d), objects, pad)
-        for touch in contacts:
-            if touch.link not in out.touch_order:
-                out.touch_order.append(touch.link)
-        out.tendon_mm.append(float(t_d))
-        out.theta.append(theta.copy())
-        out.tension_n.append(T)
-        out.contacts.append(contacts)
+    pull = _capstan(m)
+    r = np.asarray(m.moment_arm, dtype=float)
+    stretch = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / float(m.tendon_stiffness)
+    out = Grasp(m.n, list(objects))
+    normal: dict[int, float] = {}
+    reach = float(sum(m.link_length)) + max((float(np.abs(o).max()) for o in lines), default=0.0)
+    for k, T in enumerate(np.linspace(0.0, max_tension_n, int(steps))):
+        q, contacts, normal = _settle(scene, q, float(T), pull, normal)
+        for j in scene.free:  # pushed out of the finger's reach on the way: gone
+            o = objects[j]
+            if j not in scene.gone and math.hypot(*q[scene.slot[j] : scene.slot[j] + 2]) > reach + o.radius:
+                scene.gone.add(j)
+                out.ejected_at = k if out.ejected_at is None else out.ejected_at
+        travel = float(r @ q[: m.n]) + T * stretch
+        out.record(travel, float(T), q[: m.n], contacts, [scene.pose(q, j) for j in range(len(objects))])
+        if stroke is not None and travel >= stroke:
+            break
+    if out.ejected_at is None and _let_go(scene, q, out.contacts[-1]):
+        out.ejected_at = len(out.tension_n) - 1
     return out
+
+
+def _let_go(scene: _Scene, q: np.ndarray, contacts: list[Contact]) -> bool:
+    """Whether a free object ends moved farther than its radius from where it was placed with no link pressing it:
+    the finger pushed it and did not hold it."""
+    for j in scene.free:
+        o = scene.objects[j]
+        moved = math.hypot(q[scene.slot[j]] - o.x, q[scene.slot[j] + 1] - o.y)
+        if moved > o.radius and not any(c.object == j + 1 and c.link is not None for c in contacts):
+            return True
+    return False
