@@ -21,8 +21,9 @@ gets an armature K·ARMATURE_S² and damping K·SETTLE_S (as ``rjcad.mjcf.simula
 object damping ``OBJECT_TAU_S``·its mass per slide (its radius² times that on its turn). Its pin friction f0 is the
 joints' frictionloss; rjcad's load-dependent γ is not in MuJoCo. Travel: Σ r_i·θ_i + T/k_t (k_t finite).
 
-A free object is ejected at the first reading where it has moved more than its radius from its start with no link
-touching it, or its nearest point is beyond the finger's reach (Σ L + the outlines' largest |y|) from joint 1.
+A free object is ejected (as in rjcad's solver) at the first reading where its centre is farther from joint 1 than
+the finger's reach (Σ L + the outlines' largest coordinate) and its radius, or at the last reading when it is then
+farther than its radius from where it was placed with no link pressing it (pushed and not held).
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
+from rjcad.physics.grasp import template_outlines
 from rjcad.physics.grasp_result import Contact, Grasp
 from rjcad.physics.objects import Cylinder, Object
 
@@ -53,13 +55,6 @@ RAMP_STEPS, SETTLE_STEPS, MAX_SETTLES = 40, 40, 40
 SPEED_TOL = 1e-4  # rad/s, m/s
 #: Contacts of one link and one object closer than this are one contact [mm]; weaker ones are dropped [N]
 MERGE_MM, FORCE_FLOOR_N = 2.0, 1e-4
-#: The default outline's pad: the straight segment (0, PAD) → (L, PAD) [mm] (rjcad's template outline)
-DEFAULT_PAD_MM = 5.0
-
-
-def default_outlines(model: FingerModel) -> list[np.ndarray]:
-    """Each link's default outline: (0, 5) → (L_i, 5) [mm] in its frame."""
-    return [np.array([[0.0, DEFAULT_PAD_MM], [float(L), DEFAULT_PAD_MM]]) for L in model.link_length]
 
 
 def _f(*values: float) -> str:
@@ -200,7 +195,7 @@ def grasp_files(
     from rjcad.mjcf.model import gravity_vector, spec_from_model
     from rjcad.mjcf.spec import to_xml
 
-    lines = _check_outlines(default_outlines(model) if outlines is None else outlines, model.n)
+    lines = _check_outlines(template_outlines(model) if outlines is None else outlines, model.n)
     grav = gravity_vector(model.gravity) if model.gravity is not None else (0.0, 0.0, 0.0)
     if source is not None and Path(source).suffix.lower() == ".json":
         from rjcad.io.manifest import Manifest
@@ -350,20 +345,21 @@ def _merged(raw: list[Raw]) -> list[Contact]:
 
 
 def _reach(model: FingerModel, outlines: Sequence[np.ndarray]) -> float:
-    """How far from joint 1 the finger reaches [mm]: Σ L + the outlines' largest |y|."""
-    return float(sum(model.link_length)) + max(float(np.abs(o[:, 1]).max()) for o in outlines)
+    """How far from joint 1 the finger reaches [mm], as rjcad's solver takes it: Σ L + the outlines' largest
+    coordinate."""
+    return float(sum(model.link_length)) + max(float(np.abs(o).max()) for o in outlines)
 
 
-def _ejected(
-    objects: Sequence[Object], poses: list[tuple[float, float, float]], contacts: list[Contact], reach: float
-) -> bool:
-    """Whether a free object is pushed away (see the module)."""
+def _out_of_reach(objects: Sequence[Object], poses: list[tuple[float, float, float]], reach: float) -> bool:
+    """Whether a free object's centre is farther from joint 1 than ``reach`` + its radius [mm]."""
+    return any(o.free and math.hypot(p[0], p[1]) > reach + o.radius for o, p in zip(objects, poses))
+
+
+def _let_go(objects: Sequence[Object], poses: list[tuple[float, float, float]], contacts: list[Contact]) -> bool:
+    """Whether a free object is farther than its radius from where it was placed with no link pressing it."""
     for k, (o, p) in enumerate(zip(objects, poses), start=1):
-        if not o.free:
-            continue
         held = any(c.object == k and c.link is not None for c in contacts)
-        moved = math.hypot(p[0] - o.x, p[1] - o.y)
-        if (moved > o.radius and not held) or math.hypot(p[0], p[1]) - o.radius > reach:
+        if o.free and math.hypot(p[0] - o.x, p[1] - o.y) > o.radius and not held:
             return True
     return False
 
@@ -384,7 +380,7 @@ def close_on_mujoco(
     from rjcad.mjcf.simulate import load, raise_warnings
 
     _check_run(max_tension_n, stroke, steps)
-    lines = _check_outlines(default_outlines(model) if outlines is None else outlines, model.n)
+    lines = _check_outlines(template_outlines(model) if outlines is None else outlines, model.n)
     xml, assets = grasp_files(model, objects, lines, source)
     run = _Run(model, load(xml, assets), objects)
     r = np.asarray(model.moment_arm, dtype=float)
@@ -398,9 +394,11 @@ def close_on_mujoco(
         contacts, poses = run.contacts(), run.poses()
         travel = float(r @ theta) + (tension / kt if math.isfinite(kt) else 0.0)
         out.record(travel, tension, theta, contacts, poses)
-        if out.ejected_at is None and _ejected(objects, poses, contacts, reach):
+        if out.ejected_at is None and _out_of_reach(objects, poses, reach):
             out.ejected_at = k
         if stroke is not None and travel >= stroke:
             break
+    if out.ejected_at is None and _let_go(objects, out.poses[-1], out.contacts[-1]):
+        out.ejected_at = len(out.tension_n) - 1
     raise_warnings("MuJoCo grasp")
     return out
