@@ -560,3 +560,20 @@ def test_a_heavy_template_finger_sags_alike_in_both_engines_quickly():
     note = sag_note(rj, "--gravity horizontal-palm-down", "rjcad's statics")
     assert note is not None and note.startswith("rjcad: note: ") and f"joint 1 sags {np.degrees(rj[0]):.1f}°" in note
     assert sag_note(np.radians([0.5, -0.9, 0.0]), "x", "y") is None
+
+
+def test_mjcf_object_writes_the_objects_and_pads(built, cli, tmp_path):
+    """`rjcad mjcf --object` (#40): the objects as bodies and each link's pad from its outline; the file compiles."""
+    src = built["default"] / "finger.json"
+    code, _out, err = cli(
+        "mjcf", src, "--out", tmp_path / "g", "--object", "cylinder:diameter=40,x=20,y=25,mu=0.5",
+        "--object", "box:w=10,h=20,x=90,y=40,angle=10,free,mass=3",
+    )  # fmt: skip
+    assert code == 0, err
+    m, _d = _data(tmp_path / "g" / "finger.xml")
+    names = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) for g in range(m.ngeom)}
+    assert {"object1_geom", "object2_geom", "link1_pad1", "link2_pad1", "link3_pad1"} <= names
+    free = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "object2")
+    assert m.body_jntnum[free] == 3 and abs(m.body_mass[free] - 3e-3) < 1e-12
+    code, _out, err = cli("mjcf", src, "--out", tmp_path / "h", "--object", "sphere:d=3")
+    assert code == 2 and "--object" in err

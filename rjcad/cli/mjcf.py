@@ -69,8 +69,17 @@ def out_folder(manifest: str, out_path: str | None) -> tuple[Path, str]:
     help="What the `pull` actuator acts on: the fixed tendon of rjcad's model (constant moment arms) or "
     "the spatial tendon through the built path.",
 )
+@click.option(
+    "--object",
+    "objects",
+    multiple=True,
+    metavar="SPEC",
+    help="An object to grasp, e.g. cylinder:diameter=40,x=20,y=25,mu=0.5 or box:w=10,h=60,x=-6,y=40 "
+    "(mm, deg; add free,mass=G for a free one), repeatable: written as a body with its geom, and each link "
+    "gets contact pads from its outline.",
+)
 @allow_outside_option
-def mjcf(manifest, out_path, identified, gravity, pull, allow_outside):
+def mjcf(manifest, out_path, identified, gravity, pull, objects, allow_outside):
     """Write the MuJoCo model (MJCF, SI units) of a finger built by `rjcad finger` (its manifest FINGER.json and,
     beside it, its 3MF): a folder with the model, scene.xml and the body meshes."""
     from rjcad.io.outputs import check_writable, write_set
@@ -81,10 +90,25 @@ def mjcf(manifest, out_path, identified, gravity, pull, allow_outside):
     files = build_files(
         manifest, xml_name, gravity, identified, PATH_TENDON if pull == "path" else GROOVE_TENDON, allow_outside
     )
+    if objects:
+        files[xml_name] = with_objects(str(files[xml_name]), manifest, objects)
     write_set(folder, files)
     n = len([f for f in files if f.endswith(".stl")])
     click.echo(f"MJCF written to {folder / xml_name} (open {folder / 'scene.xml'}; {n} body meshes in meshes/)")
     echo_sag_of_manifest(manifest, gravity)
+
+
+def with_objects(xml: str, manifest: str, specs: tuple[str, ...]) -> str:
+    """The MJCF text ``xml`` of the finger ``manifest`` with the objects of the ``--object`` specs and the links'
+    contact pads (rjcad.mjcf.grasp.add_grasp; outlines: the template's, from the manifest's link lengths)."""
+    from rjcad.io.manifest import Manifest
+    from rjcad.mjcf.grasp import add_grasp
+    from rjcad.physics.finger_sources import model_from_manifest
+    from rjcad.physics.grasp import template_outlines
+    from rjcad.physics.objects import parse_object
+
+    objects = [parse_object(s) for s in specs]
+    return add_grasp(xml, objects, template_outlines(model_from_manifest(Manifest.read(manifest))))
 
 
 def echo_sag_of_manifest(manifest, gravity: str) -> None:
