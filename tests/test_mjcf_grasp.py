@@ -15,7 +15,7 @@ from rjcad.mjcf.grasp import LINK_BITS, OBJECT_BITS, add_grasp, close_on_mujoco,
 from rjcad.mjcf.model import spec_from_model  # noqa: E402
 from rjcad.mjcf.spec import to_xml  # noqa: E402
 from rjcad.physics.finger_sources import model_from_template  # noqa: E402
-from rjcad.physics.grasp import close_on, held_position, template_outlines  # noqa: E402
+from rjcad.physics.grasp import STEPS, close_on, held_position, template_outlines  # noqa: E402
 from rjcad.physics.objects import Box, Cylinder, Object  # noqa: E402
 
 MODEL = model_from_template(DEFAULT_FINGER)
@@ -86,7 +86,7 @@ def test_a_40_mm_cylinder_in_both_engines():
     mj, rj = close_on_mujoco(MODEL, [o]), close_on(MODEL, [o])
     assert mj.verdict().phalanges_in_contact == [1, 2, 3]
     _agree(rj, mj)
-    assert mj.engine == "mujoco" and len(mj.tension_n) == 60 and mj.tension_n[-1] == 10.0
+    assert mj.engine == "mujoco" and len(mj.tension_n) == STEPS and mj.tension_n[-1] == 10.0
     short = close_on_mujoco(MODEL, [o], stroke=5.0, steps=30)
     assert short.tendon_mm[-1] >= 5.0 > short.tendon_mm[-2] and len(short.tension_n) < 30
 

@@ -39,8 +39,8 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
-from rjcad.physics.grasp import template_outlines
-from rjcad.physics.grasp_result import Contact, Grasp
+from rjcad.physics.grasp import STEPS, template_outlines
+from rjcad.physics.grasp_result import Contact, Grasp, let_go, out_of_reach, reach
 from rjcad.physics.objects import Cylinder, Object
 
 #: Link pad boxes: thickness (behind the outline) and depth along the axes [mm]; an object's length [mm]
@@ -344,26 +344,6 @@ def _merged(raw: list[Raw]) -> list[Contact]:
     return out
 
 
-def _reach(model: FingerModel, outlines: Sequence[np.ndarray]) -> float:
-    """How far from joint 1 the finger reaches [mm], as rjcad's solver takes it: Σ L + the outlines' largest
-    coordinate."""
-    return float(sum(model.link_length)) + max(float(np.abs(o).max()) for o in outlines)
-
-
-def _out_of_reach(objects: Sequence[Object], poses: list[tuple[float, float, float]], reach: float) -> bool:
-    """Whether a free object's centre is farther from joint 1 than ``reach`` + its radius [mm]."""
-    return any(o.free and math.hypot(p[0], p[1]) > reach + o.radius for o, p in zip(objects, poses))
-
-
-def _let_go(objects: Sequence[Object], poses: list[tuple[float, float, float]], contacts: list[Contact]) -> bool:
-    """Whether a free object is farther than its radius from where it was placed with no link pressing it."""
-    for k, (o, p) in enumerate(zip(objects, poses), start=1):
-        held = any(c.object == k and c.link is not None for c in contacts)
-        if o.free and math.hypot(p[0] - o.x, p[1] - o.y) > o.radius and not held:
-            return True
-    return False
-
-
 def close_on_mujoco(
     model: FingerModel,
     objects: Sequence[Object],
@@ -371,7 +351,7 @@ def close_on_mujoco(
     max_tension_n: float = 10.0,
     stroke: float | None = None,
     outlines: Sequence[np.ndarray] | None = None,
-    steps: int = 60,
+    steps: int = STEPS,
     source: str | None = None,
 ) -> Grasp:
     """The finger pulled by its tendon's tension, 0 → ``max_tension_n`` [N] in ``steps`` readings, against
@@ -385,7 +365,7 @@ def close_on_mujoco(
     run = _Run(model, load(xml, assets), objects)
     r = np.asarray(model.moment_arm, dtype=float)
     kt = float(model.tendon_stiffness)
-    reach = _reach(model, lines)
+    finger_reach = reach(model.link_length, lines)
     out = Grasp(model.n, list(objects), engine="mujoco")
     for k in range(steps):
         tension = max_tension_n * k / (steps - 1)
@@ -394,11 +374,12 @@ def close_on_mujoco(
         contacts, poses = run.contacts(), run.poses()
         travel = float(r @ theta) + (tension / kt if math.isfinite(kt) else 0.0)
         out.record(travel, tension, theta, contacts, poses)
-        if out.ejected_at is None and _out_of_reach(objects, poses, reach):
+        if out.ejected_at is None and any(out_of_reach(o, p, finger_reach) for o, p in zip(objects, poses)):
             out.ejected_at = k
         if stroke is not None and travel >= stroke:
             break
-    if out.ejected_at is None and _let_go(objects, out.poses[-1], out.contacts[-1]):
+    final = zip(objects, out.poses[-1])
+    if out.ejected_at is None and any(let_go(o, k, p, out.contacts[-1]) for k, (o, p) in enumerate(final, start=1)):
         out.ejected_at = len(out.tension_n) - 1
     raise_warnings("MuJoCo grasp")
     return out

@@ -40,7 +40,7 @@ import numpy as np
 from rjcad.errors import ParameterError
 from rjcad.physics import grasp_geometry as geo
 from rjcad.physics.finger_model import FingerModel, G
-from rjcad.physics.grasp_result import Contact, Grasp
+from rjcad.physics.grasp_result import PRESS_N, Contact, Grasp, let_go, out_of_reach, reach
 from rjcad.physics.objects import Box, Cylinder, Object
 from rjcad.validate import in_range
 
@@ -63,7 +63,7 @@ DRAG = 1e-3
 #: move: TURN_RAD × the finger's length, a few mm).
 FAR_MM = 20.0
 #: Solves of one move at most, friction's weights taken again at its end each time.
-FIXED_POINT = 8
+FIXED_POINT = 10
 
 
 def template_outlines(m: FingerModel, pad: float = PAD_MM) -> list[np.ndarray]:
@@ -370,7 +370,8 @@ def _settle(
 ) -> tuple[np.ndarray, list[Contact], dict[int, float]]:
     """The state at tension T from q, in moves that each stay in the trust box, and its contacts. Friction's
     weights (the bearings' bands, μ·N) are taken at the move's end: each move is solved again with them until
-    its end stays within 1e-12 (at most FIXED_POINT times)."""
+    its end stays within 1e-10 (at most FIXED_POINT times)."""
+    start = q
     for _ in range(MAX_MOVES):
         bounds, lo, hi = _bounds(scene, q)
         at = q
@@ -378,28 +379,79 @@ def _settle(
             step = _Step(scene, q, T, pull, normal, at)
             res = step.solve(bounds)
             new = np.clip(res.x[: scene.nq], [b[0] for b in bounds], [b[1] for b in bounds])
-            before = dict(normal)
             normal = _normals(scene, new, np.asarray(res.multipliers, dtype=float)[step.nd :])
-            settled = np.abs(new - at).max() < 1e-12 and all(
-                abs(normal.get(k, 0.0) - before.get(k, 0.0)) < 1e-10 for k in normal.keys() | before.keys()
-            )
+            settled = np.abs(new - at).max() < 1e-10
             at = new
             if settled or (step.nd == 0 and not any(p.mu for p in scene.pairs)):
                 break
         at_edge = np.any(np.abs(new - lo) < 1e-9) or np.any(np.abs(new - hi) < 1e-9)
-        q = new
+        move_start, q = q, new
         if not at_edge:
             break
     mult = np.asarray(res.multipliers, dtype=float)
     lam_eq, lam_in = mult[: step.nd], mult[step.nd :]
+    live = scene.gaps(q)
+    touching = [(p, g, gr, float(lam)) for (p, g, gr), lam in zip(live, lam_in) if g[0] < TOUCH_MM]
+    forces = _least_friction(scene, q, start, move_start, T, pull, touching)
     contacts = []
-    for (p, g, _), lam in zip(scene.gaps(q), lam_in):
-        if g[0] < TOUCH_MM and lam > 0:
-            row = step.friction_of.get(id(p))
-            tang = float(lam_eq[row]) if row is not None else 0.0
+    for k, (p, g, _, lam) in enumerate(touching):
+        row = step.friction_of.get(id(p))
+        N, tang = (lam, float(lam_eq[row]) if row is not None else 0.0) if forces is None else forces[k]
+        if N > PRESS_N:
             point, nrm = (float(g[1][0]), float(g[1][1])), (float(g[3][0]), float(g[3][1]))
-            contacts.append(Contact(p.body, p.b_obj + 1, point, nrm, float(lam), tang))
+            contacts.append(Contact(p.body, p.b_obj + 1, point, nrm, float(N), float(tang)))
+    if forces is not None:
+        normal = {id(p): forces[k][0] for k, (p, *_) in enumerate(touching) if forces[k][0] > 0}
     return q, contacts, normal
+
+
+def _least_friction(
+    scene: _Scene,
+    q: np.ndarray,
+    start: np.ndarray,
+    move_start: np.ndarray,
+    T: float,
+    pull: np.ndarray,
+    touching: list[tuple[_Pair, geo.Gap, np.ndarray, float]],
+) -> list[tuple[float, float]] | None:
+    """(N, f_t) per touching contact with the least friction that holds the state (``grasp_forces``), or None
+    where nothing sticks by friction (the multipliers are then the answer) or the solve fails."""
+    from rjcad.physics.grasp_forces import least_friction
+
+    m, n = scene.m, scene.n
+    theta0 = np.asarray(m.preload, dtype=float)
+    band_pos = np.asarray(m.friction) + np.asarray(m.gamma_pos) * (q[:n] + theta0)
+    band_neg = np.asarray(m.friction) + np.asarray(m.gamma_neg) * (q[:n] + theta0)
+    joints = np.flatnonzero((band_pos > 0) | (band_neg > 0))
+    if not joints.size and not any(p.mu > 0 for p, *_ in touching):
+        return None
+    _, grad = scene.potential(q, T, pull)
+    grad[n:] += DRAG * (q[n:] - move_start[n:])
+    fr = scene.frames(q)
+    slips = []
+    for p, g, _, _ in touching:
+        t = np.array([-g[3][1], g[3][0]])
+        slips.append(
+            t @ (scene.point_jac(q, g[1], p.a_link, p.a_obj, fr) - scene.point_jac(q, g[2], None, p.b_obj, fr))
+        )
+    a_t = np.asarray(slips, dtype=float).reshape(len(touching), scene.nq)
+    thmax = np.asarray(m.rotation, dtype=float)
+    stops = [np.eye(scene.nq)[i] for i in range(n) if q[i] <= 1e-12]
+    stops += [-np.eye(scene.nq)[i] for i in range(n) if q[i] >= thmax[i] - 1e-12]
+    out = least_friction(
+        grad,
+        np.asarray([gr for _, _, gr, _ in touching], dtype=float).reshape(len(touching), scene.nq),
+        a_t,
+        np.asarray([p.mu for p, *_ in touching], dtype=float),
+        a_t @ (q - start),
+        np.column_stack([band_pos[joints], band_neg[joints], joints]).reshape(-1, 3),
+        (q - start)[joints],
+        np.asarray(stops, dtype=float).reshape(len(stops), scene.nq),
+    )
+    if out is None:
+        return None
+    N, f_t, _ = out
+    return [(float(a), float(b)) for a, b in zip(N, f_t)]
 
 
 def close_on(
@@ -438,36 +490,23 @@ def close_on(
     stretch = 0.0 if math.isinf(m.tendon_stiffness) else 1.0 / float(m.tendon_stiffness)
     out = Grasp(m.n, list(objects))
     normal: dict[int, float] = {}
-    reach = float(sum(m.link_length)) + max((float(np.abs(o).max()) for o in lines), default=0.0)
+    finger_reach = reach(m.link_length, lines)
     for k, T in enumerate(np.linspace(0.0, max_tension_n, int(steps))):
         q, contacts, normal = _settle(scene, q, float(T), pull, normal)
         for j in scene.free:  # out of the finger's reach, or falling free of everything: gone
-            o = objects[j]
-            xy = q[scene.slot[j] : scene.slot[j] + 2]
-            out_of_reach = math.hypot(*xy) > reach + o.radius
-            falling = (
-                scene.g.any()
-                and math.hypot(*(xy - o.centre)) > o.radius
-                and not any(c.object == j + 1 for c in contacts)
-            )
-            if j not in scene.gone and (out_of_reach or falling):
+            o, pose = objects[j], scene.pose(q, j)
+            falling = scene.g.any() and math.hypot(pose[0] - o.x, pose[1] - o.y) > o.radius
+            falling = falling and not any(c.object == j + 1 for c in contacts)
+            if j not in scene.gone and (out_of_reach(o, pose, finger_reach) or falling):
                 scene.gone.add(j)
                 out.ejected_at = k if out.ejected_at is None else out.ejected_at
         travel = float(r @ q[: m.n]) + T * stretch
         out.record(travel, float(T), q[: m.n], contacts, [scene.pose(q, j) for j in range(len(objects))])
         if stroke is not None and travel >= stroke:
             break
-    if out.ejected_at is None and _let_go(scene, q, out.contacts[-1]):
+    final = [scene.pose(q, j) for j in range(len(objects))]
+    if out.ejected_at is None and any(
+        let_go(o, j + 1, final[j], out.contacts[-1]) for j, o in enumerate(objects) if j not in scene.gone
+    ):
         out.ejected_at = len(out.tension_n) - 1
     return out
-
-
-def _let_go(scene: _Scene, q: np.ndarray, contacts: list[Contact]) -> bool:
-    """Whether a free object ends moved farther than its radius from where it was placed with no link pressing it:
-    the finger pushed it and did not hold it."""
-    for j in scene.free:
-        o = scene.objects[j]
-        moved = math.hypot(q[scene.slot[j]] - o.x, q[scene.slot[j] + 1] - o.y)
-        if moved > o.radius and not any(c.object == j + 1 and c.link is not None for c in contacts):
-            return True
-    return False

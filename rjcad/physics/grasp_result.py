@@ -167,3 +167,27 @@ class Grasp:
             "ejected_at_reading": self.ejected_at,
             "grasp": self.verdict().to_dict(),
         }
+
+
+#: A contact presses when its normal force exceeds this [N] (smaller ones are a solver's rounding).
+PRESS_N = 1e-6
+
+
+def reach(link_length: Any, outlines: Any) -> float:
+    """How far from joint 1 the open finger's outlines reach [mm]: the largest Σ_{k<i} L_k + |p| over each link
+    i's outline points p (in its frame)."""
+    starts = np.r_[0.0, np.cumsum(np.asarray(link_length, dtype=float))[:-1]]
+    return float(max(s + float(np.hypot(*np.asarray(o, dtype=float).T).max()) for s, o in zip(starts, outlines)))
+
+
+def out_of_reach(obj: Any, pose: Any, finger_reach: float) -> bool:
+    """Whether a free object's centre is farther from joint 1 than the finger reaches plus its radius: pushed
+    out of the finger (ejected, whichever engine)."""
+    return bool(obj.free and math.hypot(pose[0], pose[1]) > finger_reach + obj.radius)
+
+
+def let_go(obj: Any, k: int, pose: Any, contacts: list[Contact]) -> bool:
+    """Whether free object ``k`` (1-based) is farther than its radius from where it was placed with no link
+    pressing it: pushed, and not held (ejected, whichever engine)."""
+    pressed = any(c.object == k and c.link is not None and c.normal_force_n > PRESS_N for c in contacts)
+    return bool(obj.free and math.hypot(pose[0] - obj.x, pose[1] - obj.y) > obj.radius and not pressed)
