@@ -327,7 +327,7 @@ def _notes(
         "along the joint axes; open scene.xml (this model over a floor)",
         f"the base is turned so that gravity (finger frame: {', '.join(f'{x / g:.3f}' for x in grav)}) points down"
         if g > 0
-        else "no gravity (--gravity off)",
+        else "no gravity (gravity off)",
         f"tendon '{PATH_TENDON}': the built tendon path (sites), wrapping each eye's groove; tendon "
         f"'{GROOVE_TENDON}': rjcad's model, length -sum(r_i q_i) (constant moment arms); actuator '{ACTUATOR}' on "
         f"'{pull}': ctrl = the tendon pull [m] (rest length - length), 0 to full flexion, force = tension [N]",

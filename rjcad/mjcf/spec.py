@@ -340,7 +340,7 @@ def to_xml(spec: FingerSpec, meshdir: str = "meshes") -> str:
     """The MJCF text of ``spec``; mesh files are named relative to ``meshdir`` (relative to the XML file)."""
     root = ET.Element("mujoco", model=spec.model_name)
     for note in spec.notes:
-        root.append(ET.Comment(f" {note} "))
+        root.append(ET.Comment(f" {xml_comment(note)} "))
     ET.SubElement(root, "compiler", angle="radian", meshdir=meshdir, autolimits="true", inertiafromgeom="false")
     g = float(np.linalg.norm(spec.gravity))
     ET.SubElement(root, "option", timestep=_f(TIMESTEP), integrator="implicitfast", gravity=_f(0.0, 0.0, -g))
@@ -421,3 +421,10 @@ def unit(v: Sequence[float]) -> tuple[float, float, float]:
     n = math.sqrt(sum(x * x for x in v))
     x, y, z = v
     return (float(x) / n, float(y) / n, float(z) / n)
+
+
+def xml_comment(text: str) -> str:
+    """``text`` fit for an XML comment, which may not hold "--" (strict readers refuse the file): "- -"."""
+    while "--" in text:
+        text = text.replace("--", "- -")
+    return text

@@ -27,7 +27,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.io.manifest import Manifest
-from rjcad.mjcf.spec import BodySpec, JointSpec
+from rjcad.mjcf.spec import BodySpec, JointSpec, xml_comment
 
 if TYPE_CHECKING:
     import trimesh
@@ -51,9 +51,7 @@ _NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 
 def _comment(parent: ET.Element, text: str) -> None:
     """Append an XML comment of ``text`` (a '--' would end it early: spaced out; characters XML cannot hold: '?')."""
-    text = _NOT_XML.sub("?", text)
-    while "--" in text:
-        text = text.replace("--", "- -")
+    text = xml_comment(_NOT_XML.sub("?", text))
     parent.append(ET.Comment(f" {text.rstrip('-')} "))
 
 
