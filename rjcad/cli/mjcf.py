@@ -100,15 +100,17 @@ def mjcf(manifest, out_path, identified, gravity, pull, objects, allow_outside):
 
 def with_objects(xml: str, manifest: str, specs: tuple[str, ...]) -> str:
     """The MJCF text ``xml`` of the finger ``manifest`` with the objects of the ``--object`` specs and the links'
-    contact pads (rjcad.mjcf.grasp.add_grasp; outlines: the template's, from the manifest's link lengths)."""
+    contact pads (rjcad.mjcf.grasp.add_grasp; outlines: the manifest's, measured on the solids, else the
+    template's pads from its link lengths)."""
     from rjcad.io.manifest import Manifest
     from rjcad.mjcf.grasp import add_grasp
     from rjcad.physics.finger_sources import model_from_manifest
-    from rjcad.physics.grasp import template_outlines
+    from rjcad.physics.grasp_run import grasp_outlines_of
     from rjcad.physics.objects import parse_object
 
     objects = [parse_object(s) for s in specs]
-    return add_grasp(xml, objects, template_outlines(model_from_manifest(Manifest.read(manifest))))
+    man = Manifest.read(manifest).to_json()
+    return add_grasp(xml, objects, grasp_outlines_of(man, model_from_manifest(man)))
 
 
 def echo_sag_of_manifest(manifest, gravity: str) -> None:
