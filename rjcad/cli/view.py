@@ -67,8 +67,9 @@ def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, allo
 
     from click.core import ParameterSource
 
-    from rjcad.physics.grasp_run import GRASP_STEPS
+    from rjcad.physics.grasp_run import GRASP_STEPS, MAX_TENSION_N
     from rjcad.physics.objects import parse_object
+    from rjcad.validate import in_range
     from rjcad.view import write_viewer
 
     name = Path(manifest).with_suffix(".html").name
@@ -77,6 +78,8 @@ def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, allo
     objects = [parse_object(s) for s in object_specs]
     if max_tension is not None and not objects:
         raise click.BadParameter("only with objects (--object)", param_hint="--max-tension")
+    if max_tension is not None:
+        in_range("--max-tension", max_tension, 0.0, MAX_TENSION_N, lo_open=True, unit="N")
     given = click.get_current_context().get_parameter_source
     if objects and given("steps") is not ParameterSource.COMMANDLINE:
         steps = GRASP_STEPS
