@@ -6,6 +6,10 @@ registry at setup time into ``rjcad/data/vendor/``, inlined as a module), the bo
 ``rjcad simulate finger MANIFEST --json``). A slider runs over the pull's tendon stroke; each link turns about
 its joint's axis (the manifest's ``axis_point_mm``, ``axis_dir``) by the physics' angle, children with their
 parents. The page reports the current angles and tension in ``#readout`` and ``window.rjcad``.
+With objects (``rjcad view --object``, issue #40) the slider runs instead over the readings of rjcad's closure on
+them (``rjcad.physics.grasp.close_on``, the tension ramped, the manifest's outlines: ``simulate finger --object``'s
+numbers); the page draws each object across the flexion plane at its pose per reading and an arrow per contact
+force on it (``grasp`` in the page's data), and states the arrows' scale, the tension and the grasp's verdict.
 Units: mm and N in the page's data (the manifest's frame, +Z up), degrees in its display. The scene is the GLB's
 frame (glTF's: metres, +Y up): the page maps the joints' axes and the tendon into it by the matrix the GLB states
 (``frame``, from ``asset.extras``; an rjcad GLB written before it stated one is in the manifest's frame).
@@ -18,17 +22,23 @@ import importlib.resources
 import json
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rjcad.errors import RjcadError
+
+if TYPE_CHECKING:
+    from rjcad.physics.grasp_result import Grasp
+    from rjcad.physics.objects import Object
 
 THREE_FILE = "three.module.min.js"
 #: Samples of the closure over the pull: the same default as ``rjcad simulate finger --steps``.
 DEFAULT_STEPS = 500
 #: The page template, in rjcad/data/.
 TEMPLATE = "viewer.html"
+#: The longest contact-force arrow on the page, as a fraction of the finger's length (as ``simulate finger --plot``).
+ARROW_FRACTION = 0.25
 
 
 class ViewerError(RjcadError):
@@ -115,19 +125,17 @@ def glb_frame(glb: bytes, name: str = "GLB") -> list[float]:
     return [float(v) for v in m]
 
 
-def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0) -> dict:
+def page_data(
+    man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0, grasp: Grasp | None = None
+) -> dict:
     """What the page needs besides three.js: bodies (GLB base64), joints, tendon path and the closure
-    (the pull, ``steps + 1`` samples from 0 to ``stroke`` mm)."""
-    from rjcad.physics.finger import model_from_manifest, simulate_stroke
-
-    c = simulate_stroke(model_from_manifest(man, mu_t=mu_t), stroke, steps=steps)
-    pull = slice(0, steps + 1)
+    (the pull, ``steps + 1`` samples from 0 to ``stroke`` mm; or, with ``grasp``, its readings and ``grasp``)."""
     joints = [
         {"parent": j["parent"], "child": j["child"], "axis_point_mm": j["axis_point_mm"], "axis_dir": j["axis_dir"]}
         for j in man["joints"]
     ]
     tendon = man.get("tendon_path_mm") or []
-    return {
+    data = {
         "title": title,
         "glb_base64": base64.b64encode(glb).decode("ascii"),
         "frame": glb_frame(glb),
@@ -135,21 +143,66 @@ def page_data(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t
         "chains": chains(joints),
         "tendon_mm": tendon,
         "tendon_owner": tendon_owner(tendon, joints) if tendon else [],
-        "closure": {
-            "stroke_mm": stroke,
-            "steps": steps,
-            "mu_t": mu_t,
-            "tendon_mm": c.tendon_mm[pull].tolist(),
-            "theta_deg": [[math.degrees(v) for v in row] for row in c.theta[pull].tolist()],
-            "tension_n": c.tension[pull].tolist(),
-        },
     }
+    from rjcad.physics.finger import model_from_manifest, simulate_stroke
+
+    if grasp is not None:
+        return data | grasp_page_data(grasp, sum(model_from_manifest(man).link_length), mu_t)
+    c = simulate_stroke(model_from_manifest(man, mu_t=mu_t), stroke, steps=steps)
+    pull = slice(0, steps + 1)
+    data["closure"] = {
+        "stroke_mm": stroke,
+        "steps": steps,
+        "mu_t": mu_t,
+        "tendon_mm": c.tendon_mm[pull].tolist(),
+        "theta_deg": [[math.degrees(v) for v in row] for row in c.theta[pull].tolist()],
+        "tension_n": c.tension[pull].tolist(),
+    }
+    return data
 
 
-def viewer_html(man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0) -> str:
-    """The self-contained page of the built finger ``man`` (manifest JSON object) whose bodies are ``glb``."""
+def force_arrows(g: Grasp, mm_per_n: float) -> list[list[list[float]]]:
+    """Per reading, per contact (``g.contacts``' order), the arrow of the force on the object in the base's frame
+    [mm]: [x0, y0, x1, y1] from the contact point along f = F_n n + F_t t (t: n turned +90°), ``mm_per_n`` long per N."""
+    out = []
+    for cs in g.contacts:
+        row = []
+        for c in cs:
+            (x, y), (nx, ny) = c.point_mm, c.normal
+            fx = c.normal_force_n * nx - c.tangential_force_n * ny
+            fy = c.normal_force_n * ny + c.tangential_force_n * nx
+            row.append([float(x), float(y), float(x + fx * mm_per_n), float(y + fy * mm_per_n)])
+        out.append(row)
+    return out
+
+
+def grasp_page_data(g: Grasp, finger_mm: float, mu_t: float = 0.0) -> dict:
+    """The page's ``closure`` (the slider: one step per reading of ``g``) and ``grasp`` (``Grasp.to_dict()``, the
+    arrows ``arrows_mm`` per reading and their scale ``arrow_mm_per_n``: the largest force over the readings is
+    ``ARROW_FRACTION`` of the finger's length ``finger_mm``)."""
+    d = g.to_dict()
+    peak = max((math.hypot(c.normal_force_n, c.tangential_force_n) for cs in g.contacts for c in cs), default=0.0)
+    scale = ARROW_FRACTION * finger_mm / peak if peak > 0 else 0.0
+    d["arrow_mm_per_n"] = scale
+    d["arrows_mm"] = force_arrows(g, scale)
+    closure = {
+        "stroke_mm": g.tendon_mm[-1],
+        "steps": len(g.tendon_mm) - 1,
+        "mu_t": mu_t,
+        "tendon_mm": d["tendon_mm"],
+        "theta_deg": d["theta_deg"],
+        "tension_n": d["tension_n"],
+    }
+    return {"closure": closure, "grasp": d}
+
+
+def viewer_html(
+    man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0, grasp: Grasp | None = None
+) -> str:
+    """The self-contained page of the built finger ``man`` (manifest JSON object) whose bodies are ``glb``
+    (with ``grasp``: its closure on objects)."""
     three = vendored_three()
-    data = page_data(man, glb, title, stroke, steps, mu_t)
+    data = page_data(man, glb, title, stroke, steps, mu_t, grasp)
     template = (importlib.resources.files("rjcad") / "data" / TEMPLATE).read_text(encoding="utf-8")
     three_url = "data:text/javascript;base64," + base64.b64encode(three.encode("utf-8")).decode("ascii")
     # "</" cannot end the script element inside JSON: written "<\/". One pass: no value is scanned again.
@@ -165,25 +218,57 @@ def _html_text(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
-def finger_page(b: Any, files: Mapping[str, bytes | str]) -> dict[str, str]:
+def close_grasp(
+    man: dict, objects: Sequence[Object], max_tension_n: float, stroke: float | None, steps: int, mu_t: float = 0.0
+) -> Grasp:
+    """rjcad's closure of the built finger ``man`` on ``objects`` with its measured outlines, as
+    ``rjcad simulate finger MANIFEST --object …`` runs it (tension ramp to ``max_tension_n`` [N] in ``steps``
+    readings, stopped at ``stroke`` [mm] if given; gravity off)."""
+    from rjcad.physics.finger import model_from_manifest
+    from rjcad.physics.grasp_run import grasp_outlines_of, run_grasp
+
+    model = model_from_manifest(man, mu_t=mu_t)
+    outlines = grasp_outlines_of(man, model)
+    return run_grasp(
+        "rjcad", model, objects, max_tension_n=max_tension_n, stroke=stroke, outlines=outlines, steps=steps
+    )
+
+
+def finger_page(
+    b: Any, files: Mapping[str, bytes | str], objects: Sequence[Object] = (), max_tension_n: float = 10.0
+) -> dict[str, str]:
     """finger.html of a built finger ``b`` (``rjcad.cad.build.FingerBuild``) whose files hold its finger.glb:
-    the page at ``rjcad view``'s defaults (``rjcad finger --html``)."""
+    the page at ``rjcad view``'s defaults (``rjcad finger --html``); with ``objects`` (a template's
+    ``[[object]]`` tables), the closure on them."""
     from rjcad.paper import FINGER
+    from rjcad.physics.grasp_run import GRASP_STEPS
 
     glb = files["finger.glb"]
     assert isinstance(glb, bytes)
-    return {
-        "finger.html": viewer_html(b.manifest.to_json(), glb, "rjcad finger: finger.json", FINGER.stroke, DEFAULT_STEPS)
-    }
+    man = b.manifest.to_json()
+    grasp = close_grasp(man, objects, max_tension_n, None, GRASP_STEPS) if objects else None
+    title = "rjcad finger: finger.json"
+    return {"finger.html": viewer_html(man, glb, title, FINGER.stroke, DEFAULT_STEPS, grasp=grasp)}
 
 
 def write_viewer(
-    manifest_path: str | Path, out: str | Path, stroke: float, steps: int, mu_t: float = 0.0, allow_outside=False
+    manifest_path: str | Path,
+    out: str | Path,
+    stroke: float,
+    steps: int,
+    mu_t: float = 0.0,
+    allow_outside: bool = False,
+    *,
+    objects: Sequence[Object] = (),
+    max_tension_n: float = 10.0,
+    grasp_stroke: float | None = None,
 ) -> Path:
-    """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path."""
+    """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path. With
+    ``objects``: the closure on them in ``steps`` readings (``close_grasp``), else the pull over ``stroke`` mm."""
     from rjcad.io.config import write_atomic
 
     vendored_three()  # before the simulation: a missing three.js is the first thing to say
     man, glb = read_built(manifest_path, allow_outside)
     title = f"rjcad {man.get('kind', 'finger')}: {Path(manifest_path).name}"
-    return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t))
+    grasp = close_grasp(man, objects, max_tension_n, grasp_stroke, steps, mu_t) if objects else None
+    return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t, grasp))

@@ -394,3 +394,57 @@ def test_viewer_in_chromium_offline(default_finger, tmp_path, capsys):
     assert np.linalg.norm(distal[1] - distal[0]) > 40  # the distal link's centroid moved by > 40 px
     assert np.abs(np.array(angles) - np.array(end)).max() < 0.1, (angles, end)
     assert "tension" in shown and f"{end[-1]:.2f}" in shown
+
+
+def purple_mask(img: np.ndarray) -> np.ndarray:
+    """Pixels of a fixed object (#9467bd, see-through over the background): red and blue both above green; no body
+    (grey, blue, orange, green), the tendon (red) or the arrows (black) is."""
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    return (r > g + 10) & (b > g + 20)
+
+
+@pytest.mark.skipif(not THREE, reason="three.js not vendored (make vendor: npm pack three)")
+@pytest.mark.skipif(shutil.which("chromium") is None, reason="chromium not installed (apt-get install chromium)")
+def test_viewer_with_an_object_in_chromium(default_finger, tmp_path):
+    """`rjcad view --object` (issue #40) on the built finger, in Chromium offline: no JS error; the slider runs
+    over the closure's readings; the object is drawn; at the last reading an arrow per contact that pushes, the
+    readout names the contacts and the verdict; each contact point lies on its link's posed mesh (the page's
+    ``contactGapsMm``: 2 mm from inside the object back along −n to the mesh), so the objects and the bodies share
+    one frame."""
+    sync_playwright = pytest.importorskip("playwright.sync_api").sync_playwright
+    from rjcad.physics.finger_sources import outlines_from_manifest
+
+    out, manifest, *_ = default_finger
+    # a 40 mm cylinder over the middle of link 1 (x = 20 mm), 1 mm clear of its measured outline
+    line = outlines_from_manifest(manifest)[0]
+    dx = line[:, 0] - 20.0
+    under = np.abs(dx) < 20.0
+    y = float((line[under, 1] + np.sqrt(20.0**2 - dx[under] ** 2)).max()) + 1.0
+    page_file = tmp_path / "grasp.html"
+    spec = f"cylinder:diameter=40,x=20,y={y:.3f},mu=0.5"
+    with pytest.raises(SystemExit) as e:
+        main(["view", str(out / "finger.json"), "--out", str(page_file), "--object", spec, "--steps", "20"])
+    assert e.value.code == 0
+    with sync_playwright() as pw:
+        browser, page, blocked = chromium_page(pw)
+        errors: list[str] = []
+        page.on("pageerror", lambda err: errors.append(str(err)))
+        page.goto(page_file.as_uri())
+        page.wait_for_function("window.rjcad && window.rjcad.ready === true", timeout=60_000)
+        slider = page.locator("#stroke")
+        assert slider.get_attribute("max") == "19"  # 20 readings
+        slider.fill("19")
+        img = canvas_rgb(page)
+        arrows, contacts = page.evaluate("window.rjcad.arrows"), page.evaluate("window.rjcad.contacts")
+        gaps = page.evaluate("window.rjcad.contactGapsMm()")
+        panel = page.locator("#panel").inner_text()
+        ARTEFACTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(ARTEFACTS / "viewer_grasp.png"))
+        browser.close()
+    assert not errors and not blocked, (errors, blocked)
+    assert purple_mask(img).mean() > 0.01  # the object, on at least 1 % of the canvas
+    pushing = [c for c in contacts if math.hypot(c["normal_force_n"], c["tangential_force_n"]) > 0]
+    assert len(pushing) >= 2 and len(arrows) == len(pushing), (arrows, contacts)
+    assert len(gaps) == len(contacts) and all(abs(g - 2.0) < 0.2 for g in gaps), gaps
+    assert "tension 10.00 N" in panel and f"{contacts[0]['body']} on object 1" in panel
+    assert "enveloping" in panel and "ε =" in panel and "1 N = " in panel

@@ -43,17 +43,50 @@ def check_view_options(stroke: float, mu_t: float) -> None:
     help="Samples of the closure over the stroke.",
 )
 @click.option("--mu-t", type=float, default=0.0, show_default=True, help="Tendon friction coefficient on its path.")
+@click.option(
+    "--object",
+    "object_specs",
+    multiple=True,
+    metavar="SPEC",
+    help="An object to close on (repeatable), as in `rjcad simulate finger --object`: the slider then runs over "
+    "the closure's readings (the tension ramp, --steps of them, default 60) and the page draws the objects and "
+    "the contact forces.",
+)
+@click.option(
+    "--max-tension",
+    type=float,
+    default=None,
+    help="With objects: the tendon's tension is ramped from 0 to this [N] (default 10).",
+)
 @allow_outside_option
-def view(manifest, out_dir, stroke, steps, mu_t, allow_outside):
+def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, allow_outside):
     """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over
-    the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`."""
+    the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`.
+    With objects (--object): the closure on them, the objects and the contact forces along the slider."""
     from pathlib import Path
 
+    from click.core import ParameterSource
+
+    from rjcad.physics.grasp_run import GRASP_STEPS, MAX_TENSION_N
+    from rjcad.physics.objects import parse_object
+    from rjcad.validate import in_range
     from rjcad.view import write_viewer
 
     name = Path(manifest).with_suffix(".html").name
     folder, name = out_file(out_dir, HTML, name) if out_dir is not None else (str(Path(manifest).parent), name)
     check_view_options(stroke, mu_t)
+    objects = [parse_object(s) for s in object_specs]
+    if max_tension is not None and not objects:
+        raise click.BadParameter("only with objects (--object)", param_hint="--max-tension")
+    if max_tension is not None:
+        in_range("--max-tension", max_tension, 0.0, MAX_TENSION_N, lo_open=True, unit="N")
+    given = click.get_current_context().get_parameter_source
+    if objects and given("steps") is not ParameterSource.COMMANDLINE:
+        steps = GRASP_STEPS
     out = Path(folder) / name
-    write_viewer(manifest, out, stroke, steps, mu_t, allow_outside)
+    write_viewer(
+        manifest, out, stroke, steps, mu_t, allow_outside, objects=objects,
+        max_tension_n=10.0 if max_tension is None else max_tension,
+        grasp_stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None,
+    )  # fmt: skip
     click.echo(f"viewer written to {out} (open it in a browser; no network needed)")
