@@ -225,13 +225,14 @@ def close_grasp(
     ``rjcad simulate finger MANIFEST --object …`` runs it (tension ramp to ``max_tension_n`` [N] in ``steps``
     readings, stopped at ``stroke`` [mm] if given; gravity off)."""
     from rjcad.physics.finger import model_from_manifest
-    from rjcad.physics.grasp_run import grasp_outlines_of, run_grasp
+    from rjcad.physics.grasp_run import base_outline_of, grasp_outlines_of, run_grasp
 
     model = model_from_manifest(man, mu_t=mu_t)
     outlines = grasp_outlines_of(man, model)
     return run_grasp(
-        "rjcad", model, objects, max_tension_n=max_tension_n, stroke=stroke, outlines=outlines, steps=steps
-    )
+        "rjcad", model, objects, max_tension_n=max_tension_n, stroke=stroke, outlines=outlines, steps=steps,
+        base_outline=base_outline_of(man),
+    )  # fmt: skip
 
 
 def finger_page(
