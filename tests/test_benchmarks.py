@@ -79,6 +79,7 @@ BENCHMARKS = {
         },
         {"worst_ratio_time_n_over_n_time_1"},
     ),
+    "grasp": ({"per_object", "rjcad_slowest_object_s"}, {"rjcad_s_per_object"}),
     "identify": (
         {
             "paper_campaign_s",
@@ -226,6 +227,14 @@ def test_every_benchmark_is_covered_and_uses_the_shared_timer(root):
         assert "--quick" in ast.get_docstring(ast.parse(text)), name
 
 
+def check_grasp(d):
+    """The quick run's 40 mm cylinder: both engines agree (issue #40's tolerances) with and without friction."""
+    assert set(d["per_object"]) == {"40mm_mu0", "40mm_mu0.5"}
+    for row in d["per_object"].values():
+        assert row["max_angle_difference_deg"] < 2.0 and row["max_normal_force_difference_n"] < 0.05
+        assert row["rjcad_s"] > 0 and row["mujoco_s"] > 0 and row["links_in_contact"] >= 1
+
+
 def check_identify(d):
     assert d["paper_campaign_effects"] == ["coulomb_pin", "tendon_pin_friction", "capstan_path"]
     assert d["samples_per_experiment"] == [600, 1200] and all(s > 0 for s in d["seconds"])
@@ -283,6 +292,7 @@ def check_cli(d):
 
 EXTRA = {
     "cli": check_cli,
+    "grasp": check_grasp,
     "identify": check_identify,
     "physics": check_physics,
     "finger": check_finger,
