@@ -127,7 +127,13 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
             vendored_three()  # a missing three.js is said before the build
         from rjcad.cad.build import MJCF_DIR, write_finger
 
-        more = finger_page if html else None
+        more = None
+        if html:  # the template's [[object]] tables, if any, closed on in the page
+            import functools
+
+            from rjcad.physics.grasp_run import template_objects
+
+            more = functools.partial(finger_page, objects=template_objects(template) if template else [])
         b = write_finger(fp, out_dir, png=not no_png, more=more, mjcf=mjcf, gravity=grav, progress=progress)
     m = b.manifest
     click.echo(
