@@ -5,8 +5,8 @@ contact solver (``rjcad.physics.grasp.close_on``, 40 readings to 10 N, the links
 finger) and of the same closure in MuJoCo (``rjcad.mjcf.grasp.close_on_mujoco``), both in this run, and their
 ratio. Target: rjcad's solver ≤ 1 s per object (the slowest diameter). Also the largest differences between the
 engines' final states (angles [deg], normal forces [N]), frictionless and at μ 0.5. The finger is built once,
-untimed.
-Run: .venv/bin/python benchmarks/grasp.py [--repeats 3] [--quick]
+untimed (--quick: not built; the template's model and straight pads).
+Run: .venv/bin/python benchmarks/grasp.py [--repeats 3] [--diameters 20,40] [--template] [--quick]
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from rjcad.cad.build import build_finger_model
 from rjcad.design.finger_params import FingerParams
 from rjcad.io.templates import DEFAULT_FINGER
 from rjcad.mjcf.grasp import close_on_mujoco
-from rjcad.physics.finger_sources import model_from_manifest, outlines_from_manifest
+from rjcad.physics.finger_sources import model_from_manifest, model_from_template, outlines_from_manifest
 from rjcad.physics.grasp import close_on, held_position
 from rjcad.physics.objects import Cylinder
 
@@ -38,9 +38,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--diameters", default="20,30,40,50,60")
-    args = parse_args(ap, {"repeats": 1, "diameters": "40"})
-    manifest = build_finger_model(FingerParams.from_dict(DEFAULT_FINGER)).manifest.to_json()
-    model, outlines = model_from_manifest(manifest), outlines_from_manifest(manifest)
+    ap.add_argument("--template", action="store_true", help="the template's model and pads: no build")
+    args = parse_args(ap, {"repeats": 1, "diameters": "40", "template": True})
+    if args.template:
+        model, outlines = model_from_template(DEFAULT_FINGER), None
+    else:
+        manifest = build_finger_model(FingerParams.from_dict(DEFAULT_FINGER)).manifest.to_json()
+        model, outlines = model_from_manifest(manifest), outlines_from_manifest(manifest)
     rows: dict[str, dict[str, float]] = {}
     for d in (float(v) for v in args.diameters.split(",")):
         for mu in (0.0, 0.5):

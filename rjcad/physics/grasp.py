@@ -55,7 +55,7 @@ TOUCH_MM = 1e-4
 #: Default largest tension [N] and readings of a closure.
 MAX_TENSION_N, STEPS = 10.0, 40
 #: Largest turn of a joint or an object [rad] and move of an object [mm] per move of the minimiser; moves per reading.
-TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 1.0, 200
+TURN_RAD, MOVE_MM, MAX_MOVES = 0.03, 3.0, 200
 #: A free object's drag on a move [N/mm, N·mm/rad]: it moves only as far as it is pushed (without it, an object
 #: that nothing holds may sit anywhere it does not block a link, and the minimiser takes any of those places).
 DRAG = 1e-3
@@ -64,6 +64,8 @@ DRAG = 1e-3
 FAR_MM = 20.0
 #: Solves of one move at most, friction's weights taken again at its end each time.
 FIXED_POINT = 10
+#: A move's end that changes less than this between solves has settled [rad, mm].
+SETTLED = 1e-8
 
 
 def template_outlines(m: FingerModel, pad: float = PAD_MM) -> list[np.ndarray]:
@@ -370,7 +372,7 @@ def _settle(
 ) -> tuple[np.ndarray, list[Contact], dict[int, float]]:
     """The state at tension T from q, in moves that each stay in the trust box, and its contacts. Friction's
     weights (the bearings' bands, μ·N) are taken at the move's end: each move is solved again with them until
-    its end stays within 1e-10 (at most FIXED_POINT times)."""
+    its end stays within SETTLED (at most FIXED_POINT times)."""
     start = q
     for _ in range(MAX_MOVES):
         bounds, lo, hi = _bounds(scene, q)
@@ -380,7 +382,7 @@ def _settle(
             res = step.solve(bounds)
             new = np.clip(res.x[: scene.nq], [b[0] for b in bounds], [b[1] for b in bounds])
             normal = _normals(scene, new, np.asarray(res.multipliers, dtype=float)[step.nd :])
-            settled = np.abs(new - at).max() < 1e-10
+            settled = np.abs(new - at).max() < SETTLED
             at = new
             if settled or (step.nd == 0 and not any(p.mu for p in scene.pairs)):
                 break

@@ -14,12 +14,13 @@ Search: the softest joint's stiffness K1 in SCALES, the ratios (K2/K1, K3/K1, �
 range in ROTATIONS; for each, the shortest links the joint builder accepts (``FingerParams``), then middle links
 from that shortest to the smallest target's bound. The candidates that wrap every target geometrically are
 ranked by predicted (worst ε, mean ε) and confirmed with the contact solver (``close_on``), smallest target first;
-the best confirmed (worst ε, then mean ε) wins. Moment arms: all equal to the builder's default; with one
-tendon the closure depends on K_i/r_i, which the stiffness ratios already span, and unequal arms lengthen links.
+the best confirmed (worst ε, then mean ε) wins. Moment arms: the builder's default, or a longer one on the distal
+joints where the layout takes it (ARM_SETS): with contacts the statics depend on r_i, not only on K_i/r_i.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -44,6 +45,10 @@ RATIOS = ((1.5, 2.0), (1.0, 2.0), (1.0, 3.0), (1.0, 4.0), (1.5, 5.0))  # (K2/K1,
 ROTATIONS = (90 * DEG, 110 * DEG)  # the distal joints' range; 110°: the builder's largest
 PRELOAD = 90 * DEG
 ARM_MM = 6.0  # the joint builder's default moment arm [mm]
+#: Moment arms tried beside the default, as (joint 1, the others) [mm], where the layout takes them: a longer arm
+#: on the distal joints presses links 2 and 3 harder against the same tension (with contacts the statics depend
+#: on r_i itself, not only on K_i/r_i), at the price of a larger joint.
+ARM_SETS = ((ARM_MM, ARM_MM), (ARM_MM, 8.0))
 L2_STEPS = 3  # middle-link lengths tried per candidate finger
 MATERIAL, PRINTER = "absplus-p430", "generic-0.4"
 
@@ -215,16 +220,17 @@ class Candidate:
         }  # fmt: skip
 
 
-@lru_cache(maxsize=64)
-def shortest_links(stiffness: tuple[float, ...], rotation: tuple[float, ...], material: str, printer: str
-                   ) -> tuple[float, tuple[float, ...]] | str:  # fmt: skip
+@lru_cache(maxsize=128)
+def shortest_links(stiffness: tuple[float, ...], rotation: tuple[float, ...], material: str, printer: str,
+                   arms: tuple[float, ...] | None = None) -> tuple[float, tuple[float, ...]] | str:  # fmt: skip
     """(base, links): the shortest whole-mm lengths the finger builder accepts for these joints, or its error."""
     from rjcad.design.finger_lengths import base_length_min, link_length_min, whole_mm
     from rjcad.design.finger_params import FingerParams
 
     data = {"material": material, "printer": printer,
             "joint": [{"stiffness_nmm_per_rad": k, "rotation_deg": r / DEG, "preload_deg": PRELOAD / DEG,
-                       "tendon_moment_arm_mm": ARM_MM} for k, r in zip(stiffness, rotation)]}  # fmt: skip
+                       "tendon_moment_arm_mm": a}
+                      for k, r, a in zip(stiffness, rotation, arms or (ARM_MM,) * len(stiffness))]}  # fmt: skip
     try:
         js = FingerParams.from_dict(data).joints
     except RjcadError as e:
@@ -243,13 +249,17 @@ def candidates(targets: Sequence[Target], n: int, material: str, printer: str) -
     """Every finger of the grid (see the module) that the builder accepts, middle links from the shortest to the
     smallest held target's bound (a fixed target bounds nothing here: the wrap decides). Where even the softest
     finger's middle link is over that bound, the range is skipped: stiffer springs are no shorter."""
+    from rjcad.physics.inverse import arm_range
+
     held = [t.diameter for t in targets if isinstance(t, Held)]
+    lo, hi = arm_range(material, printer)
+    arm_sets = [(a1, *[a] * (n - 1)) for a1, a in ARM_SETS if lo <= min(a1, a) and max(a1, a) <= hi]
     out = []
-    for rot in ROTATIONS:
+    for rot, arms in itertools.product(ROTATIONS, arm_sets):
         top = min((l2_bound(d, rot) for d in held), default=150.0)
         rots = (90 * DEG, *[rot] * (n - 1))
         for ks in _grid(n):
-            got = shortest_links(ks, rots, material, printer)
+            got = shortest_links(ks, rots, material, printer, arms)
             if isinstance(got, str):
                 continue
             base, links = got
@@ -261,7 +271,7 @@ def candidates(targets: Sequence[Target], n: int, material: str, printer: str) -
                 L = list(links)
                 L[1] = L2
                 L[0] = max(L[0], math.ceil(L2 / 2 + 2 * EDGE_MARGIN))  # held: tangent on link 1
-                out.append(Candidate(ks, (PRELOAD,) * n, rots, (ARM_MM,) * n, tuple(L), base))
+                out.append(Candidate(ks, (PRELOAD,) * n, rots, arms, tuple(L), base))
     return out
 
 
