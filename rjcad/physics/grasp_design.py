@@ -33,11 +33,11 @@ import numpy as np
 from rjcad import DEG
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics.finger_model import FingerModel
+from rjcad.physics.grasp import PAD_MM, STEPS
 from rjcad.physics.grasp_result import Contact, Grasp, epsilon
 from rjcad.physics.objects import Cylinder
 from rjcad.validate import in_range
 
-PAD_MM = 5.0  # the template's straight pad [mm]
 ANGLE_MARGIN = 4 * DEG  # a wrapped joint stays this far from its stop [rad]
 EDGE_MARGIN = 2.0  # a tangent point stays this far from its link's ends [mm]
 SCALES = (5.2, 3.9, 2.6)  # the softest joint's stiffness [N·mm/rad]: the paper's, then softer (shorter springs)
@@ -358,7 +358,7 @@ def design_for_targets(
     *,
     joints: int = 3,
     max_tension_n: float = 10.0,
-    steps: int = 60,
+    steps: int = STEPS,
     material: str = MATERIAL,
     printer: str = PRINTER,
     budget_s: float = BUDGET_S,
