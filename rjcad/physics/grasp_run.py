@@ -14,11 +14,13 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
+from rjcad.physics.grasp import STEPS
 from rjcad.physics.grasp_result import Grasp
 from rjcad.physics.objects import Object, objects_from_template
 
-#: Readings of a closure on objects (the tension ramp) unless told, and the largest tension accepted [N].
-GRASP_STEPS = 40
+#: Readings of a closure on objects (the tension ramp) unless told (rjcad.physics.grasp.STEPS), and the largest
+#: tension accepted [N].
+GRASP_STEPS = STEPS
 MAX_TENSION_N = 1e3
 ENGINES = ("rjcad", "mujoco")
 
