@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 Gap = tuple[float, np.ndarray, np.ndarray, np.ndarray]
+Nearest = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
@@ -82,15 +83,21 @@ def polyline_circle(line: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
     return float(sd[0]) - radius, p[0], centre - radius * n[0], n[0]
 
 
+def _nearer(a: np.ndarray, b: np.ndarray, b_to_a: Nearest, a_to_b: Nearest) -> Gap:
+    """The nearer of b's corners to shape a (``b_to_a``: their signed distances, nearest points on a, normals
+    from a) and a's corners to shape b (``a_to_b``, normals from b)."""
+    sd_b, p_b, n_b = b_to_a
+    sd_a, p_a, n_a = a_to_b
+    i, j = int(np.argmin(sd_b)), int(np.argmin(sd_a))
+    if sd_b[i] <= sd_a[j]:
+        return float(sd_b[i]), p_b[i], b[i], n_b[i]
+    return float(sd_a[j]), a[j], p_a[j], -n_a[j]
+
+
 def polyline_polygon(line: np.ndarray, poly: np.ndarray) -> Gap:
     """A link's outline against a convex polygon: the nearer of the polygon's corners to the outline and the
     outline's corners to the polygon."""
-    sd_v, p_v, n_v = to_polyline(poly, line)
-    sd_u, p_u, n_u = to_polygon(line, poly)
-    i, j = int(np.argmin(sd_v)), int(np.argmin(sd_u))
-    if sd_v[i] <= sd_u[j]:
-        return float(sd_v[i]), p_v[i], poly[i], n_v[i]
-    return float(sd_u[j]), line[j], p_u[j], -n_u[j]
+    return _nearer(line, poly, to_polyline(poly, line), to_polygon(line, poly))
 
 
 def polygon_circle(poly: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
@@ -101,12 +108,7 @@ def polygon_circle(poly: np.ndarray, centre: np.ndarray, radius: float) -> Gap:
 
 def polygons(a: np.ndarray, b: np.ndarray) -> Gap:
     """Two convex polygons: the nearer of b's corners to a and a's corners to b."""
-    sd_b, p_b, n_b = to_polygon(b, a)
-    sd_a, p_a, n_a = to_polygon(a, b)
-    i, j = int(np.argmin(sd_b)), int(np.argmin(sd_a))
-    if sd_b[i] <= sd_a[j]:
-        return float(sd_b[i]), p_b[i], b[i], n_b[i]
-    return float(sd_a[j]), a[j], p_a[j], -n_a[j]
+    return _nearer(a, b, to_polygon(b, a), to_polygon(a, b))
 
 
 def circles(ca: np.ndarray, ra: float, cb: np.ndarray, rb: float) -> Gap:
