@@ -108,7 +108,7 @@ def test_targets_25_to_55_give_a_finger_that_builds_grasps_every_target_and_prin
     assert model.link_length == tuple(rep["link_length_mm"]) and outlines is not None
     for t in rep["targets"]:
         D = t["object"]["diameter_mm"]
-        g = close_on(model, [Cylinder(*held_position(model, D, outlines), D)], outlines=outlines, max_tension_n=10.0)
+        g = close_on(model, [Cylinder(*held_position(model, D, outlines), D)], outlines=outlines, steps=20)
         assert g.verdict().enveloping, (D, g.verdict())
     if shutil.which("prusa-slicer") is not None:
         r = cli("check", built / "finger.3mf", "--manifest", built / "finger.json", "--slicer", "prusa")

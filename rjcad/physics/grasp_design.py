@@ -33,7 +33,7 @@ import numpy as np
 from rjcad import DEG
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics.finger_model import FingerModel
-from rjcad.physics.grasp import PAD_MM, STEPS
+from rjcad.physics.grasp import PAD_MM
 from rjcad.physics.grasp_result import Contact, Grasp, epsilon
 from rjcad.physics.objects import Cylinder
 from rjcad.validate import in_range
@@ -50,6 +50,9 @@ ARM_MM = 6.0  # the joint builder's default moment arm [mm]
 #: on r_i itself, not only on K_i/r_i), at the price of a larger joint.
 ARM_SETS = ((ARM_MM, ARM_MM), (ARM_MM, 8.0))
 L2_STEPS = 3  # middle-link lengths tried per candidate finger
+#: Readings of each confirming closure: it asks only which links end up pressing (a fixed cylinder's frictionless end
+#: state does not depend on the path; the solver's default is 40).
+CONFIRM_STEPS = 20
 MATERIAL, PRINTER = "absplus-p430", "generic-0.4"
 
 
@@ -358,7 +361,7 @@ def design_for_targets(
     *,
     joints: int = 3,
     max_tension_n: float = 10.0,
-    steps: int = STEPS,
+    steps: int = CONFIRM_STEPS,
     material: str = MATERIAL,
     printer: str = PRINTER,
     budget_s: float = BUDGET_S,
@@ -401,7 +404,8 @@ def design_for_targets(
         else:
             confirmed += 1
             d = GraspDesign(cand, list(targets), places, [g for g in grasps if g is not None])
-            key = (d.worst_epsilon, float(np.mean([g.verdict().epsilon for g in d.grasps])))
+            # to 0.001: a nearer tie keeps the prediction's order (the solver's last digits decide nothing)
+            key = (round(d.worst_epsilon, 3), round(float(np.mean([g.verdict().epsilon for g in d.grasps])), 3))
             if best is None or key > best[0]:
                 best = (key, d)
         if time.monotonic() - start > 2 * budget_s:
