@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from rjcad.errors import RjcadError
+from rjcad.physics.grasp_result import arrow_scale
 
 if TYPE_CHECKING:
     from rjcad.physics.grasp_result import Grasp
@@ -37,8 +38,6 @@ THREE_FILE = "three.module.min.js"
 DEFAULT_STEPS = 500
 #: The page template, in rjcad/data/.
 TEMPLATE = "viewer.html"
-#: The longest contact-force arrow on the page, as a fraction of the finger's length (as ``simulate finger --plot``).
-ARROW_FRACTION = 0.25
 
 
 class ViewerError(RjcadError):
@@ -168,9 +167,7 @@ def force_arrows(g: Grasp, mm_per_n: float) -> list[list[list[float]]]:
     for cs in g.contacts:
         row = []
         for c in cs:
-            (x, y), (nx, ny) = c.point_mm, c.normal
-            fx = c.normal_force_n * nx - c.tangential_force_n * ny
-            fy = c.normal_force_n * ny + c.tangential_force_n * nx
+            (x, y), (fx, fy) = c.point_mm, c.force
             row.append([float(x), float(y), float(x + fx * mm_per_n), float(y + fy * mm_per_n)])
         out.append(row)
     return out
@@ -181,8 +178,7 @@ def grasp_page_data(g: Grasp, finger_mm: float, mu_t: float = 0.0) -> dict:
     arrows ``arrows_mm`` per reading and their scale ``arrow_mm_per_n``: the largest force over the readings is
     ``ARROW_FRACTION`` of the finger's length ``finger_mm``)."""
     d = g.to_dict()
-    peak = max((math.hypot(c.normal_force_n, c.tangential_force_n) for cs in g.contacts for c in cs), default=0.0)
-    scale = ARROW_FRACTION * finger_mm / peak if peak > 0 else 0.0
+    scale = arrow_scale((c for cs in g.contacts for c in cs), finger_mm)
     d["arrow_mm_per_n"] = scale
     d["arrows_mm"] = force_arrows(g, scale)
     closure = {

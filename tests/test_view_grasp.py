@@ -10,8 +10,9 @@ import re
 import numpy as np
 import pytest
 
+from rjcad.physics.grasp_result import ARROW_FRACTION
 from rjcad.physics.objects import Cylinder
-from rjcad.view import ARROW_FRACTION, THREE_FILE, close_grasp, page_data
+from rjcad.view import THREE_FILE, close_grasp, page_data
 
 THREE = (importlib.resources.files("rjcad") / "data" / "vendor" / THREE_FILE).is_file()
 #: A cylinder where the docs hold it for the v0 manifest's finger (links 40 mm, the template's pads at 5 mm:

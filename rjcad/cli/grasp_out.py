@@ -3,20 +3,17 @@ and contacts, the verdict; the finger and the objects with an arrow per contact 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import click
 import numpy as np
 
 from rjcad.physics.finger_model import FingerModel
-from rjcad.physics.grasp_result import Grasp
+from rjcad.physics.grasp_result import Grasp, arrow_scale
 from rjcad.physics.grasp_run import describe, object_touch_order, outline_points
 
 #: Earlier readings drawn faintly behind the final one.
 GHOSTS = 3
-#: The longest force arrow, as a fraction of the finger's length.
-ARROW_FRACTION = 0.25
 
 
 def grasp_lines(g: Grasp) -> list[str]:
@@ -72,10 +69,7 @@ def draw_grasp(ax, runs: dict[str, Grasp], model: FingerModel, outlines: Sequenc
     from matplotlib.patches import Circle, Polygon
 
     first = next(iter(runs.values()))
-    peak = max(
-        (math.hypot(c.normal_force_n, c.tangential_force_n) for g in runs.values() for c in g.contacts[-1]), default=0.0
-    )
-    scale = ARROW_FRACTION * float(sum(model.link_length)) / peak if peak > 0 else 0.0  # mm per N
+    scale = arrow_scale((c for g in runs.values() for c in g.contacts[-1]), float(sum(model.link_length)))
     for e, (name, g) in enumerate(runs.items()):
         style = "-" if e == 0 else "--"
         picks = sorted({int(i) for i in np.linspace(0, len(g.theta) - 1, GHOSTS + 1)})
@@ -98,8 +92,7 @@ def draw_grasp(ax, runs: dict[str, Grasp], model: FingerModel, outlines: Sequenc
                 shape.set(fill=final and e == 0, facecolor="0.85", edgecolor=f"C{e}", ls=style, alpha=alpha)
                 ax.add_patch(shape)
         for j, c in enumerate(g.contacts[-1]):
-            n = np.asarray(c.normal, dtype=float)
-            f = c.normal_force_n * n + c.tangential_force_n * np.array([-n[1], n[0]])
+            f = c.force
             lab = f"{name}: contact force (1 N = {scale:.3g} mm)" if j == 0 else None
             ax.annotate("", xy=np.add(c.point_mm, f * scale), xytext=c.point_mm,
                         arrowprops=dict(arrowstyle="->", color="C3" if e == 0 else "C4", lw=1.5))  # fmt: skip

@@ -41,6 +41,17 @@ class Contact:
     tangential_force_n: float = 0.0
 
     @property
+    def force(self) -> np.ndarray:
+        """The force on the object [N] in the base's frame: F_n n + F_t t, t the normal turned +90°."""
+        nx, ny = self.normal
+        return np.array(
+            [
+                self.normal_force_n * nx - self.tangential_force_n * ny,
+                self.normal_force_n * ny + self.tangential_force_n * nx,
+            ]
+        )
+
+    @property
     def link(self) -> int | None:
         """The link's number (1…N), or None for an object."""
         return int(self.body[4:]) if self.body.startswith("link") else None
@@ -167,6 +178,17 @@ class Grasp:
             "ejected_at_reading": self.ejected_at,
             "grasp": self.verdict().to_dict(),
         }
+
+
+#: Drawn contact forces: the largest one drawn this fraction of the finger's length (the plot and the viewer).
+ARROW_FRACTION = 0.25
+
+
+def arrow_scale(contacts: Any, finger_mm: float) -> float:
+    """Millimetres per newton for drawing ``contacts`` (an iterable of ``Contact``): the largest force drawn
+    ARROW_FRACTION of ``finger_mm`` long (0 without a force)."""
+    peak = max((math.hypot(c.normal_force_n, c.tangential_force_n) for c in contacts), default=0.0)
+    return ARROW_FRACTION * finger_mm / peak if peak > 0 else 0.0
 
 
 #: A contact presses when its normal force exceeds this [N] (smaller ones are a solver's rounding).
