@@ -39,7 +39,7 @@ import numpy as np
 
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
-from rjcad.physics.grasp import STEPS, template_outlines
+from rjcad.physics.grasp import STEPS, check_run, link_outlines
 from rjcad.physics.grasp_result import Contact, Grasp, let_go, out_of_reach, reach
 from rjcad.physics.objects import Cylinder, Object
 
@@ -90,18 +90,6 @@ def _contact_attrs(mu: float, bits: tuple[int, int]) -> dict[str, str]:
         "margin": "0",
         "group": "1",
     }
-
-
-def _check_outlines(outlines: Sequence[np.ndarray], n: int) -> list[np.ndarray]:
-    if len(outlines) != n:
-        raise ParameterError("outlines", len(outlines), f"needs one per link ({n})")
-    out = []
-    for i, o in enumerate(outlines, start=1):
-        a = np.asarray(o, dtype=float)
-        if a.ndim != 2 or a.shape[1] != 2 or len(a) < 2 or not np.all(np.isfinite(a)):
-            raise ParameterError(f"outline {i}", a.shape, "must be (k >= 2, 2) finite points [mm]")
-        out.append(a)
-    return out
 
 
 def _pad_geoms(body: ET.Element, link: int, outline: np.ndarray) -> None:
@@ -195,7 +183,7 @@ def grasp_files(
     from rjcad.mjcf.model import gravity_vector, spec_from_model
     from rjcad.mjcf.spec import to_xml
 
-    lines = _check_outlines(template_outlines(model) if outlines is None else outlines, model.n)
+    lines = link_outlines(model, outlines)
     grav = gravity_vector(model.gravity) if model.gravity is not None else (0.0, 0.0, 0.0)
     if source is not None and Path(source).suffix.lower() == ".json":
         from rjcad.io.manifest import Manifest
@@ -212,16 +200,6 @@ def grasp_files(
         pulled = _pulled_model(model)
         xml, assets = to_xml(spec_from_model(pulled, frictionloss=model.friction, gravity=grav)), {}
     return add_grasp(xml, objects, lines), assets
-
-
-def _check_run(max_tension_n: float, stroke: float | None, steps: int) -> None:
-    from rjcad.validate import in_range
-
-    in_range("max_tension_n", max_tension_n, 0.0, 1e4, lo_open=True, unit="N")
-    if stroke is not None:
-        in_range("stroke", stroke, 0.0, 1e4, lo_open=True, unit="mm")
-    if not isinstance(steps, int) or steps < 2:
-        raise ParameterError("steps", steps, "must be an integer >= 2")
 
 
 class _Run:
@@ -359,8 +337,8 @@ def close_on_mujoco(
     it. ``source``: the finger's manifest (.json) for its meshes, else capsule links from ``model``."""
     from rjcad.mjcf.simulate import load, raise_warnings
 
-    _check_run(max_tension_n, stroke, steps)
-    lines = _check_outlines(template_outlines(model) if outlines is None else outlines, model.n)
+    check_run(max_tension_n, stroke, steps)
+    lines = link_outlines(model, outlines)
     xml, assets = grasp_files(model, objects, lines, source)
     run = _Run(model, load(xml, assets), objects)
     r = np.asarray(model.moment_arm, dtype=float)

@@ -73,6 +73,31 @@ def template_outlines(m: FingerModel, pad: float = PAD_MM) -> list[np.ndarray]:
     return [np.array([[0.0, pad], [float(L), pad]]) for L in m.link_length]
 
 
+def link_outlines(m: FingerModel, outlines: Sequence[np.ndarray] | None) -> list[np.ndarray]:
+    """``outlines`` checked (one per link, each k ≥ 2 finite (x, y) points [mm]) as float arrays; the template's
+    pads where None. Both engines take the outlines through here."""
+    lines = template_outlines(m) if outlines is None else list(outlines)
+    if len(lines) != m.n:
+        raise ParameterError("outlines", len(lines), f"needs one per link ({m.n})")
+    out = []
+    for i, o in enumerate(lines, start=1):
+        a = np.asarray(o, dtype=float)
+        if a.ndim != 2 or a.shape[1] != 2 or len(a) < 2 or not np.all(np.isfinite(a)):
+            raise ParameterError(f"outline {i}", a.shape, "must be (k >= 2, 2) finite points [mm]")
+        out.append(a)
+    return out
+
+
+def check_run(max_tension_n: float, stroke: float | None, steps: int) -> None:
+    """A closure's drive, for either engine: 0 < max_tension_n ≤ 1e4 N, 0 < stroke ≤ 1e4 mm (or None), 2 to
+    100000 readings."""
+    in_range("max_tension_n", max_tension_n, 0.0, 1e4, lo_open=True, unit="N")
+    if stroke is not None:
+        in_range("stroke", stroke, 0.0, 1e4, lo_open=True, unit="mm")
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or not 2 <= steps <= 100000:
+        raise ParameterError("steps", steps, "must be an integer from 2 to 100000")
+
+
 def held_position(
     m: FingerModel,
     diameter: float,
@@ -470,14 +495,8 @@ def close_on(
     when the tendon's travel Σ r_i θ_i + T/k_t reaches ``stroke`` [mm]) against ``objects``: a ``Grasp``.
     ``outlines``: the links' (default: ``template_outlines``); ``base_outline``: the base's, in the base's frame,
     which then supports free objects."""
-    in_range("max tension", max_tension_n, 0.0, 1e4, lo_open=True, unit="N")
-    if stroke is not None:
-        in_range("stroke", stroke, 0.0, 1e4, lo_open=True, unit="mm")
-    if not 2 <= int(steps) <= 100000:
-        raise ParameterError("steps", steps, "must be 2 to 100000")
-    lines = template_outlines(m) if outlines is None else list(outlines)
-    if len(lines) != m.n or any(np.asarray(o).ndim != 2 or len(o) < 2 or np.asarray(o).shape[1] != 2 for o in lines):
-        raise ParameterError("outlines", len(lines), f"needs {m.n} polylines of (x, y) points, one per link")
+    check_run(max_tension_n, stroke, steps)
+    lines = link_outlines(m, outlines)
     scene = _Scene(m, objects, lines, base_outline)
     q = scene.start()
     for p, g, _ in scene.gaps(q):
