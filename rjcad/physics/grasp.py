@@ -298,6 +298,13 @@ class _Scene:
         return E, grad
 
 
+def _bands(m: FingerModel, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each bearing's friction band at ``theta`` [N·mm]: f0 + γ⁺(θ + θ0) closing, f0 + γ⁻(θ + θ0) opening."""
+    wound = theta + np.asarray(m.preload, dtype=float)
+    f0 = np.asarray(m.friction, dtype=float)
+    return f0 + np.asarray(m.gamma_pos) * wound, f0 + np.asarray(m.gamma_neg) * wound
+
+
 def _capstan(m: FingerModel) -> np.ndarray:
     """c_i r_i: each joint's share of the tension while pulling (capstan), times its moment arm [mm]."""
     c = np.exp(-m.mu_t * np.cumsum(np.asarray(m.wrap, dtype=float)))
@@ -315,8 +322,7 @@ class _Step:
         self.scene, self.q0, self.T, self.pull = scene, q0, T, pull
         m, n = scene.m, scene.n
         rows, w_pos, w_neg, self.friction_of = [], [], [], {}
-        band = np.asarray(m.friction) + np.asarray(m.gamma_pos) * (at[:n] + np.asarray(m.preload))
-        band_neg = np.asarray(m.friction) + np.asarray(m.gamma_neg) * (at[:n] + np.asarray(m.preload))
+        band, band_neg = _bands(m, at[:n])
         for i in np.flatnonzero((band > 0) | (band_neg > 0)):
             rows.append(np.eye(scene.nq)[i])
             w_pos.append(band[i])
@@ -446,9 +452,7 @@ def _least_friction(
     from rjcad.physics.grasp_forces import least_friction
 
     m, n = scene.m, scene.n
-    theta0 = np.asarray(m.preload, dtype=float)
-    band_pos = np.asarray(m.friction) + np.asarray(m.gamma_pos) * (q[:n] + theta0)
-    band_neg = np.asarray(m.friction) + np.asarray(m.gamma_neg) * (q[:n] + theta0)
+    band_pos, band_neg = _bands(m, q[:n])
     joints = np.flatnonzero((band_pos > 0) | (band_neg > 0))
     if not joints.size and not any(p.mu > 0 for p, *_ in touching):
         return None

@@ -33,7 +33,7 @@ import numpy as np
 from rjcad import DEG
 from rjcad.errors import InfeasibleDesign, ParameterError, RjcadError
 from rjcad.physics.finger_model import FingerModel
-from rjcad.physics.grasp import PAD_MM
+from rjcad.physics.grasp import PAD_MM, held_position
 from rjcad.physics.grasp_result import Contact, Grasp, epsilon
 from rjcad.physics.objects import Cylinder
 from rjcad.validate import in_range
@@ -75,14 +75,6 @@ class Held:
 
 
 Target = Cylinder | Held
-
-
-def held_position(model: FingerModel, diameter: float) -> tuple[float, float]:
-    """The held position [mm] (``rjcad.physics.grasp.held_position``, the template's pads)."""
-    from rjcad.physics import grasp
-
-    x, y = grasp.held_position(model, diameter)
-    return float(x), float(y)
 
 
 def label(t: Target) -> str:

@@ -80,13 +80,11 @@ def base_outline_of(manifest: dict[str, Any]) -> np.ndarray | None:
 
 def grasp_outlines_of(manifest: dict[str, Any], model: FingerModel) -> list[np.ndarray]:
     """The outlines of a manifest's JSON object (``rjcad.physics.finger_sources.outlines_from_manifest``), or
-    the template's pads where it has none (or this rjcad cannot read them)."""
-    from rjcad.physics import finger_sources
-    from rjcad.physics.grasp import template_outlines
+    the template's pads where it has none."""
+    from rjcad.physics.finger_sources import outlines_from_manifest
+    from rjcad.physics.grasp import link_outlines
 
-    reader = getattr(finger_sources, "outlines_from_manifest", None)
-    lines = reader(manifest) if reader is not None else None
-    return template_outlines(model) if lines is None else [np.asarray(o, dtype=float) for o in lines]
+    return link_outlines(model, outlines_from_manifest(manifest))
 
 
 def run_grasp(
@@ -119,7 +117,7 @@ def run_grasp(
         if base_outline is None and _is_manifest(source):
             base_outline = base_outline_of(_manifest_json(source))
         return close_on(model, list(objects), base_outline=base_outline, **kw)
-    from rjcad.mjcf.grasp import close_on_mujoco  # type: ignore[import-not-found, unused-ignore]
+    from rjcad.mjcf.grasp import close_on_mujoco
 
     out: Grasp = close_on_mujoco(model, list(objects), source=None if source is None else str(source), **kw)
     return out
