@@ -563,13 +563,18 @@ def test_a_heavy_template_finger_sags_alike_in_both_engines_quickly():
 
 
 def test_mjcf_object_writes_the_objects_and_pads(built, cli, tmp_path):
-    """`rjcad mjcf --object` (#40): the objects as bodies and each link's pad from its outline; the file compiles."""
+    """`rjcad mjcf --object` (#40): the objects as bodies and each link's pad from its outline; the file compiles,
+    and a strict XML reader reads it too (the export's note "no gravity (--gravity off)" once put "--" inside a
+    comment, which MuJoCo forgives and XML does not)."""
+    import xml.etree.ElementTree as ET
+
     src = built["default"] / "finger.json"
     code, _out, err = cli(
-        "mjcf", src, "--out", tmp_path / "g", "--object", "cylinder:diameter=40,x=20,y=25,mu=0.5",
+        "mjcf", src, "--out", tmp_path / "g", "--gravity", "off", "--object", "cylinder:diameter=40,x=20,y=25,mu=0.5",
         "--object", "box:w=10,h=20,x=90,y=40,angle=10,free,mass=3",
     )  # fmt: skip
     assert code == 0, err
+    assert ET.parse(tmp_path / "g" / "finger.xml").getroot().tag == "mujoco"
     m, _d = _data(tmp_path / "g" / "finger.xml")
     names = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) for g in range(m.ngeom)}
     assert {"object1_geom", "object2_geom", "link1_pad1", "link2_pad1", "link3_pad1"} <= names
