@@ -221,3 +221,24 @@ def test_one_spring_with_a_coil_gap_is_the_default_desktop_joints_spring(cli):
     assert d["min_coil_gap_mm"] >= 0.4 - 1e-9
     code, out, _ = cli(PAPER + ["--springs", "1", "--min-gap", "0.4"])
     assert "(one spring)" in out.splitlines()[0]
+
+
+@pytest.mark.parametrize("springs", [1, 2])
+def test_the_plot_draws_the_joint_torque_of_its_springs(springs):
+    """The torque panel's rod curve has the joint's slope over the working range, for one spring or two."""
+    import numpy as np
+
+    from rjcad.api import design_spring
+    from rjcad.plotting import pyplot
+    from rjcad.spring.plot import _torque_panel
+
+    design = design_spring(stiffness=3.0, rotation_deg=60, preload_deg=60, springs=springs).design
+    fig, ax = pyplot().subplots()
+    _torque_panel(ax, design)
+    theta, torque = (np.asarray(a, float) for a in ax.lines[0].get_data())
+    req = design.requirement
+    lo, hi = np.degrees(req.preload), np.degrees(req.max_windup)
+    slope = (np.interp(hi, theta, torque) - np.interp(lo, theta, torque)) / np.radians(hi - lo)
+    assert slope == pytest.approx(design.joint_stiffness, rel=0.02)
+    assert slope == pytest.approx(3.0, rel=0.02)
+    pyplot().close(fig)

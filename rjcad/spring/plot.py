@@ -24,14 +24,15 @@ def _edges(X, t):
 
 def _torque_panel(ax, design) -> None:
     rod, req = design.rod, design.requirement
+    n = req.springs  # the joint's springs in parallel: its torque is n × one spring's
     deg = np.degrees(rod.theta)
-    ax.plot(deg, 2 * rod.torque, "C0-", lw=2, label=f"rod model: K = {design.joint_stiffness:.3f} N·mm/rad")
+    ax.plot(deg, n * rod.torque, "C0-", lw=2, label=f"rod model: K = {design.joint_stiffness:.3f} N·mm/rad")
     ax.plot(
         deg,
-        2 * design.formula_stiffness * rod.theta,
+        n * design.formula_stiffness * rod.theta,
         "k--",
         lw=1,
-        label=f"formula c·E·b·t³/12L: K = {2 * design.formula_stiffness:.3f} N·mm/rad",
+        label=f"formula c·E·b·t³/12L: K = {n * design.formula_stiffness:.3f} N·mm/rad",
     )
     ax.axvspan(
         math.degrees(req.preload),
@@ -43,7 +44,7 @@ def _torque_panel(ax, design) -> None:
     if rod.first_contact is not None:
         ax.axvline(math.degrees(rod.first_contact), color="C3", label="coils touch")
     ax.set_xlabel("wind-up from the printed shape [deg]")
-    ax.set_ylabel("joint torque, both springs [N·mm]")
+    ax.set_ylabel("joint torque, both springs [N·mm]" if n == 2 else "joint torque, one spring [N·mm]")
     ax.set_title(
         f"{req.end} outer end, loaded unwinding; peak stress {design.max_stress:.1f} of "
         f"{req.allowed_stress:.1f} MPa allowed",
