@@ -40,12 +40,12 @@ demo: $(VENV)/.installed
 
 # the user guide as a web site in site/ (mkdocs.yml; any warning, such as a broken link, fails the build)
 docs: $(VENV)/.installed-test
-	$(VENV)/bin/mkdocs build --strict --site-dir site
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
 
 # run every example of README.md and docs/ (tools/docs_examples.py) and rewrite the output lines that changed;
-# review the diff
+# review the diff. PAGES=docs/spring.md: that page only.
 docs-examples: $(VENV)/.installed-test
-	$(PY) tools/docs_examples.py --write
+	$(PY) tools/docs_examples.py --write $(PAGES)
 
 # regenerate the images the README shows
 docs-images: $(VENV)/.installed

@@ -172,20 +172,26 @@ def skeleton(line: str) -> str:
     return NUMBER.sub("#", line).rstrip()
 
 
+def close(shown: str, printed: str, tol: tuple[float, bool] | None = None) -> bool:
+    """A printed number within one unit of the shown number's last digit (or within `tol`)."""
+    x, y = float(shown), float(printed)
+    mantissa, _, exponent = shown.lower().partition("e")
+    unit = 10.0 ** (int(exponent or 0) - len(mantissa.partition(".")[2]))
+    if tol:
+        unit = max(unit, tol[0] * abs(x) if tol[1] else tol[0])
+    return abs(x - y) <= unit * (1 + 1e-9)
+
+
+def likeness(shown: str, printed: str, tol: tuple[float, bool] | None = None) -> int:
+    """How alike the numbers of two lines are, place by place: 2 for each equal number, 1 for each close one."""
+    pairs = [(a[0], b[0]) for a, b in zip(NUMBER.finditer(shown), NUMBER.finditer(printed))]
+    return sum(2 if float(a) == float(b) else close(a, b, tol) for a, b in pairs)
+
+
 def same(shown: str, printed: str, tol: tuple[float, bool] | None = None) -> bool:
     """The same text, and each number within one unit of its last shown digit (or within `tol`)."""
-    if skeleton(shown) != skeleton(printed):
-        return False
-    for a, b in zip(NUMBER.finditer(shown), NUMBER.finditer(printed)):
-        x, y = float(a[0]), float(b[0])
-        mantissa, _, exponent = a[0].lower().partition("e")
-        decimals = len(mantissa.partition(".")[2])
-        unit = 10.0 ** (int(exponent or 0) - decimals)
-        if tol:
-            unit = max(unit, tol[0] * abs(x) if tol[1] else tol[0])
-        if abs(x - y) > unit * (1 + 1e-9):
-            return False
-    return True
+    pairs = zip(NUMBER.finditer(shown), NUMBER.finditer(printed))
+    return skeleton(shown) == skeleton(printed) and all(close(a[0], b[0], tol) for a, b in pairs)
 
 
 def trim(lines: list[str]) -> list[str]:
@@ -196,8 +202,9 @@ def trim(lines: list[str]) -> list[str]:
     return lines
 
 
-def place(shown: list[str], printed: list[str], fits) -> list[int | None] | None:
-    """Where each shown line is in `printed` (None for a cut), or None if the shown lines do not fit there."""
+def place(shown: list[str], printed: list[str], fits, score=None) -> list[int | None] | None:
+    """Where each shown line is in `printed` (None for a cut), or None if the shown lines do not fit there.
+    A run of lines between cuts goes where it first fits, or, given `score`, where it scores most."""
     out: list[int | None] = [None] * len(shown)
     runs: list[list[int]] = [[]]
     for k, s in enumerate(shown):
@@ -215,9 +222,17 @@ def place(shown: list[str], printed: list[str], fits) -> list[int | None] | None
             hi = min(hi, 0)
         if n == len(runs) - 1 and not open_end:
             lo = max(lo, len(printed) - len(run))
-        p = next((p for p in range(lo, hi + 1) if all(fits(shown[k], printed[p + o]) for o, k in enumerate(run))), None)
-        if p is None:
+        starts = [p for p in range(lo, hi + 1) if all(fits(shown[k], printed[p + o]) for o, k in enumerate(run))]
+        if score and n < len(runs) - 1:  # only where the rest still fits after it
+            rest = shown[run[-1] + 1 :]
+            starts = [p for p in starts if place(rest, printed[p + len(run) :], fits) is not None]
+        if not starts:
             return None
+        p = (
+            max(starts, key=lambda p: sum(score(shown[k], printed[p + o]) for o, k in enumerate(run)))
+            if score
+            else starts[0]
+        )
         for o, k in enumerate(run):
             out[k] = p + o
         pos = p + len(run)
@@ -264,19 +279,23 @@ def check(result: Result, block: Block, step: Step, printed: list[str], lines: l
     fits = lambda a, b: same(a, b, block.tol)  # noqa: E731
     if place(shown, printed, fits) is not None:
         return
-    k, what = explain(shown, printed, fits)
-    where = f"{result.page}:{step.at + min(k, len(shown) - 1) + 1}" if shown else f"{result.page}:{step.at}"
-    message = (
-        f"{where}: shown {shown[k]!r}, printed {what}" if k < len(shown) else f"{where}: shown no more, printed {what}"
-    )
-    loose = place(shown, printed, lambda a, b: skeleton(a) == skeleton(b)) if lines is not None else None
-    if loose is None:
-        result.mismatches.append(message if lines is None else message + " (no match for its text: fix it by hand)")
+    # each shown line to a printed line of the same text, whose numbers are most alike
+    loose = place(shown, printed, lambda a, b: skeleton(a) == skeleton(b), lambda a, b: likeness(a, b, block.tol))
+    if loose is None:  # a line's text changed, or a line is missing or extra: one message, the first
+        k, what = explain(shown, printed, fits)
+        said = f"shown {shown[k]!r}" if k < len(shown) else "shown no more"
+        line = step.at + min(k, len(shown) - 1) + 1 if shown else step.at
+        fix = " (no line printed has its text: fix it by hand)" if lines is not None else ""
+        result.mismatches.append(f"{result.page}:{line}: {said}, printed {what}{fix}")
         return
     for k, p in enumerate(loose):
         if p is not None and not fits(shown[k], printed[p]):
-            lines[step.at + k] = block.indent + printed[p]  # type: ignore[index]
-    result.rewritten.append(message)
+            message = f"{result.page}:{step.at + k + 1}: shown {shown[k]!r}, printed {printed[p]!r}"
+            if lines is None:
+                result.mismatches.append(message)
+            else:
+                lines[step.at + k] = block.indent + printed[p]
+                result.rewritten.append(message)
 
 
 @contextlib.contextmanager
