@@ -60,3 +60,18 @@ def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path
     nothing = make(empty)
     assert nothing.returncode == 0, nothing.stdout + nothing.stderr
     assert "collected no tests" in nothing.stdout
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make not installed")
+def test_make_demo_installs_rjcad_alone_and_make_test_the_test_extra(tmp_path, root):
+    for name in ("Makefile", "pyproject.toml"):
+        shutil.copy(root / name, tmp_path / name)  # a checkout without .venv: every set-up step is due
+
+    def installs(target):
+        dry = subprocess.run(["make", "-n", target], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+        assert dry.returncode == 0, dry.stderr
+        return [line for line in dry.stdout.splitlines() if "pip install" in line and "--upgrade pip" not in line]
+
+    assert installs("demo") == [".venv/bin/pip install --quiet -e ."]  # no extra: no pytest, dask, mujoco
+    for target in ("test", "test-fast", "lint", "docs", "docs-examples"):
+        assert installs(target)[-1] == ".venv/bin/pip install --quiet -e '.[test]'", target
