@@ -47,11 +47,12 @@ docs: $(VENV)/.installed-test
 docs-examples: $(VENV)/.installed-test
 	$(PY) tools/docs_examples.py --write $(PAGES)
 
-# regenerate the images the README shows
+# regenerate the images the README and docs/grasp.md show
 docs-images: $(VENV)/.installed
 	$(VENV)/bin/rjcad joint --config templates/joint.toml --out out/joint
 	$(VENV)/bin/rjcad finger templates/finger.toml --out out/finger --html
 	mkdir -p docs && cp out/joint/joint.png docs/joint.png && cp out/finger/finger.png docs/finger.png
+	$(VENV)/bin/rjcad simulate finger out/finger/finger.json --object cylinder:diameter=40,x=20,y=32 --plot docs/grasp.png
 
 test: $(VENV)/.installed-test
 	$(MAKE) --no-print-directory pytest

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from rjcad.errors import ParameterError, RjcadError
+from rjcad.io.untrusted import shown_path
 from rjcad.validate import in_range
 
 DEFAULT_MATERIAL = "absplus-p430"
@@ -78,7 +79,7 @@ class Material:
     @classmethod
     def from_profile(cls, data: dict[str, Any], key: str, file: str = "", builtin: bool = False) -> Material:
         """The material of a profile's keys (checked: ``MATERIAL_KEYS``); ParameterError naming ``file: key``."""
-        v = _checked(data, MATERIAL_KEYS, file or key)
+        v = _checked(data, MATERIAL_KEYS, shown_path(file) if file else key)
         return cls(
             key,
             v["name"],
@@ -128,9 +129,10 @@ class Printer:
     def from_profile(cls, data: dict[str, Any], key: str, file: str = "", builtin: bool = False) -> Printer:
         """The printer of a profile's keys (checked: ``PRINTER_KEYS``), each limit not given derived by the
         rule (module docstring); ParameterError naming ``file: key``."""
-        v = _checked(data, PRINTER_KEYS, file or key)
+        where = shown_path(file) if file else key
+        v = _checked(data, PRINTER_KEYS, where)
         nozzle, layer = v["nozzle_mm"], v["layer_mm"]
-        label = f"{file or key}: layer_mm"
+        label = f"{where}: layer_mm"
         in_range(label, layer, 0.02, nozzle, unit="mm", limit=f"must be in [0.02, {nozzle:g}] mm (the nozzle)")
         width = v.get("extrusion_width_mm", nozzle)
         derived = {
@@ -313,7 +315,7 @@ def _read(kind: str, path: str, mtime_ns: int, size: int, key: str, builtin: boo
 
     from rjcad.io.untrusted import read_toml
 
-    label = path if not builtin else f"rjcad/data/{kind}/{Path(path).name}"
+    label = shown_path(path) if not builtin else f"rjcad/data/{kind}/{Path(path).name}"
     data = read_toml(path, name=label)
     cls = Printer if kind == "printers" else Material
     return replace(cls.from_profile(data, key, file=path, builtin=builtin), ref=ref)

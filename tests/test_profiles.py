@@ -215,6 +215,42 @@ def test_a_name_in_the_user_folder_is_found_and_wins_over_the_built_in(home, cli
     assert code == 0 and f"material my-petg: your profile {home / 'materials' / 'My_PETG.toml'}" in out
 
 
+def test_show_prints_a_printers_derived_limits_and_says_which_it_was_given(home, tmp_path, cli, monkeypatch):
+    """`rjcad profiles show`: a printer file's values and the rule's limits (each marked derived or set), the
+    clearance per material; a file in the working folder printed as its relative path."""
+    (tmp_path / "p06.toml").write_text(PRINTER_06)
+    monkeypatch.chdir(tmp_path)
+    code, out, err = cli("profiles", "show", "p06.toml")
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0] == "printer p06: Test printer, 0.6 mm nozzle (yours, p06.toml)"
+    assert re.search(r"thinnest wall\s+1\.2\s+mm \(derived: 2·w\)", out)
+    assert re.search(r"gap side by side\s+0\.375\s+mm \(derived: 5/8 · nozzle\)", out)
+    assert "absplus-p430 0.600, " in out and "pla 0.525," in out  # 0.40 and 0.35 at 0.4 mm, × 0.6/0.4
+    code, out, _ = cli("profiles", "show", "Dimension_Elite")  # a name: case, '_' and '-' as everywhere
+    assert code == 0 and "(built-in, rjcad/data/printers/dimension-elite.toml)" in out
+    assert re.search(r"thinnest wall\s+0\.5\s+mm \(set in the file\)", out)
+    code, out, _ = cli("profiles", "show", "dimension-elite", "--json")
+    d = json.loads(out)
+    assert d["kind"] == "printer" and d["builtin"] and d["min_wall_mm"] == 0.5
+
+
+def test_show_prints_a_material_and_refuses_an_unknown_name_in_one_line(home, tmp_path, cli):
+    code, out, _ = cli("profiles", "show", "pla")
+    assert code == 0 and out.startswith("material pla: PLA (built-in, rjcad/data/materials/pla.toml)\n")
+    assert re.search(r"yield\s+35\s+MPa", out)
+    (tmp_path / "soft.toml").write_text(MATERIAL_SOFT)
+    code, out, _ = cli("profiles", "show", str(tmp_path / "soft.toml"), "--json")
+    assert code == 0 and json.loads(out)["kind"] == "material" and json.loads(out)["youngs_modulus_mpa"] == 1900
+    code, out, err = cli("profiles", "show", "nope")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "'nope'" in err
+
+
+def test_the_list_prints_no_machine_folder_for_the_built_in_profiles(home, cli):
+    code, out, _ = cli("profiles")
+    assert code == 0 and "(rjcad/data/printers/generic-0.4.toml)" in out and "(rjcad/data/materials/pla.toml)" in out
+
+
 def test_a_profile_named_in_a_design_file_is_taken_from_that_files_folder(home, tmp_path, cli, monkeypatch):
     d = tmp_path / "designs"
     d.mkdir()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import click
 
 from rjcad.fields import REQUIREMENT, Field, merge_config, requirement
+from rjcad.io.untrusted import shown_path
 
 __all__ = [
     "REQUIREMENT",
@@ -23,8 +24,10 @@ __all__ = [
     "echo_profiles",
     "merge_config",
     "print_table",
+    "profile_path",
     "renamed",
     "requirement",
+    "shown_path",
 ]
 
 #: Options whose values are profile names, completed from the profiles rjcad sees (``rjcad profiles``).
@@ -166,12 +169,22 @@ def print_table(rows: list[tuple[str, str, str]]) -> None:
         click.echo(f"  {name:<{w0}}  {value:>{w1}}  {unit}")
 
 
+def profile_path(prof) -> str:
+    """Where a profile comes from, as printed: ``rjcad/data/printers/NAME.toml`` for a built-in one (the label
+    its errors use), else its file (``shown_path``)."""
+    from pathlib import Path
+
+    if prof.builtin:
+        return f"rjcad/data/{'printers' if hasattr(prof, 'nozzle_mm') else 'materials'}/{Path(prof.file).name}"
+    return shown_path(prof.file)
+
+
 def echo_profiles(*profiles) -> None:
     """Say which file each of the user's profiles (printer or material) came from; nothing for built-in ones."""
     for prof in profiles:
         if not prof.builtin:
             kind = "printer" if hasattr(prof, "nozzle_mm") else "material"
-            click.echo(f"{kind} {prof.key}: your profile {prof.file}")
+            click.echo(f"{kind} {prof.key}: your profile {shown_path(prof.file)}")
 
 
 #: ``--allow-outside`` of the commands that read files beside a manifest (its GLB, STLs or 3MF).

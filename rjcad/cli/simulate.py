@@ -491,10 +491,10 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
 )
 def paper_finger(out_dir, manifest, records):
     """Regenerate docs/paper-finger.md: the paper's finger, the design model's error and its explanations."""
-    from rjcad.physics.paper_finger import write_doc
+    from rjcad.physics.paper_finger import write_doc, wrote
 
     exps = write_doc(out_dir, manifest)
-    click.echo(f"wrote {out_dir}/paper-finger.md and paper-finger.png ({len(exps)} explanations fitted)")
+    click.echo(wrote(out_dir, len(exps)))
     if records:
         from rjcad.identify.finger.paper import write_doc as write_records
 

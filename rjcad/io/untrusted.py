@@ -152,6 +152,20 @@ def decode(raw: bytes, label: str, kind: str = "text") -> str:
     return text.replace("\r\n", "\n").replace("\r", "\n") if "\r" in text else text  # universal newlines
 
 
+def shown_path(path: str | os.PathLike) -> str:
+    """``path`` as a user reads it best in a message: relative below the working folder, ``~/…`` below the home
+    folder, else as it is (so that what rjcad prints does not depend on where a machine keeps its folders)."""
+    if not str(path):
+        return ""
+    p = Path(path)
+    for base, prefix in ((Path.cwd, ""), (Path.home, "~/")):
+        try:
+            return prefix + p.resolve().relative_to(base().resolve()).as_posix()
+        except (ValueError, OSError, RuntimeError):  # not below it, or no such folder
+            continue
+    return str(p)
+
+
 def read_toml(path: str | os.PathLike, name: str | None = None) -> dict[str, Any]:
     """The checked TOML document of ``path`` (see the module docstring); RjcadError naming the file."""
     label = str(path) if name is None else name
