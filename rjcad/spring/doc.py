@@ -12,10 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from rjcad.io.config import write_atomic
+from rjcad.materials import Material, Printer, _builtin
 from rjcad.spring import factors as fx
 from rjcad.spring import rod
 from rjcad.spring.formulas import coil_gap as handbook_gap
-from rjcad.spring.paper_check import paper_check, table_i_spread
+from rjcad.spring.formulas import turns_for_length
+from rjcad.spring.paper_check import TABLE_I_PAIRS, paper_check, paper_length, paper_spring, table_i_spread
+from rjcad.spring.rod import ENDS
 
 #: The first wave's default spring (b 7.6, t 0.8, L 219.5, r_in 3, pitch 1.1434, 5.62 turns, E 2200).
 OLD: dict[str, float] = dict(r_in=3.0, pitch=1.1434137451636173, turns=5.620157989891363, b=7.6, t=0.8, E=2200.0)
@@ -136,6 +139,75 @@ def _why_section(cases: dict) -> list[str]:
     ]
 
 
+def _ratio_range(values, digits: int) -> str:
+    lo, hi = f"{min(values):.{digits}f}", f"{max(values):.{digits}f}"
+    return lo if lo == hi else f"{lo}–{hi}"
+
+
+def _model_section() -> list[str]:
+    """The model in brief: twin springs, the rod model and its references, the end condition, the optimiser's
+    constraints and the geometry (the small-wind-up ratios computed on this page's springs)."""
+    from rjcad.spring.design import MIN_RADIUS_TO_THICKNESS, MIN_WIDTH_TO_THICKNESS, STIFFNESS_TOLERANCE
+    from rjcad.spring.optimise import WIDTH_FACTORS
+
+    s = paper_spring()
+    springs = [(OLD["r_in"], OLD["pitch"], OLD["turns"], OLD["t"]), (s["r_in"], s["pitch"], s["turns"], s["t"])]
+    for pitch, t in TABLE_I_PAIRS:
+        springs.append((3.0, pitch, float(turns_for_length(paper_length(t), 3.0, pitch)), t))
+    c = {end: [rod.stiffness_ratio(*g, end=end, sense=fx.JOINT_SENSE) for g in springs] for end in ENDS}
+    m = {end: [rod.stress_factor(*g, end=end, sense=fx.JOINT_SENSE) for g in springs] for end in ENDS}
+    return [
+        "## The model in brief",
+        "",
+        "- **Joint stiffness is the sum of the twin springs**: each spring is designed for K_joint/2. Every "
+        'stiffness rjcad prints is per joint unless its key or row says "one spring".',
+        "- **The rod model** (`rjcad.spring.rod`): corotational planar beam elements solved by Newton, the strip as "
+        "printed, its inner end fused to the pin, its outer end carried round by the moving link. At every "
+        "wind-up from 0 to preload + rotation it gives the torque, the peak bending stress and where it is, the "
+        "smallest gap between coils (and to the pin) and where, the first contact, and the reaction on the outer "
+        "end's post. `tests/test_spring_rod.py` checks it against references that share no code with it: the "
+        "exact circular arc under an end moment, the elastica under a tip force, and a linear frame FE and a "
+        "shooting elastica of the old default spring (below).",
+        "- **The outer end**: `clamped` (the default: its position and angle held, a key in a socket) or "
+        "`pinned` (free to turn, a ring on a post). The closed forms K = c·E·b·t³/(12·L) with c = 1 clamped, "
+        "0.8 pinned, and σ = m·6·T/(b·t²) with m = 1 clamped, 2 pinned, are reported beside the rod model. The "
+        f"rod model's own small-wind-up ratios on the {len(springs)} springs of this page (the old default, the "
+        f"paper's and Table I's five) are c = {_ratio_range(c['clamped'], 3)} and m = {_ratio_range(m['clamped'], 2)} "
+        f"clamped, c = {_ratio_range(c['pinned'], 3)} and m = {_ratio_range(m['pinned'], 2)} pinned. Why clamped is "
+        "the default: below.",
+        "- **The optimiser** minimises the outer radius subject to: the stiffness within "
+        f"{STIFFNESS_TOLERANCE * 100:g} % (rod model, slope over the rotation); the peak stress over the whole wind-up "
+        "≤ yield / safety factor; t ≥ the printer's minimum wall and a whole number of its thickness steps; b a "
+        f"whole number of layers and ≥ {MIN_WIDTH_TO_THICKNESS:g}t; r_in ≥ {MIN_RADIUS_TO_THICKNESS:g}t; the "
+        "turns ≥ the minimum; no coil contact and the printer's minimum gap kept over 0..preload + rotation; "
+        "your bounds. The search uses a table of the rod model's factors (below): for each printable t and "
+        f"{len(WIDTH_FACTORS)} widths from the narrowest that passes stress to `--width-max`, the length that "
+        "gives the stiffness and the smallest pitch that keeps the gap, vectorised "
+        "(`rjcad.spring.optimise.optimise_arrays`, also a sweep's analytic mode). `design_spring` (used by "
+        "`rjcad spring`, `joint`, `finger` and `sweep --build`) then winds the chosen spring with the full rod "
+        "model; `benchmarks/spring.py` times it.",
+        "- **Geometry**: an Archimedean centreline r(φ) = r_in + p·φ/(2π) over n turns, with its exact arc "
+        "length. The reported outer radius is the printed envelope r_in + p·n + t/2 (the wound strip reaches "
+        "further; the joint builder clears it).",
+        "- **Materials and printers**: `rjcad profiles` lists them, [Printers and filaments](profiles.md) says "
+        "how to add yours. Built in: "
+        + "; ".join(
+            f"{mat.name} E {mat.youngs_modulus_mpa:g} MPa, yield {mat.yield_strength_mpa:g} MPa"
+            for mat in sorted(
+                (v for v in _builtin("materials").values() if isinstance(v, Material)), key=lambda x: x.key
+            )
+        )
+        + ". Printers: "
+        + "; ".join(
+            f"`{pr.key}` ({pr.nozzle_mm:g} mm nozzle, walls ≥ {pr.min_wall_mm:g} mm in {pr.thickness_step_mm:g} mm "
+            f"steps, {pr.layer_height_mm:g} mm layers, {pr.min_gap_mm:g} mm XY gaps, {pr.min_gap_vertical_mm:g} "
+            "mm vertical gaps" + (", soluble support)" if pr.soluble_support else ")")
+            for pr in sorted((v for v in _builtin("printers").values() if isinstance(v, Printer)), key=lambda x: x.key)
+        )
+        + ".",
+    ]
+
+
 def _surrogate_section(n: int = 40, seed: int = 5) -> list[str]:
     rng = np.random.default_rng(seed)
     found: list[float] = []
@@ -197,6 +269,8 @@ def write_doc(out_dir) -> Path:
         f"{e['min_coil_gap_windup_deg']:.0f}°, no contact up to 180°.",
         "",
         "![spring](spring.png)",
+        "",
+        *_model_section(),
         "",
     ]
     cases = {
