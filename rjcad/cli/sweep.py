@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from rjcad.cli.options import OutDir
@@ -57,11 +55,11 @@ def sweep(sweep_file, out_dir, workers, scheduler, build, keep_meshes, resume):
                 progress=progress,
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the earlier outputs are untouched
-        partial = Path(out_dir) / "results.partial.jsonl"
-        if build and partial.is_file() and partial.stat().st_size > 0:
-            click.echo(f"sweep: stopped; the designs built so far are in {partial}: --resume continues from them")
-        elif build:
-            click.echo("sweep: stopped before any design was built")
+        if build:
+            click.echo(
+                f"sweep: stopped; the designs built so far are in {out_dir}/results.partial.jsonl: "
+                "--resume continues from them"
+            )
         raise
     print_sweep(res, out_dir)
 
