@@ -348,8 +348,12 @@ def find(kind: str, name: str) -> Printer | Material:
     singular = kind[:-1]
     if _is_path(text):
         path = Path(text).expanduser()
-        if not path.is_file():
+        if not path.exists():
             raise ParameterError(singular, text, f"no such {singular} profile file")
+        if not path.is_file():  # a FIFO, a device or a folder: the reader refuses it, naming what it is
+            from rjcad.io.untrusted import read_toml
+
+            read_toml(path, name=text)
         path = path.resolve()
         return _load(kind, path, normalise(path.stem), False, str(path))
     key = normalise(text)

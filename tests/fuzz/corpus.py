@@ -355,6 +355,7 @@ def toml_users(sh: Shared) -> list[TomlUser]:
         TomlUser("identify", ("identify", "camp/campaign.toml", "--json"), campaign, "stiffness_nmm_per_rad = 5.2"),
         TomlUser("printer", ("spring", "--stiffness", "5.2", "--printer", "{f}"), PRINTER_PROFILE, "nozzle_mm = 0.6"),
         TomlUser("material", ("spring", "--stiffness", "5.2", "--material", "{f}"), MATERIAL_PROFILE, "yield_mpa = 40"),
+        TomlUser("profile-show", ("profiles", "show", "{f}"), PRINTER_PROFILE, "nozzle_mm = 0.6"),
     ]
 
 
@@ -1170,6 +1171,7 @@ def input_roles(sh: Shared) -> dict[str, tuple[list[str], str, Callable[[Path], 
         "sweep-file": (["sweep", "{f}", "--out", "o", "--workers", "0"], "in.toml", none),
         "printer": (["spring", "--stiffness", "5.2", "--printer", "{f}"], "p.toml", none),
         "material": (["spring", "--stiffness", "5.2", "--material", "{f}"], "m.toml", none),
+        "profile-show": (["profiles", "show", "{f}"], "p.toml", none),
         "campaign": (["identify", "{f}", "--json"], "camp/campaign.toml", lambda d: (camp(d), (d / "camp" / "campaign.toml").unlink())),
         "mesh-stl": (["check", "{f}"], "in.stl", none),
         "mesh-3mf": (["check", "{f}"], "in.3mf", none),
