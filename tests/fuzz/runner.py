@@ -64,22 +64,16 @@ def _obey_permissions() -> bool:
 
 
 def _preload() -> None:
-    """Import what the commands import lazily, and compile the finger solver, so that every child starts warm."""
-    os.environ.setdefault("MPLBACKEND", "Agg")
-    import rjcad.cli  # noqa: F401
+    """Import what the commands import lazily, and compile the finger solver, so that every child starts warm:
+    every rjcad module (a child that imported the identification's modules itself spent 0.8 s of CPU on SciPy's
+    signal and stats, 73 cases of them) and the libraries they import inside functions."""
+    import pkgutil
 
-    # rjcad.cad.build imports no OCP (the joint's CAD process does): the builders are named as well
-    for name in (
-        "rjcad.cad.build",
-        "rjcad.cad.measure",
-        "rjcad.cad.finger",
-        "rjcad.check",
-        "rjcad.identify",
-        "rjcad.sweep",
-        "rjcad.physics.finger",
-        "matplotlib.pyplot",
-        "scipy.optimize",
-    ):
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    import rjcad
+
+    names = [m.name for m in pkgutil.walk_packages(rjcad.__path__, "rjcad.") if not m.name.endswith("__main__")]
+    for name in (*names, "matplotlib.pyplot", "scipy.optimize", "platformdirs", "multiprocessing"):
         with contextlib.suppress(Exception):  # a missing optional module is the command's business, not the runner's
             __import__(name)
     try:  # the finger solver's compiled kernels, so that no child compiles them (numba's cache may still be cold)
