@@ -30,6 +30,19 @@ def test_readme_quick_start_has_exactly_two_commands(root):
 
 
 @pytest.mark.skipif(shutil.which("make") is None, reason="make not installed")
+def test_readme_is_short_and_every_section_past_the_tour_links_into_docs(root):
+    """Issue #39: README.md at most 250 lines; the sections after the tour point into docs/, to pages that exist."""
+    text = (root / "README.md").read_text(encoding="utf-8")
+    assert len(text.splitlines()) <= 250
+    sections = re.split(r"^## ", text, flags=re.M)[1:]
+    titles = [s.splitlines()[0] for s in sections]
+    assert titles[:2] == ["Quick start", "A five-minute tour"], titles
+    for section in sections[2:]:
+        links = re.findall(r"\]\((docs/[\w./-]+\.md)\)", section)
+        assert links, section.splitlines()[0]
+        assert all((root / link).is_file() for link in links), links
+
+
 def test_make_pytest_fails_on_a_failing_test_and_accepts_an_empty_suite(tmp_path, root):
     failing = tmp_path / "failing"
     failing.mkdir()
