@@ -309,14 +309,19 @@ def _is_path(name: str) -> bool:
     return name.lower().endswith(".toml") or "/" in name or os.sep in name
 
 
+def shown_file(kind: str, path: str, builtin: bool) -> str:
+    """Where a ``kind`` ("printers" or "materials") profile comes from, as messages print it: ``rjcad/data/KIND/
+    NAME.toml`` for a built-in one, else its file below the working or home folder (``shown_path``)."""
+    return f"rjcad/data/{kind}/{Path(path).name}" if builtin else shown_path(path)
+
+
 @functools.lru_cache(maxsize=256)
 def _read(kind: str, path: str, mtime_ns: int, size: int, key: str, builtin: bool, ref: str) -> Printer | Material:
     from dataclasses import replace
 
     from rjcad.io.untrusted import read_toml
 
-    label = shown_path(path) if not builtin else f"rjcad/data/{kind}/{Path(path).name}"
-    data = read_toml(path, name=label)
+    data = read_toml(path, name=shown_file(kind, path, builtin))
     cls = Printer if kind == "printers" else Material
     return replace(cls.from_profile(data, key, file=path, builtin=builtin), ref=ref)
 

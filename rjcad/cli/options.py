@@ -27,7 +27,6 @@ __all__ = [
     "profile_path",
     "renamed",
     "requirement",
-    "shown_path",
 ]
 
 #: Options whose values are profile names, completed from the profiles rjcad sees (``rjcad profiles``).
@@ -170,13 +169,10 @@ def print_table(rows: list[tuple[str, str, str]]) -> None:
 
 
 def profile_path(prof) -> str:
-    """Where a profile comes from, as printed: ``rjcad/data/printers/NAME.toml`` for a built-in one (the label
-    its errors use), else its file (``shown_path``)."""
-    from pathlib import Path
+    """Where a profile comes from, as printed (``rjcad.materials.shown_file``)."""
+    from rjcad.materials import shown_file
 
-    if prof.builtin:
-        return f"rjcad/data/{'printers' if hasattr(prof, 'nozzle_mm') else 'materials'}/{Path(prof.file).name}"
-    return shown_path(prof.file)
+    return shown_file("printers" if hasattr(prof, "nozzle_mm") else "materials", prof.file, prof.builtin)
 
 
 def echo_profiles(*profiles) -> None:

@@ -51,7 +51,8 @@ def profiles(ctx: click.Context, as_json: bool) -> None:
     if as_json:
         click.echo(json.dumps({"user_dir": str(folder), **rows}, indent=2))
         return
-    from rjcad.cli.options import profile_path, shown_path
+    from rjcad.cli.options import profile_path
+    from rjcad.io.untrusted import shown_path
 
     mine = shown_path(folder)
     click.echo(f"your profiles: {mine}/printers/*.toml and {mine}/materials/*.toml (a name there wins)")
