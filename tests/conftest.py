@@ -18,7 +18,6 @@ import inspect
 import os
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 from typing import NamedTuple
 
@@ -318,13 +317,31 @@ def function_slow_reason(fn) -> str | None:
 
 
 def _in_tests(fn) -> bool:
-    try:
-        return Path(inspect.getsourcefile(fn)).resolve().parent == TESTS
-    except (TypeError, OSError):
-        return False
+    code = getattr(fn, "__code__", None)
+    return code is not None and _file_in_tests(code.co_filename)
+
+
+@functools.cache
+def _file_in_tests(filename: str) -> bool:
+    return Path(filename).resolve().parent == TESTS
 
 
 _CACHE: dict = {}
+
+
+@functools.cache
+def _defs(filename: str) -> dict:
+    """Each function defined in a file, by its first line (the first decorator's, as ``co_firstlineno`` counts
+    it) → its AST: a file is parsed once, not a function's source found again by tokenizing for each call."""
+    try:
+        tree = ast.parse(Path(filename).read_text())
+    except (OSError, SyntaxError, UnicodeDecodeError):
+        return {}
+    out = {}
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            out[min([node.lineno, *(d.lineno for d in node.decorator_list)])] = node
+    return out
 
 
 def _reason(fn, seen: set) -> str | None:
@@ -336,10 +353,7 @@ def _reason(fn, seen: set) -> str | None:
         return None
     seen.add(fn)
     if fn not in _CACHE:
-        try:
-            tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
-        except (OSError, TypeError, SyntaxError):
-            tree = None
+        tree = _defs(fn.__code__.co_filename).get(fn.__code__.co_firstlineno)
         _CACHE[fn] = (own_slow_reason(tree), _called_names(tree)) if tree else (None, set())
     own, called = _CACHE[fn]
     if own:

