@@ -227,3 +227,45 @@ def test_the_fixed_point_is_the_plain_iterations():
     assert B.driven(p, 0.4, p.rotation, 1, "tendon").drive == pytest.approx(T, rel=1e-8)
     with pytest.raises(B.BearingLocked):  # the calibrated μ locks the desktop joint (docs/bearing.md)
         B.driven(p, BP.calibrate(), p.rotation, 1, "tendon")
+
+
+@pytest.mark.parametrize("phi, u", [(0.05, 0.0), (0.15, 0.0), (-0.12, 0.3), (0.2, -0.1)])
+def test_exact_gaps_of_a_shaft_tilted_in_its_bore(phi, u):
+    """A shaft (radius 6.8) tilted by φ about +Y through the origin, then shifted by u along X, in a bore's rim
+    (radius 7.25 at height z): the rim's distance from the tilted axis, |q × a| with a = (sin φ, 0, cos φ), less the
+    shaft's radius, written out here. The rim is a ground edge: the shaft's surface slides along it. In the plane
+    of the tilt (azimuth 0, π) the surface slides along its straight generator and the tangent plane is exact;
+    elsewhere it also slides round the shaft, which curves away from its tangent plane: the model's gap is then
+    smaller than the true one (it closes early, never late)."""
+    R_bore, r_s = 7.25, 6.8
+    rims = [(a, z) for a in (0.0, math.pi / 2, math.pi, 4.0) for z in (2.0, 21.0)]
+    contacts = [
+        B.Contact(
+            "rim",
+            (R_bore * math.cos(a), R_bore * math.sin(a), z),
+            (-math.cos(a), -math.sin(a), 0.0),
+            R_bore - r_s,
+            edge="ground",
+        )
+        for a, z in rims
+    ]
+    got = B.exact_gaps(contacts, (u, 0.0, 0.0, 0.0, phi))
+    axis = np.array([math.sin(phi), 0.0, math.cos(phi)])
+    for (a, z), g in zip(rims, got):
+        q = np.array([R_bore * math.cos(a) - u, R_bore * math.sin(a), z])
+        true = np.linalg.norm(np.cross(q, axis)) - r_s
+        if abs(math.sin(a)) < 1e-12:
+            assert g == pytest.approx(true, abs=1e-12)
+        else:
+            assert g <= true + 1e-12
+
+
+def test_exact_gaps_agree_with_the_linearised_ones_to_first_order():
+    """On the default desktop joint's contacts: exact − linearised gaps shrink as |δ|² (halving δ quarters it)."""
+    contacts = B.contacts_of(JointParams())
+    A = B._matrix(contacts)
+    g = np.array([c.gap for c in contacts])
+    d = np.array([0.3, -0.2, 0.1, 0.04, -0.03])
+    err = [np.abs(B.exact_gaps(contacts, s * d) - (g + A.T @ (s * d))).max() for s in (1.0, 0.5, 0.25)]
+    assert err[0] > 1e-3  # the second order is not nothing at 3° ...
+    assert err[1] / err[0] == pytest.approx(0.25, abs=0.03) and err[2] / err[1] == pytest.approx(0.25, abs=0.03)

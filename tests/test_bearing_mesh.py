@@ -50,7 +50,16 @@ def first_touch():
     lo_box, hi_box = np.array(overlap.bounding_box()).reshape(2, 3)
     where = 0.5 * (lo_box + hi_box)
     wall = next(c for c in B.contacts_of(p) if c.surface == "spring on cup wall").gap
+    # the model's own contacts along the same motion, with exact (not linearised) gaps: no CAD, no mesh
+    contacts = B.contacts_of(p)
+    m_lo, m_hi = 0.0, 1.0
+    for _ in range(30):
+        mid = 0.5 * (m_lo + m_hi)
+        m_lo, m_hi = (mid, m_hi) if B.exact_gaps(contacts, mid * state.displacement).min() > 1e-3 else (m_lo, mid)
+    gaps = B.exact_gaps(contacts, m_hi * state.displacement)
     return {
+        "model_tilt": math.degrees(m_lo * float(np.linalg.norm(phi))),
+        "model_first": contacts[int(np.argmin(gaps))],
         "p": p,
         "linear_tilt": math.degrees(state.tilt),
         "tilt": math.degrees(lo * float(np.linalg.norm(phi))),
@@ -69,6 +78,17 @@ def test_the_built_hub_rocks_until_its_collar_meets_the_top_of_the_bore(first_to
     assert t["spring_gap"] > 0.5  # the spring has not reached the cup wall by then
 
 
+def test_the_models_exact_gaps_find_the_solids_first_touch(first_touch):
+    """Along the same motion, the model's contacts with exact gaps (rjcad.physics.bearing.exact_gaps) close first
+    where and when the solids touch: the collar on the bore's top rim, within 0.2° of tilt. So the model's
+    geometry is the built one, and its linearised 9.6° (all gaps closed at once) is the linearisation's error."""
+    t, L = first_touch, first_touch["p"].desktop
+    c = t["model_first"]
+    assert c.surface == "collar" and c.point[0] < 0
+    assert c.point[2] == pytest.approx(L.roof_top(L.R_bore + ROOF_LAND))
+    assert t["model_tilt"] == pytest.approx(t["tilt"], abs=0.2)
+
+
 def test_the_page_quotes_the_check_on_the_solids(first_touch):
     text = DOC.read_text(encoding="utf-8")
     quoted = dict(re.findall(r"`(mesh_\w+)=([-\d.]+)`", text))
@@ -76,3 +96,6 @@ def test_the_page_quotes_the_check_on_the_solids(first_touch):
     assert float(quoted["mesh_touch_tilt"]) == pytest.approx(t["tilt"], abs=0.05)
     assert float(quoted["mesh_touch_z"]) == pytest.approx(t["where"][2], abs=0.1)
     assert float(quoted["mesh_spring_wall_gap"]) == pytest.approx(t["spring_gap"], abs=0.02)
+    assert float(dict(re.findall(r"`(model_\w+)=([-\d.]+)`", text))["model_touch_tilt"]) == pytest.approx(
+        t["model_tilt"], abs=0.05
+    )

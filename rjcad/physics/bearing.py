@@ -57,6 +57,9 @@ class Contact:
     gap: float
     #: False for a pair of surfaces that must never touch (a touch there binds the joint): watched, not designed
     designed: bool = True
+    #: Whose edge (rim, coil) the point is: "moving" (it slides on a ground surface) or "ground" (a moving surface
+    #: slides on it: the collar along the bore's rims). The same to first order; :func:`exact_gaps` tells them apart.
+    edge: str = "moving"
 
     @property
     def radius(self) -> float:
@@ -82,6 +85,7 @@ def ring(
     gap: float,
     count: int = AZIMUTHS,
     designed: bool = True,
+    edge: str = "moving",
 ) -> list[Contact]:
     """``count`` contacts around a circle (radius, z); normal n_r·ê_r + n_z·ẑ (unit) at each [mm]."""
     in_range("count", count, 3, limit="must be >= 3")
@@ -91,7 +95,7 @@ def ring(
     for k in range(count):
         a = 2 * math.pi * k / count
         c, s = math.cos(a), math.sin(a)
-        out.append(Contact(surface, (radius * c, radius * s, z), (n_r * c, n_r * s, n_z), gap, designed))
+        out.append(Contact(surface, (radius * c, radius * s, z), (n_r * c, n_r * s, n_z), gap, designed, edge))
     return out
 
 
@@ -172,6 +176,32 @@ def solve(contacts: Sequence[Contact], loads: Sequence[Load], mu: float) -> Bear
     gaps = g + A.T @ delta
     forces = _forces(A, gaps, w)
     return BearingState(tuple(contacts), forces, delta, gaps, float(mu), tuple(loads))
+
+
+def exact_gaps(contacts: Sequence[Contact], delta: Sequence[float]) -> np.ndarray:
+    """Each contact's gap with the body moved by δ = (u_x, u_y, u_z, φ_x, φ_y) exactly: turned by the rotation
+    vector (φ_x, φ_y, 0) about the origin, then shifted by u [mm]. Each surface is its tangent plane there.
+
+    A moving edge at p on a ground plane (normal n, fixed):   g + n·(R·p + u − p).
+    A ground edge at p under a moving plane (normal R·n):     g + (R·n)·(R·p + u − p).
+
+    Both are :func:`solve`'s linearised gaps g + n·(u + φ × p) to first order; their second-order terms,
+    ≈ ρ·φ²/2, reach tenths of a mm at a tilt of several degrees (docs/bearing.md)."""
+    d = np.asarray(delta, dtype=float)
+    phi = np.array([d[3], d[4], 0.0])
+    angle = float(np.linalg.norm(phi))
+    K = np.zeros((3, 3))
+    if angle > 0:
+        k = phi / angle
+        K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    R = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)  # Rodrigues
+    p = np.array([c.point for c in contacts], dtype=float)
+    n = np.array([c.normal for c in contacts], dtype=float)
+    g = np.array([c.gap for c in contacts], dtype=float)
+    turned = np.array([c.edge == "ground" for c in contacts])[:, None]
+    normals = np.where(turned, n @ R.T, n)
+    out: np.ndarray = g + np.sum(normals * (p @ R.T + d[:3] - p), axis=1)
+    return out
 
 
 def _displacement(A: np.ndarray, g: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -264,11 +294,12 @@ def desktop_contacts(p: JointParams, count: int = AZIMUTHS) -> list[Contact]:
     sa, ca = math.sin(CONE_ANGLE), math.cos(CONE_ANGLE)
     g_cone = L.c + FACET_MARGIN
     out: list[Contact] = []
-    for r in (L.R_bore, L.R_flare):
-        out += ring("flare", r, L.roof_under(r), -sa, -ca, g_cone, count)
+    # the roof's inner rim on the flare's cone (a ground edge), the flare's rim on the roof's cone (a moving edge)
+    out += ring("flare", L.R_bore, L.roof_under(L.R_bore), -sa, -ca, g_cone, count, edge="ground")
+    out += ring("flare", L.R_flare, L.roof_under(L.R_flare), -sa, -ca, g_cone, count)
     r_land = L.R_bore + ROOF_LAND
-    for z in (L.roof_under(L.R_bore), L.roof_top(r_land)):
-        out += ring("collar", L.R_bore, z, -1.0, 0.0, L.R_bore - L.R_band, count)
+    for z in (L.roof_under(L.R_bore), L.roof_top(r_land)):  # the bore's rims: the collar slides along them
+        out += ring("collar", L.R_bore, z, -1.0, 0.0, L.R_bore - L.R_band, count, edge="ground")
     out += _arm_on_roof(p, count)
     # watched: the flare's rim inside the cup's wall, the wound spring's outer coils inside the wall
     out += ring("flare rim on cup wall", L.R_flare, L.flare_top(L.R_flare), -1.0, 0.0, L.R_ci - L.R_flare, count, False)
