@@ -269,3 +269,8 @@ def test_exact_gaps_agree_with_the_linearised_ones_to_first_order():
     err = [np.abs(B.exact_gaps(contacts, s * d) - (g + A.T @ (s * d))).max() for s in (1.0, 0.5, 0.25)]
     assert err[0] > 1e-3  # the second order is not nothing at 3° ...
     assert err[1] / err[0] == pytest.approx(0.25, abs=0.03) and err[2] / err[1] == pytest.approx(0.25, abs=0.03)
+
+
+def test_a_contact_names_whose_edge_it_is():
+    with pytest.raises(ParameterError, match="edge"):
+        B.Contact("rim", (1.0, 0.0, 0.0), (-1.0, 0.0, 0.0), 0.1, edge="gorund")

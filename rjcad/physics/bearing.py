@@ -61,6 +61,10 @@ class Contact:
     #: slides on it: the collar along the bore's rims). The same to first order; :func:`exact_gaps` tells them apart.
     edge: str = "moving"
 
+    def __post_init__(self) -> None:
+        if self.edge not in ("moving", "ground"):
+            raise ParameterError("edge", self.edge, "must be 'moving' or 'ground'")
+
     @property
     def radius(self) -> float:
         """Friction radius ρ: the point's distance from the axis [mm]."""
