@@ -3,7 +3,8 @@ tendon tension, θ_j = rotation, flexing, with the tendon ending in the moving l
 
 μ is assumed, not calibrated: dry ABS or PLA on itself is 0.2–0.6, and the paper's one bar test cannot decide
 μ (docs/bearing.md), so the block uses the middle of that range and says so. The model is linearised (small
-displacements) with a rigid spring: a tilt of several degrees reads "rocks until something stops it"."""
+displacements) with a rigid spring: a tilt of several degrees reads "rocks until something stops it" (the note
+says so in every block)."""
 
 from __future__ import annotations
 
@@ -21,7 +22,9 @@ MU_ASSUMED = 0.4
 NOTE = (
     "the bearing at the largest tendon tension (rotation, flexing; tendon ending in the moving link; no gravity); "
     "linearised small displacements, rigid spring; mu assumed for dry plastic on plastic, not measured "
-    "(docs/bearing.md); binding: surfaces not designed to bear that close under this load"
+    "(docs/bearing.md); binding: surfaces not designed to bear that close under this load. A tilt of more than "
+    "a few degrees, and a binding found there, may be the linearisation's: on the default desktop joint the "
+    "exact gaps and the built solids both stop the hub at its collar first, at 7.2 deg (docs/bearing.md)"
 )
 
 
