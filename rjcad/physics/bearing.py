@@ -191,14 +191,10 @@ def exact_gaps(contacts: Sequence[Contact], delta: Sequence[float]) -> np.ndarra
 
     Both are :func:`solve`'s linearised gaps g + n·(u + φ × p) to first order; their second-order terms,
     ≈ ρ·φ²/2, reach tenths of a mm at a tilt of several degrees (docs/bearing.md)."""
+    from scipy.spatial.transform import Rotation  # only the exact gaps need it (0.8 s of import)
+
     d = np.asarray(delta, dtype=float)
-    phi = np.array([d[3], d[4], 0.0])
-    angle = float(np.linalg.norm(phi))
-    K = np.zeros((3, 3))
-    if angle > 0:
-        k = phi / angle
-        K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    R = np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)  # Rodrigues
+    R = Rotation.from_rotvec([d[3], d[4], 0.0]).as_matrix()
     p = np.array([c.point for c in contacts], dtype=float)
     n = np.array([c.normal for c in contacts], dtype=float)
     g = np.array([c.gap for c in contacts], dtype=float)
