@@ -49,9 +49,9 @@ def first_touch():
     overlap = moved(hi + 0.02) ^ ground
     lo_box, hi_box = np.array(overlap.bounding_box()).reshape(2, 3)
     where = 0.5 * (lo_box + hi_box)
-    wall = next(c for c in B.contacts_of(p) if c.surface == "spring on cup wall").gap
-    # the model's own contacts along the same motion, with exact (not linearised) gaps: no CAD, no mesh
     contacts = B.contacts_of(p)
+    wall = next(c for c in contacts if c.surface == "spring on cup wall").gap
+    # the model's own contacts along the same motion, with exact (not linearised) gaps: no CAD, no mesh
     m_lo, m_hi = 0.0, 1.0
     for _ in range(30):
         mid = 0.5 * (m_lo + m_hi)
@@ -99,3 +99,7 @@ def test_the_page_quotes_the_check_on_the_solids(first_touch):
     assert float(dict(re.findall(r"`(model_\w+)=([-\d.]+)`", text))["model_touch_tilt"]) == pytest.approx(
         t["model_tilt"], abs=0.05
     )
+    # the manifest's bearing block says the same in its note
+    from rjcad.physics.bearing_block import NOTE
+
+    assert f"at {t['model_tilt']:.1f} deg" in NOTE
