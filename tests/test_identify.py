@@ -56,7 +56,8 @@ def _assert_found(truth, js, effects, rel=0.05):
         assert ex["rmse_final"] <= 1.1 * injected, (ex["file"], ex["rmse_final"], injected)
 
 
-@pytest.mark.parametrize("effect", [e.id for e in CATALOGUE])
+#: every effect the bench can hide without a built joint (bearing_friction: tests/test_identify_bearing.py)
+@pytest.mark.parametrize("effect", [e.id for e in CATALOGUE if e.needs != "bearing"])
 def test_hidden_effect_is_found_named_and_measured(tmp_path, effect):
     truth, _ident, js = _run(tmp_path, [effect])
     _assert_found(truth, js, [effect])
@@ -89,8 +90,9 @@ def test_null_case_reports_nothing(tmp_path):
     assert js["gain"] == pytest.approx(1.0)
     for ex in js["experiments"]:
         assert ex["rmse_final"] <= 1.1 * truth["noise"][ex["quantity"]]
-    # every candidate was looked at and turned down for a stated reason
-    assert {c["effect"] for c in js["candidates"]} == set(EFFECTS)
+    # every candidate was looked at and turned down for a stated reason (the bearing's friction is no candidate:
+    # the campaign names no joint whose geometry it needs; tests/test_identify_bearing.py)
+    assert {c["effect"] for c in js["candidates"]} == {e for e in EFFECTS if EFFECTS[e].needs != "bearing"}
     assert all(c["verdict"] != "accepted" for c in js["candidates"])
 
 

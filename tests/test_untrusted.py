@@ -465,7 +465,7 @@ def test_bench_campaigns_in_degrees_pass_and_in_radians_are_refused(tmp_path, ef
 
     chosen, params, design = {
         "paper": (list(PAPER_PRESET["effects"]), PAPER_PRESET["params"], PAPER_PRESET["design"]),
-        "all": ([e.id for e in CATALOGUE], {}, None),
+        "all": ([e.id for e in CATALOGUE if e.needs != "bearing"], {}, None),  # the bearing needs a built joint
         "none": ([], {}, None),
     }[effects]
     write_campaign(tmp_path, chosen, params, design=design, seed=2, samples=600, rotation_deg=rotation)

@@ -61,8 +61,17 @@ def _key_values(text: str, option: str) -> dict[str, float]:
     help="With --finger: the finger manifest (.json) or template (.toml); default: templates/finger.toml.",
 )
 @click.option("--no-tension", is_flag=True, help="With --finger: no tendon_force_n column (no load cell).")
+@click.option(
+    "--manifest",
+    "joint",
+    type=click.Path(dir_okay=False),
+    help="A built joint's manifest (rjcad joint's JSON): the campaign names a copy, its design is that joint's, "
+    "and its tendon runs load that joint's bearing (effect bearing_friction).",
+)
 @click.option("--out", "out_dir", type=OutDir(), required=True, help="The campaign folder to write.")
-def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, finger, source, no_tension, out_dir):
+def bench(
+    effects, params, noise, seed, samples, rotation, trajectory, paper, finger, source, no_tension, joint, out_dir
+):
     """Write a SYNTHETIC campaign simulated from the joint model (experiments A-E of the paper) or, with
     --finger, from the finger model (pull/release records), with noise."""
     from pathlib import Path
@@ -76,8 +85,9 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
     if finger:
         from rjcad.identify.finger.bench import write_finger_campaign
 
-        if paper:
-            raise click.BadParameter("--paper is a joint campaign; give --finger or --paper", param_hint="--paper")
+        if paper or joint:
+            hint = "--paper" if paper else "--manifest"
+            raise click.BadParameter(f"{hint} is a joint campaign's; not with --finger", param_hint=hint)
         truth = write_finger_campaign(
             out_dir,
             chosen,
@@ -109,9 +119,12 @@ def bench(effects, params, noise, seed, samples, rotation, trajectory, paper, fi
         samples=samples,
         rotation_deg=rotation,
         trajectory_name=trajectory,
+        joint=joint,
     )
     out = Path(out_dir)
     click.echo(f"wrote {out / 'campaign.toml'}")
+    if "joint" in truth:
+        click.echo(f"wrote {out / truth['joint']['file']} (the joint's manifest)")
     for e in truth["experiments"]:
         click.echo(f"wrote {out / e['file']} ({samples} samples, {e['quantity']})")
     click.echo(f"wrote {out / 'truth.json'}")
@@ -234,9 +247,8 @@ def print_identification(js: dict) -> None:
         return
     for s in js["steps"]:
         ho = "n/a" if s["heldout_rmse"] is None else f"{s['heldout_rmse']:.3g}"
-        click.echo(
-            f"  {s['action']} {s['effect']}: dBIC {s['delta_bic']:+.4g}, held-out RMSE {ho} x noise - {s['cause']}"
-        )
+        what = f"{s['effect']} (in the place of {s['replaces']})" if s.get("replaces") else s["effect"]
+        click.echo(f"  {s['action']} {what}: dBIC {s['delta_bic']:+.4g}, held-out RMSE {ho} x noise - {s['cause']}")
     for name, value in js["params"].items():
         ci = js["param_ci95"].get(name)
         click.echo(f"  {name} = {value:.4g}" + (f"  [{ci[0]:.4g}, {ci[1]:.4g}]" if ci else "  (design)"))

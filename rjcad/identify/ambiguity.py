@@ -68,6 +68,8 @@ def campaign_has(prepared, need: str) -> bool:
         return any(e.routed for e in exps)
     if need == "tendon":
         return any(e.drive == "tendon" for e in exps)
+    if need == "bearing":
+        return any(e.drive == "tendon" and e.bearing is not None for e in exps)
     if need == "normal_load":
         return len({round(e.normal_load, 6) for e in exps}) > 1
     return True
@@ -84,6 +86,7 @@ def separating_experiment(a: str, b: str, prepared, values: dict, effects=EFFECT
         "speeds": "the same cycle at a second speed (at least twice as fast or as slow)",
         "routed": "a tendon run routed through the base (capstan on the path)",
         "tendon": "a tendon-driven run",
+        "bearing": "a tendon-driven run of a joint whose manifest the campaign names ([design] joint)",
         "normal_load": "runs at two different normal loads",
     }
     missing = [

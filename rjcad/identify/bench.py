@@ -141,6 +141,33 @@ def _design(design) -> dict:
     return d
 
 
+#: The copy of the joint's manifest a campaign of a built joint names.
+JOINT_FILE = "joint.json"
+
+
+def _joint(path, design, rotation_deg) -> tuple[str | None, Any, Any]:
+    """The joint manifest at ``path`` (None: no joint): its text, ``design`` over the joint's own (campaign JSON
+    names) and its bearing friction table; the bench's ``rotation_deg`` must lie in the joint's range."""
+    from rjcad.identify.joint_of import joint_params
+    from rjcad.io.manifest import Manifest
+    from rjcad.io.untrusted import parse_json, read_text
+    from rjcad.physics.bearing_table import friction_table
+
+    if path is None:
+        return None, design, None
+    text = read_text(path, kind="JSON")
+    man = Manifest.from_json(parse_json(text, str(path)), source=path)
+    p = joint_params(man, f"joint {path}")
+    built = {
+        "stiffness_nmm_per_rad": man.joints[0].joint_stiffness_nmm_per_rad or p.stiffness,
+        "preload_deg": p.preload / DEG,
+        "pulley_radius_mm": p.moment_arm,
+    }
+    if _number("rotation", rotation_deg, unit="deg") > p.rotation / DEG + 1e-9:
+        raise ParameterError("rotation", rotation_deg, f"must be <= {p.rotation / DEG:g}, the joint's range", "deg")
+    return text, {**built, **(design or {})}, friction_table(p)
+
+
 def _effects(effects) -> tuple[str, ...]:
     if isinstance(effects, str):
         effects = [effects]
@@ -245,6 +272,8 @@ def _toml(truth: dict) -> str:
         f"preload_deg = {d['preload_deg']!r}",
         f"pulley_radius_mm = {d['pulley_radius_mm']!r}",
     ]
+    if "joint" in truth:
+        lines.append(f"joint = \"{truth['joint']['file']}\"  # the joint's manifest: its bearing's geometry")
     for e in truth["experiments"]:
         lines += [
             "",
@@ -307,7 +336,14 @@ def _readme(truth: dict) -> str:
         "## True model",
         "",
         f"Design: stiffness {d['stiffness_nmm_per_rad']:g} N·mm/rad, preload {d['preload_deg']:g}°, "
-        f"pulley radius {d['pulley_radius_mm']:g} mm.",
+        f"pulley radius {d['pulley_radius_mm']:g} mm."
+        + (
+            f" The joint is the one `{truth['joint']['file']}` records (a copy of `{truth['joint']['source']}`): "
+            "its tendon runs load its bearing, whose friction per unit μ comes from its geometry "
+            "(`rjcad/physics/bearing_table.py`)."
+            if "joint" in truth
+            else ""
+        ),
         "",
         f"Effects: {', '.join(f'`{e}`' for e in truth['effects']) or 'none: the data are the design model plus noise'}."
         " Effects not listed are absent (neutral).",
@@ -407,18 +443,26 @@ def write_campaign(
     rotation_deg=90.0,
     experiments="paper",
     trajectory_name="paper",
+    joint=None,
 ) -> dict:
     """Write a SYNTHETIC campaign (campaign.toml, one CSV per experiment, truth.json, README.md); return the truth.
 
     Everything is validated and simulated before anything is written. ``params`` (JSON names)
     override the chosen effects' typical values; ``noise`` σ per column (torque_nmm [N·mm],
     tendon_force_n [N], theta_deg [deg]); ``rotation_deg`` [deg]; ``trajectory_name`` one of TRAJECTORIES.
+    ``joint``: a joint's manifest (rjcad joint's JSON); the campaign then names a copy of it (joint.json), its
+    design defaults to that joint's, and its tendon drives load that joint's bearing (effect bearing_friction).
     """
     if trajectory_name not in TRAJECTORIES:
         raise ParameterError("trajectory", trajectory_name, f"unknown; known: {', '.join(TRAJECTORIES)}")
     segments = TRAJECTORIES[trajectory_name]
+    joint_text, design, bearing = _joint(joint, design, rotation_deg)
     design = _design(design)
     effects = _effects(effects)
+    if bearing is None and any(cat.EFFECTS[e].needs == "bearing" for e in effects):
+        raise ParameterError(
+            "effects", "bearing_friction", "needs the joint's geometry: give its manifest (--manifest)"
+        )
     values = _true_params(design, effects, params)
     noise = _noise(noise)
     exps = _experiments(experiments)
@@ -438,7 +482,7 @@ def write_campaign(
     rng = np.random.default_rng(seed)
     files: dict[str, str] = {}
     for e in exps:
-        setup = Setup(e["drive"], e["normal_load_n"], e["routed"])
+        setup = Setup(e["drive"], e["normal_load_n"], e["routed"], bearing=bearing if e["drive"] == "tendon" else None)
         y_true = simulate(model, setup, theta, t=t)
         theta_meas = np.degrees(theta) + rng.normal(0.0, noise["theta_deg"], samples)
         y = y_true + rng.normal(0.0, noise[e["quantity"]], samples)
@@ -467,6 +511,9 @@ def write_campaign(
         },
         "experiments": exps,
     }
+    if joint_text is not None:
+        truth["joint"] = {"file": JOINT_FILE, "source": str(joint)}
+        files[JOINT_FILE] = joint_text
     files["truth.json"] = json.dumps(truth, indent=2) + "\n"
     files["README.md"] = _readme(truth)
     files["campaign.toml"] = _toml(truth)

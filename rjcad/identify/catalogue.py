@@ -63,7 +63,8 @@ class Effect:
     name: str = ""  # short name of the cause, e.g. "Coulomb pin friction"
     cause: str = ""
     params: tuple[Param, ...] = ()
-    #: what kind of experiment carries the effect: "any", "normal_load", "tendon", "routed", "holds", "speeds"
+    #: what kind of experiment carries the effect: "any", "normal_load", "tendon", "routed", "holds", "speeds",
+    #: "bearing" (a tendon drive on a joint whose geometry the campaign names)
     needs: str = "any"
     #: ``needs`` in words, completing "it needs …" ("" when any experiment will do)
     needs_text: str = ""
@@ -164,6 +165,23 @@ class CapstanPath(Effect):
     )
 
 
+class BearingFriction(Effect):
+    id = "bearing_friction"
+    name = "bearing friction from the joint's geometry"
+    cause = (
+        "dry friction in the joint's own bearing: the tendon's pull and the springs' end forces press the bearing "
+        "surfaces of the printed joint (cones, collar, pin), and one material-pair μ turns their normal forces "
+        "into a torque μ·Σ N_i·ρ_i (rjcad.physics.bearing)"
+    )
+    needs = "bearing"
+    needs_text = "a tendon-driven experiment and the joint's manifest ([design] joint)"
+    params = (Param("bearing_mu", "mu_bearing", 1.0, 0.0, 2.0, 0.4, 0.0),)
+
+    def starts(self, design):
+        """μ at 0.15, 0.4 and 1.0: dry plastic on plastic is 0.2–0.6, the paper's bar test asks for 1.46."""
+        return [{"bearing_mu": mu} for mu in (0.15, 0.4, 1.0)]
+
+
 class Viscous(Effect):
     id = "viscous"
     name = "viscous damping"
@@ -215,6 +233,7 @@ CATALOGUE: tuple[Effect, ...] = (
     CoulombPin(),
     TendonPinFriction(),
     CapstanPath(),
+    BearingFriction(),
     Viscous(),
     Stiffening(),
     Relaxation(),

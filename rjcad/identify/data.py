@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy.ndimage import median_filter
@@ -23,6 +23,9 @@ from rjcad.io.untrusted import confined, read_text, read_toml
 from rjcad.physics.joint import Setup
 from rjcad.validate import in_range
 
+if TYPE_CHECKING:
+    from rjcad.physics.bearing_table import FrictionTable
+
 
 @dataclass(frozen=True)
 class Design:
@@ -31,13 +34,19 @@ class Design:
     stiffness: float
     preload: float
     pulley_radius: float
+    #: the joint's manifest as the campaign names it ([design] joint), and its bearing friction per unit μ
+    joint: str | None = None
+    bearing: FrictionTable | None = field(default=None, compare=False, repr=False)
 
     def as_json(self) -> dict:
-        return {
+        out: dict[str, Any] = {
             "stiffness_nmm_per_rad": self.stiffness,
             "preload_deg": self.preload / DEG,
             "pulley_radius_mm": self.pulley_radius,
         }
+        if self.joint is not None:
+            out["joint"] = self.joint
+        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +64,7 @@ class Experiment:
     y: np.ndarray
     rows: int  # data rows in the file
     dropped: dict = field(default_factory=dict)  # reason -> rows dropped
+    bearing: FrictionTable | None = None  # the joint's bearing friction per unit μ (a tendon drive loads it)
 
     @property
     def quantity(self) -> str:
@@ -62,7 +72,7 @@ class Experiment:
 
     @property
     def setup(self) -> Setup:
-        return Setup(drive=self.drive, normal_load=self.normal_load, routed=self.routed)
+        return Setup(drive=self.drive, normal_load=self.normal_load, routed=self.routed, bearing=self.bearing)
 
     @property
     def name(self) -> str:
@@ -78,6 +88,8 @@ class Campaign:
 
 
 DESIGN_KEYS = {"stiffness_nmm_per_rad": (int, float), "preload_deg": (int, float), "pulley_radius_mm": (int, float)}
+#: Optional [design] keys: the joint's manifest (rjcad joint's JSON), for the bearing friction of its geometry.
+DESIGN_OPTIONAL = {"joint": str}
 EXPERIMENT_KEYS = {
     "file": str,
     "drive": str,
@@ -115,6 +127,8 @@ def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) ->
     doc = _read_toml(path, raw)
     where = f"{path}: "
     design = _design(doc, where)
+    if design.joint is not None:
+        design = replace(design, bearing=_bearing_of(path, design.joint, allow_outside))
     specs = _experiment_specs(doc, path, design, allow_outside)
     experiments, notes = [], []
     for spec in specs:
@@ -174,15 +188,34 @@ def _design(doc: dict, where: str) -> Design:
         raise RjcadError(f"{where}design must be a table: [design] with keys {known}")
     w = f"{where}[design] "
     for key, value in table.items():
-        _check(w, key, value, DESIGN_KEYS)
+        _check(w, key, value, DESIGN_KEYS | DESIGN_OPTIONAL)
     for key in DESIGN_KEYS:
         if key not in table:
             raise RjcadError(f"{where}[design]: missing key '{key}' (needed: {known})")
+    joint = table.get("joint")
+    if joint is not None and not joint.strip():
+        raise ParameterError(f"{w}joint", joint, "must name the joint's manifest (rjcad joint's JSON)")
     return Design(
         stiffness=_number(w, "stiffness_nmm_per_rad", table["stiffness_nmm_per_rad"], positive=True),
         preload=_number(w, "preload_deg", table["preload_deg"]) * DEG,
         pulley_radius=_number(w, "pulley_radius_mm", table["pulley_radius_mm"], positive=True),
+        joint=joint,
     )
+
+
+def _bearing_of(toml: Path, file: str, allow_outside: bool) -> FrictionTable:
+    """The bearing friction table of the joint whose manifest ``file`` the campaign names (relative to it, inside
+    its folder unless ``allow_outside``): the joint rebuilt from the manifest (rjcad.identify.joint_of)."""
+    from rjcad.identify.joint_of import joint_params
+    from rjcad.io.manifest import Manifest
+    from rjcad.physics.bearing_table import friction_table
+
+    label = f"{toml}: [design] joint"
+    path = confined(toml.parent, file, label, allow_outside)
+    if not path.is_file():
+        problem = "is not a file" if path.exists() else "not found"
+        raise RjcadError(f"{label}: file {quote(file)} {problem} (looked for {quote(str(path), 120, repr_=False)})")
+    return friction_table(joint_params(Manifest.read(path), label))
 
 
 def _data_path(toml: Path, i: int, file: str, allow_outside: bool) -> Path:
@@ -239,8 +272,17 @@ def _experiment_specs(doc: dict, toml: Path, design: Design, allow_outside: bool
                 "experiment file names must differ"
             )
         names[name] = (i, file)
+        bearing = design.bearing if drive == "tendon" else None
         specs.append(
-            dict(file=file, path=csv_path, drive=drive, normal_load=normal_load, routed=routed, pulley_radius=radius)
+            dict(
+                file=file,
+                path=csv_path,
+                drive=drive,
+                normal_load=normal_load,
+                routed=routed,
+                pulley_radius=radius,
+                bearing=bearing,
+            )
         )
     return specs
 
@@ -271,6 +313,7 @@ def _load_experiment(spec: dict) -> tuple[Experiment, str | None]:
         y=y,
         rows=rows,
         dropped=dropped,
+        bearing=spec.get("bearing"),
     )
     return exp, note
 

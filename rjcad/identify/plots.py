@@ -115,7 +115,7 @@ def plot_steps(js: dict, path) -> Path:
     """Whitened RMSE (1 = noise floor) per step, design first, log scale: held-out and in-sample."""
     plt = pyplot()
     exps = js["experiments"]
-    sign = {"dropped": "− ", "added": "+ ", "swapped": "→ "}
+    sign = {"dropped": "− ", "added": "+ ", "swapped": "→ ", "replaced": "⇄ "}
     labels = ["design"] + [sign[s["action"]] + s["effect"] for s in js["steps"]]
     held = [js["heldout_rmse_design"]] + [s["heldout_rmse"] for s in js["steps"]]
     ins = [_whitened([e["rmse_design"] for e in exps], exps)] + [_whitened(s["rmse"], exps) for s in js["steps"]]

@@ -58,6 +58,8 @@ def _step_labels(steps: list[dict]) -> list[str]:
     for s in steps:
         if s["action"] == "swapped":
             out.append("S")
+        elif s["action"] == "replaced":
+            out.append("R")
         elif s["action"] == "dropped":
             b += 1
             out.append(f"B{b}")
@@ -190,9 +192,11 @@ def _param_text(js: dict, name: str) -> str:
 def _steps_section(js: dict) -> list[str]:
     rows = [["0", "design simulation", "—", "—", fmt(js["heldout_rmse_design"], 3), "1"]]
     for lab, s in zip(_step_labels(js["steps"]), js["steps"]):
-        eff = {"added": f"`{s['effect']}`", "dropped": f"`{s['effect']}` (dropped)"}.get(
-            s["action"], f"swapped to `{s['effect']}`"
-        )
+        eff = {
+            "added": f"`{s['effect']}`",
+            "dropped": f"`{s['effect']}` (dropped)",
+            "replaced": f"`{s['effect']}` in the place of `{s.get('replaces')}`",
+        }.get(s["action"], f"swapped to `{s['effect']}`")
         rows.append(
             [
                 lab,
@@ -215,6 +219,12 @@ def _steps_section(js: dict) -> list[str]:
         out += [
             "Steps B1, B2, … are the backward pass: an effect is dropped when, with the others refitted, "
             f"keeping it is worth no more than ΔBIC = −{BIC_GATE:g} (its ΔBIC is shown)."
+        ]
+    if any(s["action"] == "replaced" for s in js["steps"]):
+        out += [
+            "Step R replaces an effect the forward pass took by one tried beside it that, in its place and with the "
+            f"others refitted, lowers the BIC by more than {BIC_GATE:g} (its ΔBIC is against the set before it): "
+            "an effect with more parameters can win a forward step by taking up part of one not yet added."
         ]
     if any(s["action"] == "swapped" for s in js["steps"]):
         out += [

@@ -52,6 +52,7 @@ def selection_json(ident: Identification, params: dict, names: dict) -> dict:
                 "relevance": _r(s.relevance),
                 "rmse": [_r(x) for x in s.rmse],
                 "gain": _r(s.gain),
+                **({"replaces": s.replaces} if s.replaces else {}),
             }
             for i, s in enumerate(ident.steps)
         ],

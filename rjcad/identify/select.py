@@ -16,6 +16,7 @@ from functools import cached_property
 
 import numpy as np
 
+from rjcad.identify.ambiguity import campaign_has
 from rjcad.identify.ambiguity import find as rival_sets
 from rjcad.identify.catalogue import CATALOGUE
 from rjcad.identify.data import Campaign
@@ -43,12 +44,15 @@ class Step:
 
     effect: str
     cause: str
-    action: str  # "added" | "dropped" | "swapped" (to the simpler set the data cannot tell apart: ``effect``)
+    #: "added" | "dropped" | "swapped" (to the simpler set the data cannot tell apart: ``effect``) | "replaced"
+    #: (``effect`` in the place of ``replaces``, which fits better: the swap pass)
+    action: str
     delta_bic: float  # BIC after the step − before (dropping an effect costs ≤ +10 by the rule)
     heldout_rmse: float | None  # whitened: 1.0 = noise floor
     relevance: float  # max |Δprediction| / measured range
     rmse: list[float]  # per experiment after the step, in its units
     gain: float  # geometric mean of rmse_design/rmse after the step
+    replaces: str = ""  # the effect a "replaced" step took the place of
 
 
 @dataclass
@@ -110,6 +114,12 @@ class Selector:
         self.base = self._base(campaign)
         self.prob = self.problem(self.base)
         self.frozen: dict[str, str] = {}  # parameters fixed at neutral: not identifiable
+        # an effect whose input the campaign lacks altogether (the joint's geometry) is not a candidate
+        self.catalogue = tuple(
+            e
+            for e in self.catalogue
+            if getattr(e, "needs", "any") != "bearing" or campaign_has(self.prepared, "bearing")
+        )
         self._lo: dict[str, float] = {}
         self._hi: dict[str, float] = {}
         for e in self.catalogue:
@@ -366,6 +376,8 @@ class Selector:
         current, ho_cur = self._forward(design, ho_design, accepted, steps, cands)
         report(self.progress, "backward pass: dropping what is not needed")
         current, ho_cur = self.backward(accepted, current, ho_cur, steps, design)
+        report(self.progress, "swap pass: effects that fit better in an accepted one's place")
+        current, ho_cur = self.swap(accepted, current, ho_cur, steps, design, cands)
         report(self.progress, "rival effect sets and confidence intervals")
         return self._finish(design, ho_design, current, ho_cur, accepted, steps, cands)
 
@@ -473,6 +485,53 @@ class Selector:
                 )
                 accepted, current, bic = rest, fr, None
         return current, accepted, notes
+
+    def swap(self, accepted: list[str], current: FitResult, ho_cur, steps: list[Step], design, cands):
+        """Replace an accepted effect e by an effect f tried at e's forward step and supported there on its own
+        (ΔBIC < −10), when the set with f in e's place fits better by more than the BIC gate (refitted): the
+        forward pass is greedy, and an effect with more parameters can win a step by absorbing part of an effect
+        not yet added (the best swap first, until none helps). Mutates ``accepted`` and ``steps``."""
+        tried: set[frozenset[str]] = {frozenset(accepted)}
+        for _ in range(len(self.catalogue)):
+            best = None
+            for e in accepted:
+                at = [c.step for c in cands if c.effect == e and c.reason == "accepted"]
+                rivals = [
+                    c.effect
+                    for c in cands
+                    if at and c.step == at[-1] and c.effect not in accepted and (c.delta_bic or 0.0) < -BIC_GATE
+                ]
+                for f in rivals:
+                    effs = [f if a == e else a for a in accepted]
+                    if frozenset(effs) in tried:
+                        continue
+                    tried.add(frozenset(effs))
+                    keep = set(self.free_names(effs))
+                    fr = self.fit_set(effs, {n: current.values[n] for n in current.names if n in keep})
+                    cost = fr.bic - current.bic
+                    if cost < -BIC_GATE and (best is None or cost < best[0]):
+                        best = (cost, e, f, effs, fr)
+            if best is None:
+                break
+            cost, e, f, effs, fr = best
+            ho_cur = self.heldout(effs, {n: fr.values[n] for n in fr.names})
+            rel = self.relevance(current.values, fr.values)
+            steps.append(
+                Step(
+                    f,
+                    self.effects[f].cause,
+                    "replaced",
+                    cost,
+                    ho_cur,
+                    rel,
+                    fr.rmse(),
+                    _gain(design.rmse(), fr.rmse()),
+                    e,
+                )
+            )
+            accepted[:] = effs
+            current = fr
+        return current, ho_cur
 
     def _swap_step(self, design, current: FitResult, effects: list[str], fr: FitResult, cause: str, cost: float):
         """The "swapped" step from ``current`` to the simpler set ``effects`` fitted as ``fr`` (ΔBIC ``cost``)."""

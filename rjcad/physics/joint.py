@@ -7,6 +7,8 @@ spring deformation, s the sign of the joint velocity (kept through holds).
 * tendon drive:  τ_req = K·θ + k3·θ³ + s·μ_j·F_n + (γ⁺·θ if s > 0 else −γ⁻·θ) + c·θ̇ + τ_M
                  F_t = β_s·τ_req / r, β_s = β⁺ (pulling) or β⁻ (releasing) when routed, else 1
 * Maxwell relaxation arm: dτ_M/dt = K_M·θ̇ − τ_M/T_r.
+* bearing friction from the joint's geometry (``Setup.bearing``): r·T = τ_req + s·μ_b·S(θ_j, T), solved for the
+  tension T at the joint (rjcad.physics.bearing_table); F_t = β_s·T when routed.
 
 rjcad's β convention (see shared/paper-notes.md): F_t is the force at the
 actuator, β⁺ ≥ 1 while pulling, β⁻ ≤ 1 while releasing.
@@ -16,7 +18,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -25,6 +28,9 @@ from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.paper import JOINT
 from rjcad.validate import in_range
+
+if TYPE_CHECKING:
+    from rjcad.physics.bearing_table import FrictionTable
 
 
 @dataclass(frozen=True)
@@ -43,6 +49,8 @@ class JointModel:
     cubic: float = 0.0
     relaxation_stiffness: float = 0.0
     relaxation_time: float = 1.0
+    #: μ of the bearing's material pair, with friction μ·S(θ_j, T) from the joint's geometry (``Setup.bearing``)
+    mu_bearing: float = 0.0
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -55,6 +63,7 @@ class JointModel:
         )
         in_range("viscous", self.viscous, 0.0, limit="must be >= 0")
         in_range("relaxation_stiffness", self.relaxation_stiffness, 0.0, limit="must be >= 0")
+        in_range("mu_bearing", self.mu_bearing, 0.0, limit="must be >= 0")
 
     def with_(self, **kw: float) -> JointModel:
         return replace(self, **kw)
@@ -84,11 +93,13 @@ PARAM_NAMES = tuple(f.name for f in fields(JointModel))
 
 @dataclass(frozen=True)
 class Setup:
-    """An experiment: ``drive`` 'bar' or 'tendon', transverse load F_n [N], tendon routed in the base."""
+    """An experiment: ``drive`` 'bar' or 'tendon', transverse load F_n [N], tendon routed in the base; ``bearing``:
+    the joint's bearing friction per unit μ (rjcad.physics.bearing_table), which a tendon drive loads."""
 
     drive: str = "bar"
     normal_load: float = 0.0
     routed: bool = False
+    bearing: FrictionTable | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.drive not in ("bar", "tendon"):
@@ -192,9 +203,12 @@ def simulate(
 
 
 def _tendon_torque(m: JointModel, setup: Setup, theta_j: np.ndarray, s: np.ndarray, tau: np.ndarray) -> np.ndarray:
-    """β_s·(τ + γ_s-term): the torque the tendon must give [N·mm]; negative where it would have to push."""
+    """β_s·(τ + γ_s-term + s·μ_b·S(θ_j, T)): the torque the tendon must give [N·mm]; negative where it would have
+    to push. The bearing term (``setup.bearing``) is solved for the tension at the joint, r·T."""
     th = theta_j + m.preload
     tau = tau + np.where(s > 0, m.gamma_pos * th, -m.gamma_neg * th)
+    if setup.bearing is not None and m.mu_bearing > 0.0:
+        tau = m.pulley_radius * setup.bearing.tension(tau, s, m.mu_bearing, m.pulley_radius, theta_j)
     if setup.routed:
         tau = tau * np.where(s > 0, m.beta_pos, m.beta_neg)
     return tau

@@ -967,6 +967,49 @@ def identify_cases(sh: Shared) -> list[Case]:
                 mention=("campaign.toml", "nope.csv", "experiment", "drive", "file"),
             )
         )
+    return cases + _joint_manifest_cases(sh, campaign)
+
+
+def _joint_manifest_cases(sh: Shared, campaign: Callable) -> list[Case]:
+    """``[design] joint``: the joint's manifest a campaign names (its bearing's geometry), outside the folder, not
+    a file or not a string, and damaged like any manifest (what the rebuild does not read may be damaged)."""
+
+    def naming(value: str) -> Callable[[str], str]:
+        return lambda t: t.replace("[design]\n", f"[design]\njoint = {value}\n", 1)
+
+    cases = []
+    for kind, value in {
+        "etc-passwd": '"/etc/passwd"',
+        "dotdot": '"../../../../../../etc/passwd"',
+        "dev-zero": '"/dev/zero"',
+        "folder": '"."',
+        "number": "3",
+        "empty": '""',
+        "missing": '"nope.json"',
+    }.items():
+        cases.append(
+            Case(
+                f"ident-joint-{kind}",
+                ["identify", "camp/campaign.toml", "--json"],
+                setup=lambda d, value=value: campaign(d, naming(value)),
+                mention=("campaign.toml", "joint"),
+                forbid=("root:",),
+                timeout=30,
+            )
+        )
+    unread = ("no-bodies", "bodies", "body", "no-axis", "zero-axis", "axis", "moving")
+    for kind, data in manifest_damages(sh).items():
+        files = {} if data is None else {"joint.json": data}
+        cases.append(
+            Case(
+                f"ident-joint-manifest-{kind}",
+                ["identify", "camp/campaign.toml", "--json"],
+                "either" if kind.startswith(unread) else "error",
+                setup=lambda d, files=files: campaign(d, naming('"joint.json"'), files),
+                mention=("joint", "campaign.toml", *kind.split("-")[:2]),
+                timeout=60,
+            )
+        )
     return cases
 
 
