@@ -211,6 +211,13 @@ def test_the_manifest_block_is_the_bearing_at_the_largest_tension(layout):
         assert set(b["contacts"]) == {"pin"} and b["tilt_deg"] == 0.0 and b["binding"] == []
     else:  # the finding docs/bearing.md states: the hub rocks until the spring meets the cup wall
         assert b["binding"] == ["spring on cup wall"] and b["tilt_deg"] > 5.0
+    touch = B.first_touch(state)
+    assert b["first_touch"] == {
+        "tilt_deg": pytest.approx(math.degrees(touch.tilt), abs=1e-3),
+        "surface": touch.contact.surface,
+        "designed": True,  # a designed surface stops the body first: the collar (desktop) or the pin (stacked)
+    }
+    assert b["first_touch"]["surface"] == ("pin" if layout == "stacked" else "collar")
 
 
 def test_the_fixed_point_is_the_plain_iterations():
@@ -258,6 +265,33 @@ def test_exact_gaps_of_a_shaft_tilted_in_its_bore(phi, u):
             assert g == pytest.approx(true, abs=1e-12)
         else:
             assert g <= true + 1e-12
+
+
+def test_first_touch_of_a_shaft_tilting_in_its_bore():
+    """A shaft (radius 6.8) tilting about +Y in a bore's rims (radius 7.25, at z = 2 and 21): the rim at azimuth 0,
+    z = 21, closes first, where R·cos φ − z·sin φ = r_s, φ = acos(r_s/√(R² + z²)) − atan(z/R) (written out here)."""
+    R_bore, r_s = 7.25, 6.8
+    rims = [(a, z) for a in (0.0, math.pi / 2, math.pi) for z in (2.0, 21.0)]
+    contacts = tuple(
+        B.Contact(
+            "rim" if (a, z) != (0.0, 21.0) else "top rim",
+            (R_bore * math.cos(a), R_bore * math.sin(a), z),
+            (-math.cos(a), -math.sin(a), 0.0),
+            R_bore - r_s,
+            edge="ground",
+        )
+        for a, z in rims
+    )
+    n = len(contacts)
+    state = B.BearingState(contacts, np.zeros(n), np.array([0.0, 0.0, 0.0, 0.0, 0.2]), np.zeros(n), 0.4)
+    touch = B.first_touch(state, closed=1e-9)
+    assert touch is not None and touch.contact.surface == "top rim"
+    want = math.acos(r_s / math.hypot(R_bore, 21.0)) - math.atan2(21.0, R_bore)
+    assert touch.tilt == pytest.approx(want, abs=1e-6)
+    assert touch.s == pytest.approx(want / 0.2, abs=1e-5)
+    # a motion too small to close anything: no touch
+    small = B.BearingState(contacts, np.zeros(n), np.array([0.0, 0.0, 0.0, 0.0, 0.5 * want]), np.zeros(n), 0.4)
+    assert B.first_touch(small) is None
 
 
 def test_exact_gaps_agree_with_the_linearised_ones_to_first_order():

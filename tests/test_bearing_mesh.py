@@ -99,7 +99,15 @@ def test_the_page_quotes_the_check_on_the_solids(first_touch):
     assert float(dict(re.findall(r"`(model_\w+)=([-\d.]+)`", text))["model_touch_tilt"]) == pytest.approx(
         t["model_tilt"], abs=0.05
     )
-    # the manifest's bearing block says the same in its note
-    from rjcad.physics.bearing_block import NOTE
 
-    assert f"at {t['model_tilt']:.1f} deg" in NOTE
+
+def test_first_touch_is_this_check_on_the_model(first_touch):
+    """rjcad.physics.bearing.first_touch (the manifest block's ``first_touch``) finds what this module's own
+    bisection on the exact gaps finds, and so the solids' first touch."""
+    from rjcad.physics import bearing as B
+
+    t = first_touch
+    touch = B.first_touch(B.driven(t["p"], 0.4, 0.0, 1, "tendon").state)
+    assert touch is not None and touch.contact == t["model_first"]
+    assert math.degrees(touch.tilt) == pytest.approx(t["model_tilt"], abs=0.01)
+    assert math.degrees(touch.tilt) == pytest.approx(t["tilt"], abs=0.2)

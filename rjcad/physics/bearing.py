@@ -182,7 +182,7 @@ def solve(contacts: Sequence[Contact], loads: Sequence[Load], mu: float) -> Bear
     return BearingState(tuple(contacts), forces, delta, gaps, float(mu), tuple(loads))
 
 
-def exact_gaps(contacts: Sequence[Contact], delta: Sequence[float]) -> np.ndarray:
+def exact_gaps(contacts: Sequence[Contact], delta: Sequence[float] | np.ndarray) -> np.ndarray:
     """Each contact's gap with the body moved by δ = (u_x, u_y, u_z, φ_x, φ_y) exactly: turned by the rotation
     vector (φ_x, φ_y, 0) about the origin, then shifted by u [mm]. Each surface is its tangent plane there.
 
@@ -202,6 +202,42 @@ def exact_gaps(contacts: Sequence[Contact], delta: Sequence[float]) -> np.ndarra
     normals = np.where(turned, n @ R.T, n)
     out: np.ndarray = g + np.sum(normals * (p @ R.T + d[:3] - p), axis=1)
     return out
+
+
+@dataclass(frozen=True)
+class FirstTouch:
+    """Where the exact gaps first close along a solved displacement scaled from rest (s·δ, 0 < s ≤ 1): the
+    fraction ``s``, the tilt there [rad] and the contact that closes."""
+
+    s: float
+    tilt: float
+    contact: Contact
+
+
+def first_touch(state: BearingState, closed: float = 1e-3, steps: int = 64) -> FirstTouch | None:
+    """The first contact whose exact gap (:func:`exact_gaps`) falls below ``closed`` [mm] as the body moves along
+    ``state``'s own displacement from rest; None when none does before the whole displacement. A scan of
+    ``steps``, then bisection in the first step that closes."""
+    contacts, d = state.contacts, np.asarray(state.displacement, dtype=float)
+
+    def least(s: float) -> float:
+        return float(exact_gaps(contacts, s * d).min())
+
+    if least(0.0) <= closed:
+        return None  # touching at rest: nothing to follow
+    lo = 0.0
+    for s in np.linspace(0.0, 1.0, steps + 1)[1:]:
+        if least(float(s)) <= closed:
+            hi = float(s)
+            break
+        lo = float(s)
+    else:
+        return None
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if least(mid) > closed else (lo, mid)
+    i = int(np.argmin(exact_gaps(contacts, hi * d)))
+    return FirstTouch(hi, hi * float(math.hypot(d[3], d[4])), contacts[i])
 
 
 def _displacement(A: np.ndarray, g: np.ndarray, w: np.ndarray) -> np.ndarray:

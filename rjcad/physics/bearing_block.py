@@ -13,7 +13,7 @@ from functools import lru_cache
 from typing import Any
 
 from rjcad.design.params import JointParams
-from rjcad.physics.bearing import BearingLocked, Drive, driven
+from rjcad.physics.bearing import BearingLocked, Drive, driven, first_touch
 
 #: The friction coefficient of the printed material on itself that the block assumes (dry ABS or PLA: 0.2–0.6).
 MU_ASSUMED = 0.4
@@ -23,8 +23,9 @@ NOTE = (
     "the bearing at the largest tendon tension (rotation, flexing; tendon ending in the moving link; no gravity); "
     "linearised small displacements, rigid spring; mu assumed for dry plastic on plastic, not measured "
     "(docs/bearing.md); binding: surfaces not designed to bear that close under this load. A tilt of more than "
-    "a few degrees, and a binding found there, may be the linearisation's: on the default desktop joint the "
-    "exact gaps and the built solids both stop the hub at its collar first, at 7.2 deg (docs/bearing.md)"
+    "a few degrees, and a binding found there, may be the linearisation's: first_touch is where the exact gaps "
+    "first close along the same motion from rest (on the default desktop joint it is the collar, as on the "
+    "built solids; docs/bearing.md)"
 )
 
 
@@ -39,13 +40,15 @@ def _loaded(p: JointParams, mu: float) -> Drive | None:
 
 def bearing_block(p: JointParams, mu: float = MU_ASSUMED) -> dict[str, Any]:
     """``{mu, tendon_tension_n, friction_torque_nmm, tilt_deg, min_gap_under_load_mm, contacts {surface: N},
-    binding, locked, note}`` [N, N·mm, deg, mm]; locked (the tendon's own friction outgrows it): numbers None."""
+    binding, first_touch {tilt_deg, surface, designed} or None, locked, note}`` [N, N·mm, deg, mm]; locked (the
+    tendon's own friction outgrows it): numbers None."""
     block: dict[str, Any] = {"mu": mu}
     d = _loaded(p, mu)
     if d is None:
         nothing = dict.fromkeys(("tendon_tension_n", "friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm"))
-        return block | nothing | {"contacts": {}, "binding": [], "locked": True, "note": NOTE}
+        return block | nothing | {"contacts": {}, "binding": [], "first_touch": None, "locked": True, "note": NOTE}
     s = d.state
+    touch = first_touch(s)
     return block | {
         "tendon_tension_n": round(d.drive, 4),
         "friction_torque_nmm": round(s.friction_torque, 4),
@@ -53,6 +56,13 @@ def bearing_block(p: JointParams, mu: float = MU_ASSUMED) -> dict[str, Any]:
         "min_gap_under_load_mm": round(s.min_gap, 4),
         "contacts": {k: round(v, 4) for k, v in s.bearing.items()},
         "binding": list(s.binding),
+        "first_touch": None
+        if touch is None
+        else {
+            "tilt_deg": round(math.degrees(touch.tilt), 3),
+            "surface": touch.contact.surface,
+            "designed": touch.contact.designed,
+        },
         "locked": False,
         "note": NOTE,
     }
