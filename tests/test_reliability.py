@@ -282,7 +282,7 @@ def test_a_build_sweep_stopped_early_leaves_no_empty_folder(tmp_path):
     p = subprocess.Popen(
         [sys.executable, "-m", "rjcad", "sweep", "s.toml", "--out", str(out), "--build", "--workers", "2"],
         cwd=tmp_path,
-        stdout=subprocess.DEVNULL,
+        stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         env={**os.environ, "PYTHONPATH": str(ROOT)},
     )
@@ -290,9 +290,17 @@ def test_a_build_sweep_stopped_early_leaves_no_empty_folder(tmp_path):
     while p.poll() is None and not out.exists() and time.monotonic() < deadline:
         time.sleep(0.001)
     p.send_signal(signal.SIGTERM)
-    assert p.wait(timeout=60) == 143
+    said, _ = p.communicate(timeout=60)
+    assert p.returncode == 143
     left = sorted(f.name for f in out.iterdir()) if out.exists() else []
     assert left in ([], ["results.partial.jsonl"]), left  # a log only with the rows it holds
+    # what it says is what it left: a log to resume from, or nothing
+    last = (said.decode().strip().splitlines() or [""])[-1]
+    if left:
+        rows = [r for r in (out / "results.partial.jsonl").read_text().splitlines() if r.strip()]
+        assert last.startswith(f"sweep: stopped; {len(rows)} design") and "--resume" in last, last
+    else:  # (or stopped before the sweep began, when it prints nothing)
+        assert last in ("", "sweep: stopped before any design was built: nothing to resume"), last
 
 
 def test_a_file_size_limit_on_a_single_file_leaves_no_folder_it_made(tmp_path):

@@ -285,3 +285,18 @@ def test_a_stopped_build_sweep_leaves_no_process_and_resumes_each_design_once(tm
     )
     assert sorted(r["id"] for r in rows) == sorted(sw.point_id(pt) for pt in spec.points())
     assert [r["status"] for r in rows].count("infeasible") == 2 and all(r["status"] for r in rows)
+
+
+def test_a_stopped_build_sweep_says_what_its_log_keeps(tmp_path):
+    """The line a stopped build sweep prints counts the rows its log keeps, and says so when there is none."""
+    from rjcad.cli.sweep import _stopped
+
+    log = tmp_path / "results.partial.jsonl"
+    assert _stopped(log) == "sweep: stopped before any design was built: nothing to resume"
+    log.write_text("")
+    assert _stopped(log).endswith("nothing to resume")
+    log.write_text('{"id": "a"}\n{"id": "b"}\n{"id": "c"')  # the last row cut by the stop
+    assert _stopped(log) == f"sweep: stopped; 2 designs built so far in {log}: --resume continues from them"
+    link = tmp_path / "link.jsonl"
+    link.symlink_to(log)
+    assert _stopped(link).endswith("nothing to resume")  # never read through a link

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from rjcad.cli.options import OutDir
@@ -56,12 +58,31 @@ def sweep(sweep_file, out_dir, workers, scheduler, build, keep_meshes, resume):
             )
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the earlier outputs are untouched
         if build:
-            click.echo(
-                f"sweep: stopped; the designs built so far are in {out_dir}/results.partial.jsonl: "
-                "--resume continues from them"
-            )
+            click.echo(_stopped(Path(out_dir) / "results.partial.jsonl"))
         raise
     print_sweep(res, out_dir)
+
+
+def _stopped(log: Path) -> str:
+    """The line a stopped build sweep prints: how many designs its log keeps for --resume (none: no log left)."""
+    try:
+        kept = log.is_file() and not log.is_symlink() and log.stat().st_size > 0
+        rows = sum(_whole_row(line) for line in log.open(encoding="utf-8", errors="replace")) if kept else 0
+    except OSError:
+        rows = 0
+    if not rows:
+        return "sweep: stopped before any design was built: nothing to resume"
+    return f"sweep: stopped; {rows} design{'s' if rows > 1 else ''} built so far in {log}: --resume continues from them"
+
+
+def _whole_row(line: str) -> bool:
+    """A log line that holds a whole row (a JSON object): the stop may have cut the last one."""
+    import json
+
+    try:
+        return isinstance(json.loads(line), dict)
+    except ValueError:
+        return False
 
 
 def print_sweep(res, out_dir: str) -> None:
