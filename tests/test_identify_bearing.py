@@ -212,6 +212,16 @@ def _campaign_naming(folder, joint: str) -> None:
     toml.write_text(toml.read_text().replace("[design]\n", f'[design]\njoint = "{joint}"\n'))
 
 
+def test_a_pulley_other_than_the_joints_tendon_arm_is_noted(tmp_path, joint_json):
+    shutil.copy(joint_json, tmp_path / "joint.json")
+    _campaign_naming(tmp_path, "joint.json")
+    toml = tmp_path / "campaign.toml"
+    toml.write_text(toml.read_text().replace("pulley_radius_mm = 6.0", "pulley_radius_mm = 8.0"))
+    notes = load_campaign(toml).notes
+    tendon = [n for n in notes if "the joint's tendon arm 6 mm" in n]
+    assert len(tendon) == 4 and all("pulley radius 8 mm" in n for n in tendon), notes  # B–E, not the bar (A)
+
+
 def test_a_missing_or_edited_joint_manifest_is_one_line(tmp_path, joint_json):
     _campaign_naming(tmp_path, "nope.json")
     with pytest.raises(RjcadError, match=r"\[design\] joint.*nope\.json"):

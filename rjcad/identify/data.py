@@ -136,6 +136,12 @@ def load_campaign(path, allow_outside: bool = False, doc: dict | None = None) ->
         experiments.append(exp)
         if note:
             notes.append(note)
+        table = spec.get("bearing")
+        if table is not None and not math.isclose(exp.pulley_radius, table.arm, rel_tol=0.01):
+            notes.append(
+                f"{exp.file}: pulley radius {exp.pulley_radius:g} mm, the joint's tendon arm {table.arm:g} mm: its "
+                "bearing's load is taken where the joint's own tendon leaves its band"
+            )
     _check_units(design, experiments)
     return Campaign(path=path, design=design, experiments=tuple(experiments), notes=tuple(notes))
 

@@ -32,11 +32,12 @@ LOCKED = 1e3
 @dataclass(frozen=True, eq=False)
 class FrictionTable:
     """S(θ_j, T) = Σ N_i·ρ_i of a joint's bearing [N·mm per unit μ] at poses ``theta_j`` (I,) [rad] and tendon
-    tensions ``tension`` (J,) [N, from 0, rising]; ``s`` (I, J)."""
+    tensions ``tension_grid`` (J,) [N, from 0, rising]; ``s`` (I, J)."""
 
     theta_j: np.ndarray
     tension_grid: np.ndarray
     s: np.ndarray
+    arm: float = 0.0  # the tendon's moment arm the loads were taken at [mm] (0: not given)
 
     def __post_init__(self) -> None:
         th, t, s = (np.asarray(a, dtype=float) for a in (self.theta_j, self.tension_grid, self.s))
@@ -112,4 +113,4 @@ def friction_table(p: JointParams, poses: int = 13, tensions: int = 10) -> Frict
             for a in th
         ]
     )
-    return FrictionTable(th, grid, s)
+    return FrictionTable(th, grid, s, float(p.moment_arm))
