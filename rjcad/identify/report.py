@@ -222,7 +222,8 @@ def _steps_section(js: dict) -> list[str]:
         ]
     if any(s["action"] == "replaced" for s in js["steps"]):
         out += [
-            "Step R replaces an effect the forward pass took by one tried beside it that, in its place and with the "
+            "Step R replaces an effect the forward pass took by one with fewer parameters, tried beside it, that, "
+            "in its place and with the "
             f"others refitted, lowers the BIC by more than {BIC_GATE:g} (its ΔBIC is against the set before it): "
             "an effect with more parameters can win a forward step by taking up part of one not yet added."
         ]

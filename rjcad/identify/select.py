@@ -487,19 +487,25 @@ class Selector:
         return current, accepted, notes
 
     def swap(self, accepted: list[str], current: FitResult, ho_cur, steps: list[Step], design, cands):
-        """Replace an accepted effect e by an effect f tried at e's forward step and supported there on its own
-        (ΔBIC < −10), when the set with f in e's place fits better by more than the BIC gate (refitted): the
-        forward pass is greedy, and an effect with more parameters can win a step by absorbing part of an effect
-        not yet added (the best swap first, until none helps). Mutates ``accepted`` and ``steps``."""
+        """Replace an accepted effect e by an effect f with fewer parameters, tried at e's forward step and
+        supported there on its own (ΔBIC < −10), when the set with f in e's place fits better by more than the BIC
+        gate (refitted): the forward pass is greedy, and an effect with more parameters can win a step by absorbing
+        part of an effect not yet added (the best swap first, until none helps). Mutates ``accepted`` and
+        ``steps``."""
         tried: set[frozenset[str]] = {frozenset(accepted)}
         for _ in range(len(self.catalogue)):
             best = None
             for e in accepted:
                 at = [c.step for c in cands if c.effect == e and c.reason == "accepted"]
+                size = len(self.effects[e].param_names)
                 rivals = [
                     c.effect
                     for c in cands
-                    if at and c.step == at[-1] and c.effect not in accepted and (c.delta_bic or 0.0) < -BIC_GATE
+                    if at
+                    and c.step == at[-1]
+                    and c.effect not in accepted
+                    and (c.delta_bic or 0.0) < -BIC_GATE
+                    and len(self.effects[c.effect].param_names) < size
                 ]
                 for f in rivals:
                     effs = [f if a == e else a for a in accepted]
