@@ -217,17 +217,18 @@ def _bearing_of(toml: Path, file: str, allow_outside: bool) -> FrictionTable:
     from rjcad.physics.bearing_table import friction_table
 
     label = f"{toml}: [design] joint"
-    path = confined(toml.parent, file, label, allow_outside)
-    if not path.is_file():
-        problem = "is not a file" if path.exists() else "not found"
-        raise RjcadError(f"{label}: file {quote(file)} {problem} (looked for {quote(str(path), 120, repr_=False)})")
+    path = _campaign_file(toml, file, label, allow_outside)
     return friction_table(joint_params(Manifest.read(path), label))
 
 
 def _data_path(toml: Path, i: int, file: str, allow_outside: bool) -> Path:
-    """Experiment ``i``'s CSV file, relative to the campaign file and inside its folder (unless
-    ``allow_outside``); RjcadError if it is outside, missing or not a file."""
-    label = f"{toml}: experiment {i}"
+    """Experiment ``i``'s CSV file (:func:`_campaign_file`)."""
+    return _campaign_file(toml, file, f"{toml}: experiment {i}", allow_outside)
+
+
+def _campaign_file(toml: Path, file: str, label: str, allow_outside: bool) -> Path:
+    """A file the campaign names, relative to the campaign file and inside its folder (unless ``allow_outside``);
+    RjcadError under ``label`` if it is outside, missing or not a file."""
     path = confined(toml.parent, file, label, allow_outside)
     try:
         if path.is_file():

@@ -54,9 +54,9 @@ def joint_params(man: Manifest, label: str) -> JointParams:
     spring = entry.spring or {}
     layout = entry.extra.get("layout")
     kw["layout"] = layout.get("layout") if isinstance(layout, dict) else layout
-    kw["arms"] = int(spring.get("arms", 1))
     kw["clearance"] = man.clearance_mm
     try:
+        kw["arms"] = int(spring.get("arms", 1))
         for kind, name in (("printers", "printer"), ("materials", "material")):
             found = from_manifest(kind, getattr(man, name), man.extra)
             if found is not None:

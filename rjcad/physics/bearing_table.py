@@ -56,17 +56,6 @@ class FrictionTable:
         out: np.ndarray = (1.0 - w)[:, None] * self.s[i] + w[:, None] * self.s[i + 1]
         return out
 
-    def friction(self, theta_j: ArrayLike, tension: ArrayLike) -> np.ndarray:
-        """S(θ_j, T) per sample, bilinear (T beyond the grid: the last segment's slope) [N·mm]."""
-        col = self.at(theta_j)
-        t = np.asarray(tension, dtype=float).ravel()
-        g = self.tension_grid
-        k = np.clip(np.searchsorted(g, t, side="right") - 1, 0, len(g) - 2)
-        rows = np.arange(len(t))
-        w = (t - g[k]) / (g[k + 1] - g[k])
-        out: np.ndarray = (1.0 - w) * col[rows, k] + w * col[rows, k + 1]
-        return out
-
     def tension(self, torque: ArrayLike, direction: ArrayLike, mu: float, arm: float, theta_j: ArrayLike) -> np.ndarray:
         """The least T ≥ 0 with r·T = τ + s·μ·S(θ_j, T) [N]: 0 where τ + s·μ·S(θ_j, 0) ≤ 0 (the tendon is slack);
         LOCKED × the grid's top where the friction outgrows the tendon beyond the grid."""
