@@ -407,9 +407,12 @@ class Finger(_Built):
             vendored_three()  # a missing three.js is said before the files are made
         return write_finger_files(self._build, Path(out_dir), png=png, more=finger_page if html else None)
 
-    def simulate(self, stroke_mm: float = FINGER.stroke, steps: int = 500, mu_t: float = 0.0) -> Closure:
+    def simulate(
+        self, stroke_mm: float = FINGER.stroke, steps: int = 500, mu_t: float = 0.0, bearing_mu: float | None = None
+    ) -> Closure:
         """Pull the tendon from 0 to ``stroke_mm`` in ``steps`` steps, then release it, as ``rjcad simulate finger``
-        on the manifest (measured arms and wraps; ``mu_t``: the tendon's friction coefficient on its path)."""
+        on the manifest (measured arms and wraps; ``mu_t``: the tendon's friction coefficient on its path;
+        ``bearing_mu``: each joint's friction from its own bearing at this μ, ``--friction bearing --mu``)."""
         from rjcad.physics.finger import model_from_manifest, simulate_stroke
         from rjcad.validate import in_range
 
@@ -418,7 +421,8 @@ class Finger(_Built):
         if isinstance(steps, bool) or not isinstance(steps, int):
             raise ParameterError("steps", steps, "must be an integer")
         in_range("steps", steps, *STEPS)
-        c = simulate_stroke(model_from_manifest(self._build.manifest, mu_t=mu_t), float(stroke_mm), steps=steps)
+        model = _with_bearing(model_from_manifest(self._build.manifest, mu_t=mu_t), self.params.joints, bearing_mu)
+        c = simulate_stroke(model, float(stroke_mm), steps=steps)
         return Closure(
             c.tendon_mm, np.degrees(c.theta), c.tension, c.joint_tension, c.state.astype(int), tuple(c.phase)
         )
@@ -432,15 +436,18 @@ class Finger(_Built):
         steps: int = 40,
         engine: str = "rjcad",
         mu_t: float = 0.0,
+        bearing_mu: float | None = None,
     ) -> Grasp:
         """Close this finger on ``objects`` (``Cylinder``, ``Box``) as ``rjcad simulate finger finger.json
         --object``: the tension ramped from 0 to ``max_tension_n`` [N] in ``steps`` readings (stopped at
         ``stroke_mm`` of tendon travel if given), by ``engine`` ("rjcad" or "mujoco"), the links' outlines from
-        the manifest where it has them; returns a ``Grasp`` (``verdict()``, ``to_dict()``)."""
+        the manifest where it has them; ``bearing_mu`` as in ``simulate`` (rjcad's engine); returns a ``Grasp``
+        (``verdict()``, ``to_dict()``)."""
         from rjcad.physics.finger import model_from_manifest
         from rjcad.physics.grasp_run import base_outline_of, grasp_outlines_of
 
         model = model_from_manifest(self._build.manifest, mu_t=mu_t)
+        model = _with_bearing(model, self.params.joints, bearing_mu, engine)
         manifest = self._build.manifest.to_json()
         outlines = grasp_outlines_of(manifest, model)
         return _grasp(
@@ -477,17 +484,37 @@ def grasp(
     steps: int = 40,
     engine: str = "rjcad",
     mu_t: float = 0.0,
+    bearing_mu: float | None = None,
 ) -> Grasp:
     """Close a finger given by a file, without building it, as ``rjcad simulate finger SOURCE --object``: a
     manifest (.json: its outlines) or a template (.toml: its ``[[object]]`` tables too), None for the paper's
     finger; the other arguments as ``Finger.grasp``."""
+    from rjcad.physics.finger_sources import load_finger_designs
     from rjcad.physics.grasp_run import grasp_model, grasp_outlines, template_objects
 
     path = None if source is None else os.fspath(source)
     model = grasp_model(path, mu_t)
+    if bearing_mu is not None:
+        model = _with_bearing(model, load_finger_designs(path), bearing_mu, engine)
     given = [objects] if isinstance(objects, (Cylinder, _Box)) else list(objects)
     both = [*template_objects(path), *given]
     return _grasp(model, both, grasp_outlines(path, model), max_tension_n, stroke_mm, steps, engine, path)
+
+
+def _with_bearing(model: Any, joints: Sequence[JointParams], mu: float | None, engine: str = "rjcad") -> Any:
+    """``model`` with each joint's friction band from its bearing at ``mu`` (``bearing_mu``; None: unchanged)."""
+    if mu is None:
+        return model
+    from rjcad.physics.bearing_band import JointLocked, with_bearing_friction
+    from rjcad.validate import in_range
+
+    if engine != "rjcad":
+        raise ParameterError("bearing_mu", mu, "rjcad's engine only: MuJoCo's joint friction is a constant")
+    in_range("bearing_mu", mu, 0.0, 2.0)
+    try:
+        return with_bearing_friction(model, joints, mu)[0]
+    except JointLocked as e:
+        raise ParameterError("bearing_mu", mu, f"too high for this finger: {e}") from None
 
 
 def _grasp(

@@ -315,6 +315,14 @@ def test_the_issues_example_runs_as_written(cli, root, tmp_path, monkeypatch, ca
     np.testing.assert_allclose(closure.tension_n, want["tension_n"], rtol=1e-12, atol=1e-12)
     assert closure.phase[0] == "pull" and closure.phase[-1] == "release"
     assert math.isclose(closure.tendon_mm.max(), 25.0)
+    # each joint's friction from its bearing: `rjcad simulate finger … --friction bearing --mu 0.3`'s closure
+    rough = finger.simulate(stroke_mm=25, steps=100, bearing_mu=0.3)
+    r = cli("simulate", "finger", "out/finger/finger.json", "--stroke", "25", "--steps", "100", "--friction",
+            "bearing", "--mu", "0.3", "--json")  # fmt: skip
+    np.testing.assert_allclose(rough.theta_deg, np.array(json.loads(r.out)["theta_deg"]).T, rtol=1e-12, atol=1e-12)
+    assert rough.tension_n.max() > 2 * closure.tension_n.max()
+    with pytest.raises(ParameterError, match=r"^bearing_mu = 0.5 is invalid: too high for this finger: joint 1"):
+        finger.simulate(bearing_mu=0.5)
     with pytest.raises(ParameterError, match=r"^stroke_mm = 0 mm is invalid"):
         finger.simulate(stroke_mm=0)
     with pytest.raises(ParameterError, match=r"^steps = 5 is invalid"):

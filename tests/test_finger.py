@@ -55,6 +55,33 @@ def test_default_finger_links_are_the_shortest_whole_mm_and_the_paper_finger_kee
     assert [p.link_length for p in paper.joints] == [40.0] * 3 and paper.base_length == 25.0
 
 
+def test_the_finger_rebuilt_from_its_manifest_is_the_one_built(default_finger, root, cli):
+    """rjcad.design.rebuild: each joint rebuilt from the manifest has the manifest's spring and bearing block (the
+    finger's shared eye plane and widths included); an edited spring is refused in one line; and simulate finger
+    takes the same bearing bands from the manifest as from the template."""
+    from rjcad.design.rebuild import finger_joints, joint_params
+    from rjcad.errors import RjcadError
+    from rjcad.io.manifest import Manifest
+    from rjcad.physics.bearing_block import bearing_block
+
+    out, manifest = default_finger[0], default_finger[1]
+    man = Manifest.coerce(manifest)
+    joints = finger_joints(man, "finger.json")
+    assert [bearing_block(p) for p in joints] == [j["bearing"] for j in manifest["joints"]]
+    edited = json.loads(json.dumps(manifest))
+    edited["joints"][1]["spring"]["thickness_mm"] *= 1.1
+    with pytest.raises(RjcadError, match=r"finger\.json: joint 2: the joint rebuilt from its manifest has a spring "):
+        finger_joints(Manifest.coerce(edited), "finger.json")
+    with pytest.raises(RjcadError, match="needs a joint's manifest"):
+        joint_params(man, "finger.json")
+    args = ("--friction", "bearing", "--mu", "0.3", "--json", "--steps", "50")
+    from_manifest = cli("simulate", "finger", out / "finger.json", *args)
+    from_template = cli("simulate", "finger", root / "templates" / "finger.toml", *args)
+    assert from_manifest.code == from_template.code == 0, from_manifest.err
+    bands = [json.loads(r.out)["bearing_friction"] for r in (from_manifest, from_template)]
+    assert bands[0] == bands[1]
+
+
 def test_outputs(default_finger):
     out = default_finger[0]
     for ext in ("stl", "3mf", "step", "glb", "png", "json", *(["html"] if THREE else [])):

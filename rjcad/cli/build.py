@@ -76,6 +76,7 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
             ("tendon moment arm", f"{m['tendon_moment_arm_mm']:.3f}", "mm (measured)"),
             ("tendon wrap angle", f"{m['tendon_wrap_angle_rad']:.3f}", "rad in the ground channel (measured)"),
             ("min gap between bodies", f"{m['measured_min_gap_mm']:.3f}", "mm (on the mesh)"),
+            _locks(m["joints"]),
             _bodies(m),
             ("triangles", f"{m['mesh']['triangles']}", ""),
         ]
@@ -161,5 +162,13 @@ def print_finger(m: Manifest | dict[str, Any]) -> None:
         for i, j in enumerate(m["joints"])
     ]
     rows.append(("tendon length at rest", f"{m['tendon_length_mm']:.1f}", "mm"))
+    rows.append(_locks(m["joints"]))
     rows.append(_bodies(m))
     print_table(rows)
+
+
+def _locks(joints) -> tuple[str, str, str]:
+    """The row of each joint's ``bearing.locks_above_mu``: the μ above which its tendon cannot turn it."""
+    values = [(j.get("bearing") or {}).get("locks_above_mu") for j in joints]
+    shown = "  ".join("never" if v is None else f"{v:.2f}" for v in values)
+    return ("bearing locks above μ", shown, "(bearing model, docs/bearing.md)")

@@ -4,6 +4,7 @@ and contacts, the verdict; the finger and the objects with an arrow per contact 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import click
 import numpy as np
@@ -128,9 +129,12 @@ def simulate_grasp(
     gravity: tuple[float, float, float] | None,
     as_json: bool,
     plot: str | None,
+    bearing_mu: float | None = None,
 ) -> None:
     """``rjcad simulate finger --object``: the closure on ``objects`` by one engine or both (``compare``); JSON
-    (``Grasp.to_dict``, or ``{"rjcad", "mujoco", "differences"}``), or the summary lines; ``plot``: a PNG."""
+    (``Grasp.to_dict``, or ``{"rjcad", "mujoco", "differences"}``), or the summary lines; ``plot``: a PNG;
+    ``bearing_mu``: the joints' friction from their bearings (rjcad's engine; its bands under
+    ``bearing_friction``)."""
     import json
     from pathlib import Path
 
@@ -146,7 +150,9 @@ def simulate_grasp(
         raise ParameterError(
             "--mu-t", mu_t, "MuJoCo has no capstan (one tension along a tendon): use 0 with --engine mujoco"
         )
-    model = grasp_model(source, mu_t, gravity)
+    from rjcad.cli.bearing_out import echo_bands, with_bearing
+
+    model, bands = with_bearing(grasp_model(source, mu_t, gravity), source, bearing_mu)
     outlines = grasp_outlines(source, model)
     runs: dict[str, Grasp] = {}
     with progress_line("simulate finger") as progress:
@@ -161,7 +167,12 @@ def simulate_grasp(
             plot_grasp(plot, runs, model, outlines)
     diff = compare_grasps(runs["rjcad"], runs["mujoco"]) if compare else None
     if as_json:
-        out = {e: g.to_dict() for e, g in runs.items()} | {"differences": diff} if compare else runs[engine].to_dict()
+        out: dict[str, Any] = (
+            {e: g.to_dict() for e, g in runs.items()} | {"differences": diff} if compare else runs[engine].to_dict()
+        )
+        if bands:
+            out["bearing_friction"] = [b.to_dict() for b in bands]
         click.echo(json.dumps(out))
     else:
+        echo_bands(bands)
         echo_grasp(runs, diff)

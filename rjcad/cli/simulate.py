@@ -12,6 +12,7 @@ import click
 from click.core import ParameterSource
 
 from rjcad import DEG
+from rjcad.cli.bearing_out import echo_bands, with_bearing
 from rjcad.cli.options import OutDir, OutFile, either, renamed
 from rjcad.errors import ParameterError
 from rjcad.paper import FINGER, JOINT
@@ -317,7 +318,23 @@ MAX_MU_T = 2.0
     default=None,
     help="With objects: the tendon's tension is ramped from 0 to this [N] (default 10).",
 )
-def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, object_specs, max_tension):
+@click.option(
+    "--friction",
+    type=click.Choice(["none", "bearing"]),
+    default="none",
+    show_default=True,
+    help="The joints' friction: none, or each joint's band from its own bearing model (docs/bearing.md).",
+)
+@click.option(
+    "--mu",
+    type=float,
+    default=None,
+    help="With --friction bearing: the printed material's friction on itself [default: the one the manifest's "
+    "bearing block assumes, for dry plastic].",
+)
+def simulate_finger(
+    source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, object_specs, max_tension, friction, mu
+):
     """Finger closure, pull then release: a finger manifest (.json) or template (.toml; default: the paper's).
     With objects (--object, or a template's [[object]] tables): the closure on them as the tension rises."""
     import numpy as np
@@ -326,35 +343,63 @@ def simulate_finger(source, stroke, steps, mu_t, as_json, plot, engine, compare,
     from rjcad.validate import in_range
 
     in_range("--mu-t", mu_t, 0.0, MAX_MU_T)
-    if _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity):
+    mu = _bearing_mu(friction, mu, engine, compare)
+    if _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, mu):
         return
     in_range("--stroke", stroke, 0.0, MAX_STROKE_MM, lo_open=True, unit="mm")
     grav = _finger_gravity(source, gravity)
-    runs = {}
+    runs, bands = {}, []
     with progress_line("simulate finger") as progress:
         for e in ("rjcad", "mujoco") if compare else (engine,):
             what = (
                 "MuJoCo: loading the model and running" if e == "mujoco" else "rjcad's solver (compiled on first use)"
             )
+            if mu is not None:
+                report(progress, "each joint's friction from its bearing")
             report(progress, f"pull and release, {what}")
-            runs[e] = _finger_run(e, source, stroke, steps, mu_t, grav)
+            runs[e], bands = _finger_run(e, source, stroke, steps, mu_t, grav, mu)
         if plot:
             report(progress, "plotting")
             _plot_closure(plot, runs, compare)
     c = runs[engine]
     if as_json:
-        click.echo(json.dumps(c.to_dict()))
-    else:
-        for name, run in runs.items():
-            end = np.degrees(run.theta[steps])
-            click.echo(
-                f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
-                f"deg, tension {run.tension[steps]:.2f} N"
-            )
+        out = c.to_dict()
+        if bands:
+            out["bearing_friction"] = [b.to_dict() for b in bands]
+        click.echo(json.dumps(out))
+        return
+    echo_bands(bands)
+    for name, run in runs.items():
+        end = np.degrees(run.theta[steps])
+        click.echo(
+            f"{name + ': ' if compare else ''}at {stroke:g} mm: θ = ({', '.join(f'{v:.1f}' for v in end)}) "
+            f"deg, tension {run.tension[steps]:.2f} N"
+        )
     _echo_sag(runs, source, gravity)
 
 
-def _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity) -> bool:
+def _bearing_mu(friction: str, mu: float | None, engine: str, compare: bool) -> float | None:
+    """``simulate finger``'s μ for the bearing's friction (None: --friction none); what cannot take it refused."""
+    from rjcad.validate import in_range
+
+    if friction == "none":
+        if mu is not None:
+            raise click.BadParameter("only with --friction bearing", param_hint="--mu")
+        return None
+    if engine == "mujoco" or compare:
+        raise click.BadParameter(
+            "rjcad's engine only: MuJoCo's joint friction is a constant, the bearing's grows with the tendon's "
+            "tension (docs/bearing.md)",
+            param_hint="--friction bearing",
+        )
+    from rjcad.physics.bearing_block import MU_ASSUMED
+
+    mu = MU_ASSUMED if mu is None else mu
+    in_range("--mu", mu, 0.0, 2.0)
+    return mu
+
+
+def _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, mu) -> bool:
     """``simulate finger`` with objects (``--object``, a template's tables): run it and say True; else False."""
     from rjcad.cli.grasp_out import simulate_grasp
     from rjcad.physics.grasp_run import GRASP_STEPS, template_objects
@@ -372,7 +417,7 @@ def _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot
         source, objects, engine=engine, compare=compare, max_tension_n=10.0 if max_tension is None else max_tension,
         stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None,
         steps=steps if given("steps") is ParameterSource.COMMANDLINE else GRASP_STEPS, mu_t=mu_t,
-        gravity=_finger_gravity(source, gravity), as_json=as_json, plot=plot,
+        gravity=_finger_gravity(source, gravity), as_json=as_json, plot=plot, bearing_mu=mu,
     )  # fmt: skip
     return True
 
@@ -435,8 +480,9 @@ def _echo_sag(runs: dict, source, gravity: str | None) -> None:
             click.echo(note, err=True)
 
 
-def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gravity=None):
-    """The pull/release of ``source`` by one engine (a ``Closure``), under ``gravity`` [m/s², finger frame]."""
+def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gravity=None, mu: float | None = None):
+    """The pull/release of ``source`` by one engine (a ``Closure``), under ``gravity`` [m/s², finger frame], and
+    the joints' bearing bands where ``mu`` is given (rjcad's engine only)."""
     from pathlib import Path
 
     if engine == "mujoco":
@@ -449,7 +495,7 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
 
         closure = run_stroke(mujoco_model(source, gravity), stroke, steps)
         raise_warnings(str(source or "the paper's finger"))
-        return closure
+        return closure, []
     if source is not None and Path(source).suffix.lower() == ".xml":
         raise ParameterError("SOURCE", source, "an MJCF runs only with --engine mujoco (without --compare)")
     from rjcad.physics.finger import simulate_stroke
@@ -470,7 +516,8 @@ def _finger_run(engine: str, source, stroke: float, steps: int, mu_t: float, gra
             "angle (a template has none); give a finger manifest (.json) that "
             "`rjcad finger` wrote, whose joints carry their measured wraps",
         )
-    return simulate_stroke(model, stroke, steps=steps)
+    model, bands = with_bearing(model, source, mu)
+    return simulate_stroke(model, stroke, steps=steps), bands
 
 
 @click.command("paper-finger")

@@ -60,9 +60,12 @@ class FingerParams:
         return fp
 
     @staticmethod
-    def joints_from_dict(data: dict[str, Any]) -> tuple[list[JointParams], list[dict[str, Any]]]:
+    def joints_from_dict(
+        data: dict[str, Any], profiles: dict[str, Any] | None = None
+    ) -> tuple[list[JointParams], list[dict[str, Any]]]:
         """A template's joints, validated, with one eye (or tendon) plane for the whole finger, and each joint's
-        table as given; the lengths are checked by :meth:`validate_lengths`."""
+        table as given; the lengths are checked by :meth:`validate_lengths`. ``profiles``: a ``printer`` and
+        ``material`` (profiles, such as a manifest embeds) in the place of the template's names."""
         for k, v in data.items():
             _typed("", k, v, GLOBAL_KEYS)
         defaults = {k: _typed("defaults.", k, v, JOINT_KEYS) for k, v in data.get("defaults", {}).items()}
@@ -77,7 +80,7 @@ class FingerParams:
             tendon_diameter=float(data.get("tendon_diameter_mm", 1.0)),
             safety_factor=float(data.get("safety_factor", 1.5)),
             end=data.get("end", JOINT_DEFAULT_END),
-        )
+        ) | (profiles or {})
         built: list[JointParams] = []
         requested: list[dict[str, Any]] = []
         for i, j in enumerate(joints, start=1):

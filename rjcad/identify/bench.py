@@ -148,7 +148,7 @@ JOINT_FILE = "joint.json"
 def _joint(path, design, rotation_deg) -> tuple[str | None, Any, Any]:
     """The joint manifest at ``path`` (None: no joint): its text, ``design`` over the joint's own (campaign JSON
     names) and its bearing friction table; the bench's ``rotation_deg`` must lie in the joint's range."""
-    from rjcad.identify.joint_of import joint_params
+    from rjcad.design.rebuild import joint_params
     from rjcad.io.manifest import Manifest
     from rjcad.io.untrusted import parse_json, read_text
     from rjcad.physics.bearing_table import friction_table

@@ -211,8 +211,8 @@ def _design(doc: dict, where: str) -> Design:
 
 def _bearing_of(toml: Path, file: str, allow_outside: bool) -> FrictionTable:
     """The bearing friction table of the joint whose manifest ``file`` the campaign names (relative to it, inside
-    its folder unless ``allow_outside``): the joint rebuilt from the manifest (rjcad.identify.joint_of)."""
-    from rjcad.identify.joint_of import joint_params
+    its folder unless ``allow_outside``): the joint rebuilt from the manifest (rjcad.design.rebuild)."""
+    from rjcad.design.rebuild import joint_params
     from rjcad.io.manifest import Manifest
     from rjcad.physics.bearing_table import friction_table
 

@@ -481,6 +481,18 @@ def spring_torque(p: JointParams, theta_j: float) -> float:
     return p.springs * p.spring.rod.torque_at(p.preload + theta_j)
 
 
+def locking_mu(p: JointParams, poses: int = 13) -> float:
+    """The μ above which the tendon cannot turn the joint at some pose, whatever its tension: r / max S₁(θ_j), S₁
+    the bearing's Σ N·ρ under the tendon alone per newton [mm/N·N] (the contact solve is homogeneous in the load:
+    S grows as S₁·T, and r·T = τ_s + μ·S has no root once μ·S₁ ≥ r); inf if the tendon loads no surface."""
+    contacts = contacts_of(p)
+    s1 = max(
+        solve(contacts, [tendon_load(p, 1.0, float(t))], 1.0).friction_torque
+        for t in np.linspace(0.0, p.rotation, poses)
+    )
+    return p.moment_arm / s1 if s1 > 0 else math.inf
+
+
 class BearingLocked(RuntimeError):
     """The friction a drive's own load makes grows faster than the drive: the joint locks (self-locking)."""
 

@@ -13,7 +13,7 @@ from functools import lru_cache
 from typing import Any
 
 from rjcad.design.params import JointParams
-from rjcad.physics.bearing import BearingLocked, Drive, driven, first_touch
+from rjcad.physics.bearing import BearingLocked, Drive, driven, first_touch, locking_mu
 
 #: The friction coefficient of the printed material on itself that the block assumes (dry ABS or PLA: 0.2–0.6).
 MU_ASSUMED = 0.4
@@ -40,29 +40,34 @@ def _loaded(p: JointParams, mu: float) -> Drive | None:
 
 def bearing_block(p: JointParams, mu: float = MU_ASSUMED) -> dict[str, Any]:
     """``{mu, tendon_tension_n, friction_torque_nmm, tilt_deg, min_gap_under_load_mm, contacts {surface: N},
-    binding, first_touch {tilt_deg, surface, designed} or None, locked, note}`` [N, N·mm, deg, mm]; locked (the
-    tendon's own friction outgrows it): numbers None."""
+    binding, first_touch {tilt_deg, surface, designed} or None, locked, locks_above_mu, note}`` [N, N·mm, deg, mm];
+    locked (the tendon's own friction outgrows it): numbers None; locks_above_mu: ``locking_mu`` (None: never)."""
+    lock = locking_mu(p)
     block: dict[str, Any] = {"mu": mu}
+    ends = {"locks_above_mu": round(lock, 4) if math.isfinite(lock) else None, "note": NOTE}
     d = _loaded(p, mu)
     if d is None:
         nothing = dict.fromkeys(("tendon_tension_n", "friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm"))
-        return block | nothing | {"contacts": {}, "binding": [], "first_touch": None, "locked": True, "note": NOTE}
+        return block | nothing | {"contacts": {}, "binding": [], "first_touch": None, "locked": True} | ends
     s = d.state
     touch = first_touch(s)
-    return block | {
-        "tendon_tension_n": round(d.drive, 4),
-        "friction_torque_nmm": round(s.friction_torque, 4),
-        "tilt_deg": round(math.degrees(s.tilt), 3),
-        "min_gap_under_load_mm": round(s.min_gap, 4),
-        "contacts": {k: round(v, 4) for k, v in s.bearing.items()},
-        "binding": list(s.binding),
-        "first_touch": None
-        if touch is None
-        else {
-            "tilt_deg": round(math.degrees(touch.tilt), 3),
-            "surface": touch.contact.surface,
-            "designed": touch.contact.designed,
-        },
-        "locked": False,
-        "note": NOTE,
-    }
+    return (
+        block
+        | {
+            "tendon_tension_n": round(d.drive, 4),
+            "friction_torque_nmm": round(s.friction_torque, 4),
+            "tilt_deg": round(math.degrees(s.tilt), 3),
+            "min_gap_under_load_mm": round(s.min_gap, 4),
+            "contacts": {k: round(v, 4) for k, v in s.bearing.items()},
+            "binding": list(s.binding),
+            "first_touch": None
+            if touch is None
+            else {
+                "tilt_deg": round(math.degrees(touch.tilt), 3),
+                "surface": touch.contact.surface,
+                "designed": touch.contact.designed,
+            },
+            "locked": False,
+        }
+        | ends
+    )

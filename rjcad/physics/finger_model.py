@@ -125,9 +125,9 @@ class FingerModel:
             raise ParameterError("stiffness", min(self.stiffness), "must be > 0 N·mm/rad")
         if any(r <= 0 for r in self.moment_arm):
             raise ParameterError("moment_arm", min(self.moment_arm), "must be > 0 mm")
-        for name in ("gamma_pos", "gamma_neg"):
-            if any(g >= k for g, k in zip(getattr(self, name), self.stiffness)):
-                raise ParameterError(name, max(getattr(self, name)), "must stay below each joint's stiffness")
+        # opening, the joint follows the band's lower edge K·s − γ⁻·s: γ⁻ ≥ K would hold it shut at any tension
+        if any(g >= k for g, k in zip(self.gamma_neg, self.stiffness)):
+            raise ParameterError("gamma_neg", max(self.gamma_neg), "must stay below each joint's stiffness")
 
     @property
     def n(self) -> int:

@@ -6,13 +6,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from rjcad import DEG
 from rjcad.errors import ParameterError
 from rjcad.physics.finger_model import FingerModel
+
+if TYPE_CHECKING:
+    from rjcad.design.params import JointParams
 
 
 def model_from_manifest(
@@ -162,3 +165,27 @@ def _number(table: dict[str, Any], i: int, key: str, default: float | None = Non
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise ParameterError(f"joint[{i}].{key}", v, "must be a number")
     return float(v)
+
+
+def load_finger_designs(source: str | None) -> tuple[JointParams, ...]:
+    """Each joint's design (JointParams, proximal first) of a finger manifest or a joint manifest (.json: rebuilt,
+    ``rjcad.design.rebuild``), a finger template (.toml) or the paper's finger (None)."""
+    from pathlib import Path
+
+    from rjcad.design.finger_params import FingerParams
+    from rjcad.design.rebuild import finger_joints, joint_params
+    from rjcad.io.manifest import Manifest
+    from rjcad.io.untrusted import read_toml
+    from rjcad.materials import profiles_beside
+
+    if source is None:
+        from rjcad.io.templates import PAPER_FINGER
+
+        return FingerParams.from_dict(PAPER_FINGER).joints
+    path = Path(source)
+    if path.suffix.lower() == ".json":
+        man = Manifest.read(source)
+        return (joint_params(man, path.name),) if man.kind == "joint" else finger_joints(man, path.name)
+    data = read_toml(source)
+    check_template_keys(data, path.name)
+    return FingerParams.from_dict(profiles_beside(data, path.parent), str(source)).joints

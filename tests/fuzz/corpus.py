@@ -517,6 +517,28 @@ def json_cases(sh: Shared) -> list[Case]:
     return cases
 
 
+#: The damages a manifest's rebuild reads (rjcad.design.rebuild): ``simulate finger --friction bearing`` gets them.
+REBUILT = ("huge-int", "clearance", "rotation", "printer", "schema", "stiffness", "spring-null", "missing", "list")
+
+
+def bearing_cases(sh: Shared) -> list[Case]:
+    """``simulate finger MANIFEST --friction bearing``: the joints rebuilt from a damaged manifest (the fields the
+    rebuild reads; the rest are json_cases')."""
+    argv = ["simulate", "finger", "m.json", "--friction", "bearing", "--json"]
+    return [
+        Case(
+            f"json-bearing-{kind}",
+            argv,
+            "error",
+            lambda d, data=data: _manifest_setup(sh, d, data, "bearing"),
+            mention=("m.json", "manifest", *kind.split("-")[:2]),
+            timeout=60,
+        )
+        for kind, data in manifest_damages(sh).items()
+        if kind.startswith(REBUILT)
+    ]
+
+
 def _manifest_setup(sh: Shared, d: Path, data: bytes | str | None, user: str) -> None:
     """A damaged manifest as ``m.json`` (none: missing); for ``rjcad urdf``, the joint's meshes beside it."""
     if data is not None:
@@ -1618,6 +1640,7 @@ def all_cases(sh: Shared) -> list[Case]:
         option_cases(sh)
         + toml_cases(sh)
         + json_cases(sh)
+        + bearing_cases(sh)
         + output_cases(sh)
         + check_cases(sh)
         + sweep_cases(sh)
