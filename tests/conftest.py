@@ -185,6 +185,9 @@ POOLS = {"LocalCluster", "Client", "ProcessPoolExecutor", "Pool"}
 #: every case) → seconds measured with `pytest -p no:xdist -m 'not slow' --durations=60` on the 2-core machine
 #: under load (issue #33: 623 s for the fast lane, 480 s of it in these). Re-measure when the fast lane slows.
 MEASURED_SLOW = {
+    "tests/test_bearing_finger.py::test_a_grasp_with_the_bearings_friction": 12,  # three grasps
+    "tests/test_bearing_finger.py::test_the_fingers_closure_is_each_joints_own_bearing_balance": 4,
+    "tests/test_bearing_finger.py::test_the_locking_mu_is_where_the_self_consistent_drive_fails": 3,
     "tests/test_spring_properties.py::test_feasible_requirements_of_the_paper_family": 36,
     "tests/test_identify_report.py::test_null_case": 35,  # the module's three identify reports (fixtures)
     "tests/test_identify_report.py::test_all_files_written_and_pngs_are_images": 30,
