@@ -125,10 +125,18 @@ def glb_frame(glb: bytes, name: str = "GLB") -> list[float]:
 
 
 def page_data(
-    man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0, grasp: Grasp | None = None
+    man: dict,
+    glb: bytes,
+    title: str,
+    stroke: float,
+    steps: int,
+    mu_t: float = 0.0,
+    grasp: Grasp | None = None,
+    bearing_mu: float | None = None,
 ) -> dict:
     """What the page needs besides three.js: bodies (GLB base64), joints, tendon path and the closure
-    (the pull, ``steps + 1`` samples from 0 to ``stroke`` mm; or, with ``grasp``, its readings and ``grasp``)."""
+    (the pull, ``steps + 1`` samples from 0 to ``stroke`` mm, the joints' friction from their bearings at
+    ``bearing_mu`` if given; or, with ``grasp``, its readings and ``grasp``)."""
     joints = [
         {"parent": j["parent"], "child": j["child"], "axis_point_mm": j["axis_point_mm"], "axis_dir": j["axis_dir"]}
         for j in man["joints"]
@@ -147,7 +155,7 @@ def page_data(
 
     if grasp is not None:
         return data | grasp_page_data(grasp, sum(model_from_manifest(man).link_length), mu_t)
-    c = simulate_stroke(model_from_manifest(man, mu_t=mu_t), stroke, steps=steps)
+    c = simulate_stroke(finger_model(man, mu_t, bearing_mu), stroke, steps=steps)
     pull = slice(0, steps + 1)
     data["closure"] = {
         "stroke_mm": stroke,
@@ -156,7 +164,7 @@ def page_data(
         "tendon_mm": c.tendon_mm[pull].tolist(),
         "theta_deg": [[math.degrees(v) for v in row] for row in c.theta[pull].tolist()],
         "tension_n": c.tension[pull].tolist(),
-    }
+    } | ({} if bearing_mu is None else {"bearing_mu": bearing_mu})
     return data
 
 
@@ -193,12 +201,19 @@ def grasp_page_data(g: Grasp, finger_mm: float, mu_t: float = 0.0) -> dict:
 
 
 def viewer_html(
-    man: dict, glb: bytes, title: str, stroke: float, steps: int, mu_t: float = 0.0, grasp: Grasp | None = None
+    man: dict,
+    glb: bytes,
+    title: str,
+    stroke: float,
+    steps: int,
+    mu_t: float = 0.0,
+    grasp: Grasp | None = None,
+    bearing_mu: float | None = None,
 ) -> str:
     """The self-contained page of the built finger ``man`` (manifest JSON object) whose bodies are ``glb``
     (with ``grasp``: its closure on objects)."""
     three = vendored_three()
-    data = page_data(man, glb, title, stroke, steps, mu_t, grasp)
+    data = page_data(man, glb, title, stroke, steps, mu_t, grasp, bearing_mu)
     template = (importlib.resources.files("rjcad") / "data" / TEMPLATE).read_text(encoding="utf-8")
     three_url = "data:text/javascript;base64," + base64.b64encode(three.encode("utf-8")).decode("ascii")
     # "</" cannot end the script element inside JSON: written "<\/". One pass: no value is scanned again.
@@ -214,16 +229,38 @@ def _html_text(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
+def finger_model(man: dict, mu_t: float = 0.0, bearing_mu: float | None = None) -> Any:
+    """The finger model of the manifest ``man`` (JSON object), each joint's friction from its bearing at
+    ``bearing_mu`` if given (its joints rebuilt from the manifest)."""
+    from rjcad.physics.finger import model_from_manifest
+
+    model = model_from_manifest(man, mu_t=mu_t)
+    if bearing_mu is None:
+        return model
+    from rjcad.design.rebuild import finger_joints, joint_params
+    from rjcad.io.manifest import Manifest
+    from rjcad.physics.bearing_band import with_bearing_friction
+
+    m = Manifest.coerce(man)
+    joints = (joint_params(m, "the manifest"),) if m.kind == "joint" else finger_joints(m, "the manifest")
+    return with_bearing_friction(model, joints, bearing_mu)[0]
+
+
 def close_grasp(
-    man: dict, objects: Sequence[Object], max_tension_n: float, stroke: float | None, steps: int, mu_t: float = 0.0
+    man: dict,
+    objects: Sequence[Object],
+    max_tension_n: float,
+    stroke: float | None,
+    steps: int,
+    mu_t: float = 0.0,
+    bearing_mu: float | None = None,
 ) -> Grasp:
     """rjcad's closure of the built finger ``man`` on ``objects`` with its measured outlines, as
     ``rjcad simulate finger MANIFEST --object …`` runs it (tension ramp to ``max_tension_n`` [N] in ``steps``
-    readings, stopped at ``stroke`` [mm] if given; gravity off)."""
-    from rjcad.physics.finger import model_from_manifest
+    readings, stopped at ``stroke`` [mm] if given; gravity off; ``bearing_mu``: ``finger_model``)."""
     from rjcad.physics.grasp_run import base_outline_of, grasp_outlines_of, run_grasp
 
-    model = model_from_manifest(man, mu_t=mu_t)
+    model = finger_model(man, mu_t, bearing_mu)
     outlines = grasp_outlines_of(man, model)
     return run_grasp(
         "rjcad", model, objects, max_tension_n=max_tension_n, stroke=stroke, outlines=outlines, steps=steps,
@@ -259,13 +296,15 @@ def write_viewer(
     objects: Sequence[Object] = (),
     max_tension_n: float = 10.0,
     grasp_stroke: float | None = None,
+    bearing_mu: float | None = None,
 ) -> Path:
     """Write the page of the built finger ``manifest_path`` to ``out`` atomically; return its path. With
-    ``objects``: the closure on them in ``steps`` readings (``close_grasp``), else the pull over ``stroke`` mm."""
+    ``objects``: the closure on them in ``steps`` readings (``close_grasp``), else the pull over ``stroke`` mm;
+    ``bearing_mu``: the joints' friction from their bearings (``finger_model``)."""
     from rjcad.io.config import write_atomic
 
     vendored_three()  # before the simulation: a missing three.js is the first thing to say
     man, glb = read_built(manifest_path, allow_outside)
     title = f"rjcad {man.get('kind', 'finger')}: {Path(manifest_path).name}"
-    grasp = close_grasp(man, objects, max_tension_n, grasp_stroke, steps, mu_t) if objects else None
-    return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t, grasp))
+    grasp = close_grasp(man, objects, max_tension_n, grasp_stroke, steps, mu_t, bearing_mu) if objects else None
+    return write_atomic(out, viewer_html(man, glb, title, stroke, steps, mu_t, grasp, bearing_mu))

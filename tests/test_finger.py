@@ -55,7 +55,7 @@ def test_default_finger_links_are_the_shortest_whole_mm_and_the_paper_finger_kee
     assert [p.link_length for p in paper.joints] == [40.0] * 3 and paper.base_length == 25.0
 
 
-def test_the_finger_rebuilt_from_its_manifest_is_the_one_built(default_finger, root, cli):
+def test_the_finger_rebuilt_from_its_manifest_is_the_one_built(default_finger, root, cli, tmp_path):
     """rjcad.design.rebuild: each joint rebuilt from the manifest has the manifest's spring and bearing block (the
     finger's shared eye plane and widths included); an edited spring is refused in one line; and simulate finger
     takes the same bearing bands from the manifest as from the template."""
@@ -80,6 +80,16 @@ def test_the_finger_rebuilt_from_its_manifest_is_the_one_built(default_finger, r
     assert from_manifest.code == from_template.code == 0, from_manifest.err
     bands = [json.loads(r.out)["bearing_friction"] for r in (from_manifest, from_template)]
     assert bands[0] == bands[1]
+    # the viewer's closure with the same friction (rjcad view --friction bearing): the same angles
+    from rjcad.view import page_data
+
+    data = page_data(manifest, (out / "finger.glb").read_bytes(), "t", 25.0, 50, bearing_mu=0.3)["closure"]
+    want = json.loads(from_manifest.out)
+    assert data["bearing_mu"] == 0.3
+    np.testing.assert_allclose(np.array(data["theta_deg"]), np.array(want["theta_deg"]).T[:51], atol=1e-9)
+    if THREE:
+        r = cli("view", out / "finger.json", "--out", tmp_path, "--friction", "bearing", "--mu", "0.5")
+        assert r.code == 2 and "--mu = 0.5 is invalid: too high for this finger: joint 1" in r.err
 
 
 def test_outputs(default_finger):

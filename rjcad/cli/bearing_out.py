@@ -8,6 +8,42 @@ import click
 
 from rjcad.errors import ParameterError
 
+#: ``--friction`` and ``--mu`` of the commands that run a finger's closure (simulate finger, view).
+FRICTION_HELP = "The joints' friction: none, or each joint's band from its own bearing model (docs/bearing.md)."
+MU_HELP = (
+    "With --friction bearing: the printed material's friction on itself [default: the one the manifest's bearing "
+    "block assumes, for dry plastic]."
+)
+
+
+def friction_options(f: Any) -> Any:
+    """The ``--friction`` and ``--mu`` options (a decorator)."""
+    f = click.option("--mu", type=float, default=None, help=MU_HELP)(f)
+    return click.option(
+        "--friction", type=click.Choice(["none", "bearing"]), default="none", show_default=True, help=FRICTION_HELP
+    )(f)
+
+
+def bearing_mu(friction: str, mu: float | None) -> float | None:
+    """The μ of ``--friction bearing`` (its default: the block's), None for ``--friction none``; ``--mu`` alone
+    refused."""
+    from rjcad.validate import in_range
+
+    if friction == "none":
+        if mu is not None:
+            raise click.BadParameter("only with --friction bearing", param_hint="--mu")
+        return None
+    from rjcad.physics.bearing_block import MU_ASSUMED
+
+    mu = MU_ASSUMED if mu is None else mu
+    in_range("--mu", mu, 0.0, 2.0)
+    return mu
+
+
+def locked_is_mu(e: Exception, mu: float | None) -> ParameterError:
+    """A joint that locks at ``--mu``: that option's one error line."""
+    return ParameterError("--mu", mu, f"too high for this finger: {e}")
+
 
 def with_bearing(model: Any, source: str | None, mu: float | None) -> tuple[Any, list]:
     """``model`` with its joints' bearing bands at ``mu`` (the designs of ``source``), and the bands; unchanged
@@ -20,7 +56,7 @@ def with_bearing(model: Any, source: str | None, mu: float | None) -> tuple[Any,
     try:
         return with_bearing_friction(model, load_finger_designs(source), mu)
     except JointLocked as e:
-        raise ParameterError("--mu", mu, f"too high for this finger: {e}") from None
+        raise locked_is_mu(e, mu) from None
 
 
 def echo_bands(bands: list) -> None:

@@ -12,7 +12,7 @@ import click
 from click.core import ParameterSource
 
 from rjcad import DEG
-from rjcad.cli.bearing_out import echo_bands, with_bearing
+from rjcad.cli.bearing_out import bearing_mu, echo_bands, friction_options, with_bearing
 from rjcad.cli.options import OutDir, OutFile, either, renamed
 from rjcad.errors import ParameterError
 from rjcad.paper import FINGER, JOINT
@@ -318,20 +318,7 @@ MAX_MU_T = 2.0
     default=None,
     help="With objects: the tendon's tension is ramped from 0 to this [N] (default 10).",
 )
-@click.option(
-    "--friction",
-    type=click.Choice(["none", "bearing"]),
-    default="none",
-    show_default=True,
-    help="The joints' friction: none, or each joint's band from its own bearing model (docs/bearing.md).",
-)
-@click.option(
-    "--mu",
-    type=float,
-    default=None,
-    help="With --friction bearing: the printed material's friction on itself [default: the one the manifest's "
-    "bearing block assumes, for dry plastic].",
-)
+@friction_options
 def simulate_finger(
     source, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, object_specs, max_tension, friction, mu
 ):
@@ -379,24 +366,14 @@ def simulate_finger(
 
 
 def _bearing_mu(friction: str, mu: float | None, engine: str, compare: bool) -> float | None:
-    """``simulate finger``'s μ for the bearing's friction (None: --friction none); what cannot take it refused."""
-    from rjcad.validate import in_range
-
-    if friction == "none":
-        if mu is not None:
-            raise click.BadParameter("only with --friction bearing", param_hint="--mu")
-        return None
-    if engine == "mujoco" or compare:
+    """``simulate finger``'s μ for the bearing's friction (None: --friction none); MuJoCo refused."""
+    if friction == "bearing" and (engine == "mujoco" or compare):
         raise click.BadParameter(
             "rjcad's engine only: MuJoCo's joint friction is a constant, the bearing's grows with the tendon's "
             "tension (docs/bearing.md)",
             param_hint="--friction bearing",
         )
-    from rjcad.physics.bearing_block import MU_ASSUMED
-
-    mu = MU_ASSUMED if mu is None else mu
-    in_range("--mu", mu, 0.0, 2.0)
-    return mu
+    return bearing_mu(friction, mu)
 
 
 def _grasp(source, object_specs, max_tension, stroke, steps, mu_t, as_json, plot, engine, compare, gravity, mu) -> bool:

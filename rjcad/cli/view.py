@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from rjcad.cli.bearing_out import bearing_mu, friction_options, locked_is_mu
 from rjcad.cli.options import OutDir, allow_outside_option, out_file
 from rjcad.paper import FINGER
 from rjcad.view import DEFAULT_STEPS
@@ -58,8 +59,9 @@ def check_view_options(stroke: float, mu_t: float) -> None:
     default=None,
     help="With objects: the tendon's tension is ramped from 0 to this [N] (default 10).",
 )
+@friction_options
 @allow_outside_option
-def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, allow_outside):
+def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, friction, mu, allow_outside):
     """Write an interactive viewer of a built finger (FINGER.json, its .glb beside it): orbit, and a slider over
     the tendon stroke that closes the finger with the joint angles and tension of `rjcad simulate finger`.
     With objects (--object): the closure on them, the objects and the contact forces along the slider."""
@@ -84,9 +86,15 @@ def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, allo
     if objects and given("steps") is not ParameterSource.COMMANDLINE:
         steps = GRASP_STEPS
     out = Path(folder) / name
-    write_viewer(
-        manifest, out, stroke, steps, mu_t, allow_outside, objects=objects,
-        max_tension_n=10.0 if max_tension is None else max_tension,
-        grasp_stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None,
-    )  # fmt: skip
+    mu = bearing_mu(friction, mu)
+    from rjcad.physics.bearing_band import JointLocked
+
+    try:
+        write_viewer(
+            manifest, out, stroke, steps, mu_t, allow_outside, objects=objects,
+            max_tension_n=10.0 if max_tension is None else max_tension,
+            grasp_stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None, bearing_mu=mu,
+        )  # fmt: skip
+    except JointLocked as e:
+        raise locked_is_mu(e, mu) from None
     click.echo(f"viewer written to {out} (open it in a browser; no network needed)")

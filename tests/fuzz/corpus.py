@@ -229,6 +229,7 @@ NUMERIC = {
     ),
     "simfinger": (["simulate", "finger"], ["--stroke", "--mu-t", "--gravity", "--max-tension"]),
     "simbearing": (["simulate", "joint", "--rotation", "90", "--friction", "bearing"], ["--mu", "--rotation"]),
+    "simfingerbearing": (["simulate", "finger", "--friction", "bearing"], ["--mu"]),
     "design": (
         ["finger-design", "--target", "65,50,50", "--stroke", "25", "--out", "d"],
         ["--stroke", "--base-stiffness"],
@@ -320,6 +321,15 @@ def option_cases(sh: Shared) -> list[Case]:
         ("locks", ["--friction", "bearing", "--geometry", "desktop", "--drive", "tendon", "--mu", "1.5"], "mu"),
     ):
         cases.append(Case(f"num-simjoint-bearing-{name}", sim + extra, mention=(words,)))
+    # the finger's bearing friction: its μ alone, a μ that locks joint 1, an engine that cannot carry it
+    for name, extra, words in (
+        ("mu-alone", ["--mu", "0.3"], "mu"),
+        ("friction", ["--friction", "sliding"], "friction"),
+        ("locks", [str(sh.joint / "joint.json"), "--friction", "bearing", "--mu", "1.5"], "mu"),  # the desktop joint
+        ("mujoco", ["--friction", "bearing", "--engine", "mujoco"], "friction"),
+        ("compare", ["--friction", "bearing", "--compare"], "friction"),
+    ):
+        cases.append(Case(f"num-simfinger-bearing-{name}", ["simulate", "finger", *extra], mention=(words,)))
     return cases
 
 
