@@ -56,6 +56,7 @@ def joint(config, out_dir, no_png, **options):
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     echo_profiles(params.printer_spec, params.material_spec)
     print_joint(b.manifest)
+    echo_lock_note(b.manifest["joints"])
 
 
 def print_joint(m: Manifest | dict[str, Any]) -> None:
@@ -144,6 +145,7 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     )
     echo_profiles(fp.joints[0].printer_spec, fp.joints[0].material_spec)
     print_finger(m)
+    echo_lock_note(m["joints"])
     if mjcf:
         from rjcad.cli.mjcf import echo_sag_of_manifest
 
@@ -165,6 +167,28 @@ def print_finger(m: Manifest | dict[str, Any]) -> None:
     rows.append(_locks(m["joints"]))
     rows.append(_bodies(m))
     print_table(rows)
+
+
+def echo_lock_note(joints) -> None:
+    """A note (stderr) when a joint's bearing locks above a μ that dry plastic on itself can have."""
+    from rjcad.physics.bearing_paper import PLAUSIBLE_MU
+
+    locks = [(i, (j.get("bearing") or {}).get("locks_above_mu")) for i, j in enumerate(joints, start=1)]
+    inside = [(i, v) for i, v in locks if v is not None and v < PLAUSIBLE_MU[1]]
+    if not inside:
+        return
+    if len(joints) == 1:
+        which = f"this joint locks above μ {inside[0][1]:.2f}"
+    elif len(inside) == 1:
+        which = f"joint {inside[0][0]} locks above μ {inside[0][1]:.2f}"
+    else:
+        which = f"joints {', '.join(str(i) for i, _ in inside)} lock above μ {', '.join(f'{v:.2f}' for _, v in inside)}"
+    click.echo(
+        f"rjcad: note: the bearing model says {which}, inside dry plastic's {PLAUSIBLE_MU[0]:g}–{PLAUSIBLE_MU[1]:g}: "
+        f"in a material that grips itself the tendon may not turn {'it' if len(inside) == 1 else 'them'} "
+        "(docs/bearing.md)",
+        err=True,
+    )
 
 
 def _locks(joints) -> tuple[str, str, str]:
