@@ -56,11 +56,11 @@ def joint(config, out_dir, no_png, **options):
     click.echo(f"joint written to {_outputs(out_dir, 'joint', no_png)}")
     echo_profiles(params.printer_spec, params.material_spec)
     print_joint(b.manifest)
-    echo_lock_note(b.manifest["joints"])
 
 
 def print_joint(m: Manifest | dict[str, Any]) -> None:
-    """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bodies, triangles."""
+    """Summary table of a joint manifest: stiffness, spring, measured arm, wrap and gap, bearing, bodies, triangles;
+    the bearing's note (``echo_lock_note``)."""
     print_table(
         [
             (
@@ -82,6 +82,7 @@ def print_joint(m: Manifest | dict[str, Any]) -> None:
             ("triangles", f"{m['mesh']['triangles']}", ""),
         ]
     )
+    echo_lock_note(m["joints"])
 
 
 @click.command()
@@ -145,7 +146,6 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
     )
     echo_profiles(fp.joints[0].printer_spec, fp.joints[0].material_spec)
     print_finger(m)
-    echo_lock_note(m["joints"])
     if mjcf:
         from rjcad.cli.mjcf import echo_sag_of_manifest
 
@@ -153,7 +153,8 @@ def finger(template, out_dir, no_png, printer, material, html, mjcf, gravity):
 
 
 def print_finger(m: Manifest | dict[str, Any]) -> None:
-    """Summary table of a finger manifest: each joint's K, arm and wrap, the tendon length, the bodies."""
+    """Summary table of a finger manifest: each joint's K, arm and wrap, the tendon length, the bearings, the
+    bodies; the bearing's note (``echo_lock_note``)."""
     rows = [
         (
             f"joint {i + 1} ({j['parent']} → {j['child']})",
@@ -167,6 +168,7 @@ def print_finger(m: Manifest | dict[str, Any]) -> None:
     rows.append(_locks(m["joints"]))
     rows.append(_bodies(m))
     print_table(rows)
+    echo_lock_note(m["joints"])
 
 
 def echo_lock_note(joints) -> None:
