@@ -26,7 +26,7 @@ REQUEST = {
     "end": "end",
 }
 #: A finger manifest's top-level keys that are template keys as they stand.
-FINGER_REQUEST = ("tendon_diameter_mm", "safety_factor", "end", "clearance_mm")
+FINGER_REQUEST = ("tendon_diameter_mm", "safety_factor", "end")
 #: The spring's dimensions the rebuilt joint must reproduce (relative tolerance).
 SAME_SPRING = ("width_mm", "thickness_mm", "inner_radius_mm", "pitch_mm", "turns")
 TOLERANCE = 1e-6
