@@ -514,7 +514,7 @@ def _with_bearing(model: Any, joints: Sequence[JointParams], mu: float | None, e
     try:
         return with_bearing_friction(model, joints, mu)[0]
     except JointLocked as e:
-        raise ParameterError("bearing_mu", mu, f"too high for this finger: {e}") from None
+        raise e.parameter_error("bearing_mu", mu) from None
 
 
 def _grasp(

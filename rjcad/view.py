@@ -237,13 +237,11 @@ def finger_model(man: dict, mu_t: float = 0.0, bearing_mu: float | None = None) 
     model = model_from_manifest(man, mu_t=mu_t)
     if bearing_mu is None:
         return model
-    from rjcad.design.rebuild import finger_joints, joint_params
+    from rjcad.design.rebuild import designs
     from rjcad.io.manifest import Manifest
     from rjcad.physics.bearing_band import with_bearing_friction
 
-    m = Manifest.coerce(man)
-    joints = (joint_params(m, "the manifest"),) if m.kind == "joint" else finger_joints(m, "the manifest")
-    return with_bearing_friction(model, joints, bearing_mu)[0]
+    return with_bearing_friction(model, designs(Manifest.coerce(man), "the manifest"), bearing_mu)[0]
 
 
 def close_grasp(

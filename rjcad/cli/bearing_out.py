@@ -6,8 +6,6 @@ from typing import Any
 
 import click
 
-from rjcad.errors import ParameterError
-
 #: ``--friction`` and ``--mu`` of the commands that run a finger's closure (simulate finger, view).
 FRICTION_HELP = "The joints' friction: none, or each joint's band from its own bearing model (docs/bearing.md)."
 MU_HELP = (
@@ -40,11 +38,6 @@ def bearing_mu(friction: str, mu: float | None) -> float | None:
     return mu
 
 
-def locked_is_mu(e: Exception, mu: float | None) -> ParameterError:
-    """A joint that locks at ``--mu``: that option's one error line."""
-    return ParameterError("--mu", mu, f"too high for this finger: {e}")
-
-
 def with_bearing(model: Any, source: str | None, mu: float | None) -> tuple[Any, list]:
     """``model`` with its joints' bearing bands at ``mu`` (the designs of ``source``), and the bands; unchanged
     with none where ``mu`` is None. A joint that locks is ``--mu``'s one error line."""
@@ -56,7 +49,7 @@ def with_bearing(model: Any, source: str | None, mu: float | None) -> tuple[Any,
     try:
         return with_bearing_friction(model, load_finger_designs(source), mu)
     except JointLocked as e:
-        raise locked_is_mu(e, mu) from None
+        raise e.parameter_error("--mu", mu) from None
 
 
 def echo_bands(bands: list) -> None:

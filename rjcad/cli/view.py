@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from rjcad.cli.bearing_out import bearing_mu, friction_options, locked_is_mu
+from rjcad.cli.bearing_out import bearing_mu, friction_options
 from rjcad.cli.options import OutDir, allow_outside_option, out_file
 from rjcad.paper import FINGER
 from rjcad.view import DEFAULT_STEPS
@@ -96,5 +96,5 @@ def view(manifest, out_dir, stroke, steps, mu_t, object_specs, max_tension, fric
             grasp_stroke=stroke if given("stroke") is ParameterSource.COMMANDLINE else None, bearing_mu=mu,
         )  # fmt: skip
     except JointLocked as e:
-        raise locked_is_mu(e, mu) from None
+        raise e.parameter_error("--mu", mu) from None
     click.echo(f"viewer written to {out} (open it in a browser; no network needed)")

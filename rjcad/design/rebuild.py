@@ -92,6 +92,12 @@ def joint_params(man: Manifest, label: str) -> JointParams:
     return p
 
 
+def designs(man: Manifest, label: str) -> tuple[JointParams, ...]:
+    """Each joint's JointParams of a joint's or a finger's manifest, proximal first (``joint_params``,
+    ``finger_joints``)."""
+    return (joint_params(man, label),) if man.kind == "joint" else finger_joints(man, label)
+
+
 def _finger_joint(j: Any) -> dict[str, Any]:
     """A finger manifest's joint entry as its template table (the measured tendon arm as the requested one, to
     the micrometre; a key the entry lacks is left out, so the template's check names it)."""

@@ -92,6 +92,10 @@ def band(p: JointParams, mu: float, poses: int = POSES) -> Band:
 class JointLocked(BearingLocked):
     """A finger's joint whose bearing locks at μ (its tendon's own friction outgrows the tendon)."""
 
+    def parameter_error(self, name: str, mu: float) -> ParameterError:
+        """The error line of the option or argument ``name`` that gave μ."""
+        return ParameterError(name, mu, f"too high for this finger: {self}")
+
 
 def finger_bands(joints: Sequence[JointParams], mu: float) -> list[Band]:
     """Each joint's :class:`Band` at μ, proximal first; raises ``JointLocked`` naming the first joint that locks."""

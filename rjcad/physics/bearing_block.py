@@ -13,7 +13,7 @@ from functools import lru_cache
 from typing import Any
 
 from rjcad.design.params import JointParams
-from rjcad.physics.bearing import BearingLocked, Drive, driven, first_touch, locking_mu
+from rjcad.physics.bearing import BearingLocked, Drive, FirstTouch, driven, first_touch, locking_mu
 
 #: The friction coefficient of the printed material on itself that the block assumes (dry ABS or PLA: 0.2–0.6).
 MU_ASSUMED = 0.4
@@ -30,27 +30,27 @@ NOTE = (
 
 
 @lru_cache(maxsize=32)
-def _loaded(p: JointParams, mu: float) -> Drive | None:
-    """The driven pose of the block (None: locked); kept, so that a build computes it once."""
+def _solved(p: JointParams, mu: float) -> tuple[Drive | None, FirstTouch | None, float]:
+    """The block's driven pose (None: locked), its first touch and the locking μ; kept, so that a build that
+    computes them meanwhile (rjcad.cad.build.write_joint) does not compute them again for the manifest."""
     try:
-        return driven(p, mu, p.rotation, 1, "tendon")
+        d = driven(p, mu, p.rotation, 1, "tendon")
     except BearingLocked:
-        return None
+        d = None
+    return d, None if d is None else first_touch(d.state), locking_mu(p)
 
 
 def bearing_block(p: JointParams, mu: float = MU_ASSUMED) -> dict[str, Any]:
     """``{mu, tendon_tension_n, friction_torque_nmm, tilt_deg, min_gap_under_load_mm, contacts {surface: N},
     binding, first_touch {tilt_deg, surface, designed} or None, locked, locks_above_mu, note}`` [N, N·mm, deg, mm];
     locked (the tendon's own friction outgrows it): numbers None; locks_above_mu: ``locking_mu`` (None: never)."""
-    lock = locking_mu(p)
+    d, touch, lock = _solved(p, mu)
     block: dict[str, Any] = {"mu": mu}
     ends = {"locks_above_mu": round(lock, 4) if math.isfinite(lock) else None, "note": NOTE}
-    d = _loaded(p, mu)
     if d is None:
         nothing = dict.fromkeys(("tendon_tension_n", "friction_torque_nmm", "tilt_deg", "min_gap_under_load_mm"))
         return block | nothing | {"contacts": {}, "binding": [], "first_touch": None, "locked": True} | ends
     s = d.state
-    touch = first_touch(s)
     return (
         block
         | {

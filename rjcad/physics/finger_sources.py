@@ -173,7 +173,7 @@ def load_finger_designs(source: str | None) -> tuple[JointParams, ...]:
     from pathlib import Path
 
     from rjcad.design.finger_params import FingerParams
-    from rjcad.design.rebuild import finger_joints, joint_params
+    from rjcad.design.rebuild import designs
     from rjcad.io.manifest import Manifest
     from rjcad.io.untrusted import read_toml
     from rjcad.materials import profiles_beside
@@ -184,8 +184,7 @@ def load_finger_designs(source: str | None) -> tuple[JointParams, ...]:
         return FingerParams.from_dict(PAPER_FINGER).joints
     path = Path(source)
     if path.suffix.lower() == ".json":
-        man = Manifest.read(source)
-        return (joint_params(man, path.name),) if man.kind == "joint" else finger_joints(man, path.name)
+        return designs(Manifest.read(source), path.name)
     data = read_toml(source)
     check_template_keys(data, path.name)
     return FingerParams.from_dict(profiles_beside(data, path.parent), str(source)).joints
